@@ -1,0 +1,46 @@
+"""Located problems, as every reader, check and back end reports them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .model import Span
+
+ERROR = "error"
+WARNING = "warning"
+
+
+@dataclass(frozen=True)
+class Related:
+    span: Span
+    message: str
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    code: str  # stable code, e.g. "LD101"; documented by `ladder explain CODE`
+    severity: str  # ERROR or WARNING
+    message: str
+    span: Span | None
+    related: tuple[Related, ...] = field(default=())
+
+    def format(self, path: str) -> str:
+        """`path:line:col: severity CODE message`, 1-based line and column."""
+        line, col = (self.span.line + 1, self.span.col + 1) if self.span else (1, 1)
+        return f"{path}:{line}:{col}: {self.severity} {self.code} {self.message}"
+
+
+class LadderError(Exception):
+    """A file that cannot be read at all (it carries the located diagnostics)."""
+
+    def __init__(self, diagnostics: list[Diagnostic]):
+        super().__init__("; ".join(d.message for d in diagnostics))
+        self.diagnostics = diagnostics
+
+
+def error(code: str, message: str, span: Span | None, *related: Related) -> Diagnostic:
+    return Diagnostic(code, ERROR, message, span, tuple(related))
+
+
+def warning(code: str, message: str, span: Span | None, *related: Related) -> Diagnostic:
+    return Diagnostic(code, WARNING, message, span, tuple(related))

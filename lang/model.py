@@ -1,0 +1,178 @@
+"""The program model every reader produces and every tool consumes.
+
+A program is a list of rungs; a rung is a series circuit; series hold elements
+and parallels, parallels hold elements and series (LDmicro's own shape, kept
+normalised: no one-child parallel, no series directly inside a series).
+Source ranges never take part in equality, so a program read from a drawing
+equals the same program read from a `.ld` file.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Iterator, Union
+
+
+@dataclass(frozen=True, order=True)
+class Span:
+    """A source range: 0-based lines, 0-based character columns, end exclusive."""
+
+    line: int
+    col: int
+    end_line: int
+    end_col: int
+
+    @staticmethod
+    def at(line: int, col: int, end_col: int | None = None) -> "Span":
+        return Span(line, col, line, col + 1 if end_col is None else end_col)
+
+    def union(self, other: "Span | None") -> "Span":
+        if other is None:
+            return self
+        start = min((self.line, self.col), (other.line, other.col))
+        end = max((self.end_line, self.end_col), (other.end_line, other.end_col))
+        return Span(start[0], start[1], end[0], end[1])
+
+
+@dataclass
+class Element:
+    """One instruction: `kind` is its key in the instruction table, `args` its
+    operands by field name, in the table's field order."""
+
+    kind: str
+    args: dict[str, object]
+    span: Span | None = field(default=None, compare=False, repr=False)
+    # where each drawn operand sits in the source, for hover and rename
+    arg_spans: dict[str, Span] = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def spec(self):
+        from .instructions import INSTRUCTIONS
+
+        return INSTRUCTIONS[self.kind]
+
+
+@dataclass
+class Series:
+    items: list["Node"]
+    span: Span | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass
+class Parallel:
+    branches: list["Node"]
+    span: Span | None = field(default=None, compare=False, repr=False)
+
+
+Node = Union[Element, Series, Parallel]
+
+
+@dataclass
+class Rung:
+    circuit: Series
+    span: Span | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def is_comment(self) -> bool:
+        items = self.circuit.items
+        return bool(items) and isinstance(items[0], Element) and items[0].kind == "COMMENT"
+
+    def elements(self) -> Iterator[Element]:
+        return iter_elements(self.circuit)
+
+
+@dataclass
+class Settings:
+    """Program-wide settings, with LDmicro's defaults for a new program."""
+
+    mcu: str | None = None
+    cycle_us: int = 10000
+    crystal_hz: int = 16000000
+    baud: int = 9600
+    cycle_timer: int = 1
+    cycle_duty: bool = False
+    config_word: int = 0
+    spi_rate: int = 1000000
+    i2c_rate: int = 100000
+    compiled: str | None = None
+    compiler: str | None = None
+    # LDmicro file dialect the program came from ("0.1" or "0.2"); it decides
+    # defaults such as the timer adjust of old files and how a .ld is written
+    ld_version: str = "0.2"
+
+
+@dataclass
+class PinAssignment:
+    name: str
+    pin: int | str  # a package pin number, or a port-bit name such as "PD2"
+    modbus_slave: int = 0
+    modbus_register: int = 0
+    span: Span | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass
+class Program:
+    settings: Settings = field(default_factory=Settings)
+    rungs: list[Rung] = field(default_factory=list)
+    pins: dict[str, PinAssignment] = field(default_factory=dict)
+    var_sizes: dict[str, int] = field(default_factory=dict)
+    pullups: dict[str, int] = field(default_factory=dict)
+
+    def elements(self) -> Iterator[tuple[int, Element]]:
+        """Every element with the index of its rung, in evaluation order."""
+        for index, rung in enumerate(self.rungs):
+            for element in rung.elements():
+                yield index, element
+
+
+def iter_elements(node: Node) -> Iterator[Element]:
+    """Elements of a circuit in evaluation order: series left to right,
+    parallel branches top to bottom."""
+    if isinstance(node, Element):
+        yield node
+    elif isinstance(node, Series):
+        for item in node.items:
+            yield from iter_elements(item)
+    else:
+        for branch in node.branches:
+            yield from iter_elements(branch)
+
+
+def normalise(node: Node) -> Node:
+    """LDmicro's normal form: no one-child parallel or series inside a parallel,
+    no series directly inside a series, no empty subcircuits."""
+    if isinstance(node, Element):
+        return node
+    if isinstance(node, Series):
+        items: list[Node] = []
+        for item in node.items:
+            item = normalise(item)
+            if isinstance(item, Series):
+                items.extend(item.items)
+            elif isinstance(item, Parallel) and not item.branches:
+                continue
+            else:
+                items.append(item)
+        return Series(items, node.span)
+    branches: list[Node] = []
+    for branch in node.branches:
+        branch = normalise(branch)
+        if isinstance(branch, Series) and len(branch.items) == 1:
+            branch = branch.items[0]
+        if isinstance(branch, Series) and not branch.items:
+            continue
+        if isinstance(branch, Parallel):
+            branches.extend(branch.branches)
+        else:
+            branches.append(branch)
+    if len(branches) == 1:
+        return branches[0]
+    return Parallel(branches, node.span)
+
+
+def rung_circuit(node: Node) -> Series:
+    """The normalised root series of a rung."""
+    node = normalise(node)
+    if isinstance(node, Series):
+        return node
+    return Series([node], node.span)
