@@ -1,0 +1,217 @@
+"""Pin data of the microcontrollers textladder knows, one JSON file per part.
+
+Each ``<part>.json`` holds the datasheet pinout of every package LDmicro offers
+for that part, the LDmicro names of those packages (the ``MICRO=`` line of an
+``.ld`` file), and which port bits LDmicro can use for the ADC, PWM and UART.
+A package may carry a ``labels`` table: LDmicro prints a few pin names
+differently per package (ATmega328 28-PDIP "PB0 PCINT0/CLKO/ICP1" but 32-pin
+"PB0 PCINT0/ICP1/CLKO"), and the export text must match it.
+
+``adc`` keys are pin names rather than strictly port bits: the 32-pin AVRs have
+analog-only pins ADC6/ADC7 with no port bit behind them.
+
+Compilers may add their own top-level keys to the files; ``Device.data`` keeps
+the whole document for them.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+__all__ = [
+    "Pin",
+    "Device",
+    "find_device",
+    "all_devices",
+    "part_names",
+    "is_known_ldmicro_name",
+]
+
+_DIR = Path(__file__).resolve().parent
+_NAMES_FILE = "ldmicro_names.json"
+# "PB0", "RA5", "PL7": port letter then bit number.
+_PORT_BIT = re.compile(r"^[PR]([A-L])([0-7])$")
+
+
+@dataclass(frozen=True)
+class Pin:
+    number: int
+    name: str
+    port: str | None
+    bit: int | None
+    label: str
+    functions: tuple[str, ...] = ()
+
+    @property
+    def is_io(self) -> bool:
+        return self.port is not None
+
+
+@dataclass(frozen=True)
+class Device:
+    part: str
+    title: str
+    family: str
+    package: str
+    ldmicro_name: str
+    # Identity is (part, package); the tables are left out of ==/hash so a
+    # Device can be a dict key.
+    memory: dict = field(compare=False)
+    pins: dict[int, Pin] = field(compare=False, repr=False)
+    adc: dict[str, int] = field(compare=False, repr=False)
+    pwm: dict[str, str] = field(compare=False, repr=False)
+    uart: dict[str, str] = field(compare=False, repr=False)
+    data: dict = field(compare=False, repr=False)
+
+    def pin(self, ref: int | str) -> Pin | None:
+        """A pin by package number (3 or "3") or by name ("pd2", "RB0", "AREF")."""
+        if isinstance(ref, int):
+            return self.pins.get(ref)
+        text = ref.strip()
+        if text.isdigit():
+            return self.pins.get(int(text))
+        wanted = text.upper()
+        # Names like GND repeat; the lowest pin number answers.
+        for number in sorted(self.pins):
+            if self.pins[number].name.upper() == wanted:
+                return self.pins[number]
+        return None
+
+    def adc_channel(self, pin: Pin) -> int | None:
+        return self.adc.get(pin.name)
+
+    def pwm_unit(self, pin: Pin) -> str | None:
+        return self.pwm.get(pin.name)
+
+    def io_pins(self) -> list[Pin]:
+        return [self.pins[n] for n in sorted(self.pins) if self.pins[n].is_io]
+
+
+def _norm(text: str) -> str:
+    return " ".join(text.split()).lower()
+
+
+def _build(doc: dict, package: dict) -> Device:
+    io = doc["io"]
+    overrides = package.get("labels", {})
+    pins: dict[int, Pin] = {}
+    for number, name in package["pins"].items():
+        m = _PORT_BIT.match(name)
+        if name in io and m:
+            entry = io[name]
+            pins[int(number)] = Pin(
+                number=int(number),
+                name=name,
+                port=m.group(1),
+                bit=int(m.group(2)),
+                label=overrides.get(name, entry["label"]),
+                functions=tuple(entry.get("functions", ())),
+            )
+        else:
+            pins[int(number)] = Pin(int(number), name, None, None, "", ())
+    names = package.get("ldmicro_names", [])
+    return Device(
+        part=doc["part"],
+        title=doc["title"],
+        family=doc["family"],
+        package=package["package"],
+        ldmicro_name=names[0] if names else "",
+        memory=dict(doc.get("memory", {})),
+        pins=pins,
+        adc=dict(doc.get("adc", {})),
+        pwm=dict(doc.get("pwm", {})),
+        uart=dict(doc.get("uart", {})),
+        data=doc,
+    )
+
+
+@cache
+def _documents() -> dict[str, dict]:
+    docs = {}
+    for path in sorted(_DIR.glob("*.json")):
+        if path.name == _NAMES_FILE:
+            continue
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        docs[doc["part"]] = doc
+    return docs
+
+
+@cache
+def _devices() -> dict[tuple[str, str], Device]:
+    return {
+        (part, package["package"]): _build(doc, package)
+        for part, doc in _documents().items()
+        for package in doc["packages"]
+    }
+
+
+@cache
+def _index() -> tuple[dict[str, str], dict[str, tuple[str, str]]]:
+    """(short name or alias -> part, LDmicro name -> (part, package))."""
+    short: dict[str, str] = {}
+    ldmicro: dict[str, tuple[str, str]] = {}
+    for part, doc in _documents().items():
+        for alias in [part, doc["title"], *doc.get("aliases", [])]:
+            short.setdefault(_norm(alias), part)
+        for package in doc["packages"]:
+            for name in package.get("ldmicro_names", []):
+                ldmicro[_norm(name)] = (part, package["package"])
+    return short, ldmicro
+
+
+def _package_matches(package: dict, wanted: str) -> bool:
+    names = [package["package"], *package.get("package_aliases", [])]
+    return any(_norm(n) == wanted for n in names)
+
+
+@cache
+def find_device(name: str) -> Device | None:
+    """A device by LDmicro name, short name or alias, optionally "part:package".
+
+    Case and repeated blanks do not matter; a bare part name gives the first
+    package of its file.
+    """
+    short, ldmicro = _index()
+    key = _norm(name)
+    if key in ldmicro:
+        return _devices()[ldmicro[key]]
+    part_text, _, package_text = key.partition(":")
+    part = short.get(part_text.strip())
+    if part is None:
+        return None
+    packages = _documents()[part]["packages"]
+    if not package_text.strip():
+        return _devices()[(part, packages[0]["package"])]
+    wanted = _norm(package_text)
+    for package in packages:
+        if _package_matches(package, wanted):
+            return _devices()[(part, package["package"])]
+    return None
+
+
+def all_devices() -> list[Device]:
+    """One Device per (part, package), sorted by part then package."""
+    return [_devices()[k] for k in sorted(_devices())]
+
+
+def part_names() -> list[str]:
+    return sorted(_documents())
+
+
+@cache
+def _ldmicro_names() -> frozenset[str]:
+    doc = json.loads((_DIR / _NAMES_FILE).read_text(encoding="utf-8"))
+    return frozenset(_norm(n) for n in [*doc["names"], *doc.get("legacy", [])])
+
+
+def is_known_ldmicro_name(name: str) -> bool:
+    """True if LDmicro's MCU table lists this name, whether or not we have its pins.
+
+    Lets a caller tell "known to LDmicro but without pin data here" (find_device
+    gives None, this gives True) from a name nobody knows.
+    """
+    return _norm(name) in _ldmicro_names()
