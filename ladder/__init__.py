@@ -1,0 +1,1 @@
+"""The `ladder` command: the edge where files, arguments and exit codes live."""

@@ -1,0 +1,46 @@
+"""`ladder` — one command, one subcommand per feature.
+
+Each subcommand lives in its own module under `ladder/commands/` and exposes
+`register(subparsers)`, which adds its parser and sets `func(args) -> int`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+COMMANDS = ("check", "fmt", "convert", "dump", "explain", "parts", "new", "sim", "test", "build", "lsp")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ladder",
+        description="Ladder logic as plain text: check, format, convert, simulate and compile LDmicro programs.",
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    subparsers.required = True
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"ladder.commands.{name}")
+        except ModuleNotFoundError as missing:
+            if missing.name != f"ladder.commands.{name}":
+                raise
+            continue
+        module.register(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except BrokenPipeError:
+        return 0
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
