@@ -45,6 +45,7 @@ _KIND_PATTERNS = {
 
 
 def _format_field(kind: str, fmt: str | None, value: object) -> str:
+    kind = kind.rstrip("?")
     if fmt == "delay":
         return values.format_delay(value) if isinstance(value, int) else str(value)
     if fmt == "hz":
@@ -59,6 +60,7 @@ def _format_field(kind: str, fmt: str | None, value: object) -> str:
 
 
 def _parse_field(kind: str, fmt: str | None, text: str) -> object:
+    kind = kind.rstrip("?")
     if fmt == "delay":
         try:
             return values.parse_delay(text)
@@ -122,29 +124,33 @@ class Template:
                 out.append(_format_field(kinds.get(name, "operand"), fmt, value))
         return "".join(out)
 
-    def regex(self, kinds: dict[str, str], edges: bool = False) -> str:
+    def regex(self, kinds: dict[str, str], edges: bool = False, left: bool = True, right: bool = True) -> str:
         """A lenient pattern: literal blanks match any run of blanks; with
-        ``edges`` the template's outer wire dashes are optional."""
+        ``edges`` the template's outer wire dashes (on the ``left`` and
+        ``right`` ends) are optional."""
         parts = list(self.parts())
         pieces = []
         for index, part in enumerate(parts):
             if part[0] == "lit":
                 text = part[1]
-                if edges and index == 0:
+                if edges and left and index == 0:
                     text = text.lstrip("-")
-                if edges and index == len(parts) - 1:
+                if edges and right and index == len(parts) - 1:
                     text = text.rstrip("-")
                 pieces.append(_literal_regex(text))
                 continue
             _, name, fmt, yes, no = part
             if yes is not None:
                 options = [yes, no]
-                optional = edges and "-" in options and index in (0, len(parts) - 1)
+                optional = edges and "-" in options and ((left and index == 0) or (right and index == len(parts) - 1))
                 alternatives = "|".join(re.escape(o) for o in options if o and not (optional and o == "-"))
                 group = f"(?P<{name}>{alternatives})"
                 pieces.append(group + ("?" if optional or "" in options else ""))
             else:
-                pattern = _KIND_PATTERNS.get(kinds.get(name, "operand"), OPERAND)
+                kind = kinds.get(name, "operand")
+                pattern = _KIND_PATTERNS.get(kind.rstrip("?"), OPERAND)
+                if kind.endswith("?"):
+                    pattern = f"(?:{pattern})?"
                 if fmt == "hz":
                     pattern = rf"{values.SI_NUMBER}\s*[GMkmunp]?Hz"
                 elif fmt == "us":
@@ -195,7 +201,8 @@ class Text:
         return self.template.render(args, kinds)
 
     def regex(self, kinds: dict[str, str], edges: bool) -> str:
-        return self.template.regex(kinds, edges)
+        # centred text carries no meaning in its outer blanks
+        return Template(self.template.text.strip(" ")).regex(kinds, edges)
 
 
 @dataclass(frozen=True)
@@ -226,7 +233,8 @@ class Box:
         return prefix + left + " " * before_center + center + " " * after_center + right + suffix
 
     def regex(self, kinds: dict[str, str], edges: bool) -> str:
-        pieces = [t.regex(kinds, edges and i in (0, 4)) for i, t in enumerate(self.templates())]
+        pieces = [t.regex(kinds, edges and i in (0, 4), left=i == 0, right=i == 4)
+                  for i, t in enumerate(self.templates())]
         return r"\s*".join(p for p in pieces if p)
 
 

@@ -50,7 +50,8 @@ class Instruction:
 
     @property
     def kinds(self) -> dict[str, str]:
-        return {f.name: f.kind for f in self.fields}
+        """Field kinds for the drawing; `?` marks a field that may be empty."""
+        return {f.name: f.kind + ("?" if f.default == "" else "") for f in self.fields}
 
     def get_field(self, name: str) -> Field:
         for f in self.fields:
@@ -120,23 +121,24 @@ define(
 
 # --- edges and oscillator ---------------------------------------------------------
 
-_EDGE_DOC = {
-    "OSR": ("one-shot rising", "     _     _     ", "--[_/ OSR_/ \\_]--",
+_EDGES = {
+    # LDmicro's name-line and glyph strings, placed by centring like any other
+    "OSR": ("one-shot rising", "    _     _    ", "[_/ OSR_/ \\_]",
             "Passes power for exactly one scan when its input goes from 0 to 1."),
-    "OSF": ("one-shot falling", "   _       _     ", "--[ \\_OSF_/ \\_]--",
+    "OSF": ("one-shot falling", "  _       _    ", "[ \\_OSF_/ \\_]",
             "Passes power for exactly one scan after its input goes from 1 to 0."),
-    "ODF": ("one drop falling", "   _     _   _   ", "--[ \\_ODF \\_/ ]--",
+    "ODF": ("one drop falling", "  _     _   _  ", "[ \\_ODF \\_/ ]",
             "Follows its input, except that it drops to 0 for the first scan after "
             "the input falls; 0 until the input has once been 1."),
-    "ODR": ("one drop rising", "     _   _   _   ", "--[_/ ODR \\_/ ]--",
+    "ODR": ("one drop rising", "    _   _   _  ", "[_/ ODR \\_/ ]",
             "Passes power while its input is 0 and, once the input is 1, from the "
             "second scan on: it drops to 0 for the first scan of each rising edge."),
-    "OSC": ("oscillator", "       _   _     ", "--[OSC/ \\_/ \\_]--",
+    "OSC": ("oscillator", "      _   _    ", "[OSC/ \\_/ \\_]",
             "While its input is 1, passes power on every other scan (1, 0, 1, ...): "
             "a square wave at half the scan frequency."),
 }
-for _key, (_title, _top, _glyph, _doc) in _EDGE_DOC.items():
-    define(_key, _title, (), text(_top.replace("{", "{{")), text(_glyph), _doc, "edges",
+for _key, (_title, _top, _glyph, _doc) in _EDGES.items():
+    define(_key, _title, (), text(_top), text(_glyph), _doc, "edges",
            aliases=("OSL",) if _key == "ODF" else ())
 
 # --- timers ------------------------------------------------------------------------

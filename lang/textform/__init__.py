@@ -1,0 +1,1 @@
+"""The text form: LDmicro's Export as Text drawing, read and written."""

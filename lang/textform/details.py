@@ -1,0 +1,199 @@
+"""Our two sections after LDmicro's: SETTINGS (program settings the export's
+header line does not carry) and DETAILS (element parameters the drawing does
+not show: LUT values, PWL points, timer adjust, UART byte counts, ...).
+With them, `.ld -> .ladder -> .ld` loses nothing. Only what differs from
+LDmicro's defaults is written, so most programs have neither section."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import fields as dataclass_fields
+
+from .. import codes
+from ..diagnostics import Diagnostic, error
+from ..instructions import INSTRUCTIONS, Instruction
+from ..model import Element, Program, Settings, Span
+from .sections import Section
+
+# key in the file -> (Settings attribute, kind)
+SETTING_KEYS = {
+    "baud rate": ("baud", "int"),
+    "cycle timer": ("cycle_timer", "int"),
+    "cycle duty output": ("cycle_duty", "bool"),
+    "configuration word": ("config_word", "hex"),
+    "SPI rate": ("spi_rate", "int"),
+    "I2C rate": ("i2c_rate", "int"),
+    "compiled": ("compiled", "str"),
+    "compiler": ("compiler", "str"),
+    "LDmicro file version": ("ld_version", "str"),
+}
+PULLUP_PREFIX = "pull-ups "
+
+_NAME_KINDS = ("var", "bit", "label", "token", "name")
+
+
+# --- SETTINGS ----------------------------------------------------------------
+
+def write_settings(program: Program) -> list[str]:
+    defaults = Settings()
+    lines = []
+    for key, (attribute, kind) in SETTING_KEYS.items():
+        value = getattr(program.settings, attribute)
+        if value == getattr(defaults, attribute):
+            continue
+        if kind == "bool":
+            text = "yes" if value else "no"
+        elif kind == "hex":
+            text = f"0x{value:X}"
+        else:
+            text = str(value)
+        lines.append(f"  {key}: {text}")
+    for port, mask in program.pullups.items():
+        lines.append(f"  {PULLUP_PREFIX}{port}: 0x{mask:X}")
+    return lines
+
+
+def read_settings(section: Section, program: Program, problems: list[Diagnostic]) -> None:
+    known = {f.name for f in dataclass_fields(Settings)}
+    for number, text in section.lines:
+        if not text.strip():
+            continue
+        key, colon, value = text.strip().partition(":")
+        key, value = key.strip(), value.strip()
+        span = Span.at(number, 0, len(text))
+        if not colon:
+            problems.append(error(codes.SECTION, "expected `key: value`", span))
+            continue
+        try:
+            if key.startswith(PULLUP_PREFIX):
+                program.pullups[key[len(PULLUP_PREFIX):].strip()] = int(value, 0)
+                continue
+            if key not in SETTING_KEYS:
+                problems.append(error(codes.SECTION, f"unknown setting {key!r}; known: "
+                                      + ", ".join(SETTING_KEYS), span))
+                continue
+            attribute, kind = SETTING_KEYS[key]
+            assert attribute in known
+            if kind == "bool":
+                if value not in ("yes", "no"):
+                    raise ValueError(value)
+                parsed: object = value == "yes"
+            elif kind in ("int", "hex"):
+                parsed = int(value, 0)
+            else:
+                parsed = value
+            setattr(program.settings, attribute, parsed)
+        except ValueError:
+            problems.append(error(codes.SECTION, f"bad value {value!r} for {key!r}", span))
+
+
+# --- DETAILS --------------------------------------------------------------------
+
+def identity(element: Element) -> str:
+    """What names an element in DETAILS: its first drawn name."""
+    instruction = element.spec
+    drawn = [f for f in instruction.fields if f.drawn]
+    for f in drawn:
+        if f.kind in _NAME_KINDS:
+            return str(element.args[f.name])
+    return str(element.args[drawn[0].name]) if drawn else ""
+
+
+def undrawn(element: Element) -> dict[str, object]:
+    """The element's parameters the drawing does not show, where not default."""
+    return {
+        f.name: element.args[f.name]
+        for f in element.spec.fields
+        if not f.drawn and element.args[f.name] != f.default
+    }
+
+
+def _format_value(value: object) -> str:
+    if isinstance(value, tuple):
+        flat = []
+        for item in value:
+            flat.extend(item if isinstance(item, tuple) else (item,))
+        return " ".join(str(v) for v in flat)
+    if value == "":
+        return '""'
+    return str(value)
+
+
+def write_details(program: Program) -> list[str]:
+    groups: dict[tuple[str, str], list[Element]] = {}
+    for _, element in program.elements():
+        if any(not f.drawn for f in element.spec.fields):
+            groups.setdefault((element.kind, identity(element)), []).append(element)
+    lines = []
+    for (kind, name), elements in groups.items():
+        extras = [undrawn(e) for e in elements]
+        if not any(extras):
+            continue
+        label = f"{kind} {name}".rstrip()
+        if all(extra == extras[0] for extra in extras):
+            lines.append(f"  {label}: " + ", ".join(f"{k} {_format_value(v)}" for k, v in extras[0].items()))
+            continue
+        for occurrence, extra in enumerate(extras, 1):
+            if extra:
+                lines.append(f"  {label} #{occurrence}: "
+                             + ", ".join(f"{k} {_format_value(v)}" for k, v in extra.items()))
+    return lines
+
+
+_DETAIL_RE = re.compile(r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?P<name>.*?))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
+
+
+def read_details(section: Section, program: Program, problems: list[Diagnostic]) -> None:
+    groups: dict[tuple[str, str], list[Element]] = {}
+    for _, element in program.elements():
+        groups.setdefault((element.kind, identity(element)), []).append(element)
+    for number, text in section.lines:
+        if not text.strip():
+            continue
+        span = Span.at(number, 0, len(text))
+        match = _DETAIL_RE.match(text)
+        if not match or match.group("kind") not in INSTRUCTIONS:
+            problems.append(error(codes.SECTION, "expected `<INSTRUCTION> <name>: <field> <value>, ...`", span))
+            continue
+        instruction = INSTRUCTIONS[match.group("kind")]
+        targets = groups.get((instruction.key, match.group("name") or ""), [])
+        if match.group("n"):
+            occurrence = int(match.group("n"))
+            targets = targets[occurrence - 1:occurrence]
+        if not targets:
+            problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
+            continue
+        try:
+            values = _parse_values(instruction, match.group("rest"))
+        except ValueError as problem:
+            problems.append(error(codes.SECTION, str(problem), span))
+            continue
+        for element in targets:
+            element.args.update(values)
+
+
+def _parse_values(instruction: Instruction, rest: str) -> dict[str, object]:
+    values: dict[str, object] = {}
+    for item in filter(None, (part.strip() for part in rest.split(","))):
+        name, _, text = item.partition(" ")
+        text = text.strip()
+        try:
+            field = instruction.get_field(name)
+        except KeyError:
+            raise ValueError(f"{instruction.key} has no detail {name!r}") from None
+        if field.drawn:
+            raise ValueError(f"{name!r} is drawn in the diagram; change it there")
+        if text == '""':
+            values[name] = ""
+        elif field.kind == "values":
+            values[name] = tuple(text.split())
+        elif field.kind == "points":
+            numbers = text.split()
+            if len(numbers) % 2:
+                raise ValueError("points come in x y pairs")
+            values[name] = tuple(zip(numbers[0::2], numbers[1::2]))
+        elif field.kind in ("int", "flag"):
+            values[name] = int(text, 0)
+        else:
+            values[name] = text
+    return values

@@ -1,0 +1,118 @@
+"""Recognising one drawn element: its glyph on the symbol line and the text
+on the name line above it, matched against the instruction table's drawings.
+
+Glyph tokens are found with one pattern for every shape the table draws
+(brackets, braces, coils, contacts, SFR boxes, strings); which instruction a
+token is then depends on both lines (`{MOV` and `{ADD` share a glyph shape).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+
+from ..drawing import read_fields
+from ..instructions import INSTRUCTIONS, Instruction
+
+# Shapes a glyph can take on a symbol line, strings first: their text may
+# hold any character. The edge-kind prefixes (/ \ o ^) and the encoder's
+# trailing ^ belong to the glyph.
+GLYPH_RE = re.compile(
+    r"""
+      \{".*?",[^{}]*\}                 # STRING: {"format", var}
+    | \{".*?"\}                        # FORMATTED_STRING: {"text"}
+    | [/\\o^]?\{(?:[^{}\[\]]|\[[^\[\]]*\])*\}      # braces, may hold one [index]
+    | [/\\o^]?\[[^\[\]]*\]\^?          # brackets
+    | \([^()]\)                        # coils
+    | \^?\][ /]\[                      # contacts
+    | \?[^?]*\?                        # SFR boxes
+    """,
+    re.X,
+)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    instruction: Instruction
+    glyph_re: re.Pattern
+    top_re: re.Pattern | None
+    head: str  # literal start of the glyph, for cheap dispatch
+
+
+def _head(pattern_text: str) -> str:
+    """The literal characters a glyph must start with (after its optional
+    edge prefix), taken from the rendered default glyph."""
+    match = re.match(r"[-/\\o^]*([\[{(\]?][A-Za-z0-9 ]{0,4})", pattern_text)
+    return match.group(1).rstrip() if match else ""
+
+
+@lru_cache(maxsize=None)
+def _candidates() -> tuple[Candidate, ...]:
+    found = []
+    for instruction in INSTRUCTIONS.values():
+        if instruction.glyph is None or instruction.key in ("SHORT", "OPEN", "PLACEHOLDER"):
+            continue
+        kinds = instruction.kinds
+        glyph_re = re.compile(r"-*" + instruction.glyph.regex(kinds, edges=True) + r"-*\Z")
+        top_re = None
+        if instruction.top is not None:
+            top_re = re.compile(r"\s*" + instruction.top.regex(kinds, edges=False) + r"\s*\Z")
+        literal = "".join(
+            part[1] for part in instruction.glyph.templates()[0].parts() if part[0] == "lit"
+        )
+        found.append(Candidate(instruction, glyph_re, top_re, _head(literal)))
+    return tuple(found)
+
+
+@lru_cache(maxsize=None)
+def _by_head_char() -> dict[str, tuple[Candidate, ...]]:
+    table: dict[str, list[Candidate]] = {}
+    for candidate in _candidates():
+        key = candidate.head[:1]
+        table.setdefault(key, []).append(candidate)
+    return {key: tuple(value) for key, value in table.items()}
+
+
+def _shape_key(glyph: str) -> str:
+    stripped = glyph.lstrip("/\\o^-")
+    return stripped[:1]
+
+
+@lru_cache(maxsize=65536)
+def recognise(glyph: str, top: str) -> tuple[str, tuple] | None:
+    """The instruction key and its drawn field values for a glyph and the
+    text above it, or None if no instruction draws like that. Cached: real
+    programs repeat the same elements many times."""
+    glyph_text = "-" + glyph + "-"
+    for candidate in _by_head_char().get(_shape_key(glyph), ()):
+        glyph_match = candidate.glyph_re.match(glyph_text)
+        if not glyph_match:
+            continue
+        instruction = candidate.instruction
+        if candidate.top_re is None:
+            if top.strip():
+                continue
+            templates = instruction.glyph.templates()
+            found = read_fields(glyph_match, templates, instruction.kinds)
+            return instruction.key, tuple(found.items())
+        top_match = candidate.top_re.match(top)
+        if not top_match:
+            continue
+        found = read_fields(glyph_match, instruction.glyph.templates(), instruction.kinds)
+        found.update(read_fields(top_match, instruction.top.templates(), instruction.kinds))
+        return instruction.key, tuple(found.items())
+    return None
+
+
+def complete_args(key: str, drawn: dict) -> dict:
+    """All fields of the instruction in table order: drawn values, and the
+    defaults of what the drawing does not show."""
+    instruction = INSTRUCTIONS[key]
+    args = {}
+    for f in instruction.fields:
+        if f.name in drawn:
+            args[f.name] = drawn[f.name]
+        else:
+            args[f.name] = f.default
+    return args

@@ -1,0 +1,116 @@
+"""Where each part of a rung goes in LDmicro's grid: elements and padding in
+cells, vertical connectors between rows. This mirrors LDmicro's own drawing
+(DrawElement: series left to right, parallel branches one below the other,
+end-of-line elements pushed to the last column, connectors drawn from the
+lowest row whose edge cell is occupied), so a program is drawn as LDmicro
+draws it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..model import Element, Node, Parallel, Series
+
+
+@dataclass
+class Placed:
+    element: Element | None  # None: a padding wire
+    col: int
+    row: int
+    cells: int = 1
+
+
+@dataclass
+class Grid:
+    columns: int  # C for this rung: where end-of-line elements go
+    placed: list[Placed] = field(default_factory=list)
+    occupied: set[tuple[int, int]] = field(default_factory=set)
+    # (k, row): a connector at the last character of column k (k = -1: the
+    # left rail) joining row-1 and row
+    connectors: set[tuple[int, int]] = field(default_factory=set)
+    height: int = 1
+
+    def put(self, element: Element | None, col: int, row: int, cells: int = 1) -> None:
+        self.placed.append(Placed(element, col, row, cells))
+        for k in range(col, col + cells):
+            self.occupied.add((k, row))
+
+
+def cells_of(element: Element) -> int:
+    return element.spec.cells
+
+
+def natural_width(node: Node) -> int:
+    """Width in cells with end-of-line elements counted as one (how LDmicro
+    measures the widest rung)."""
+    if isinstance(node, Element):
+        return cells_of(node)
+    if isinstance(node, Series):
+        return sum(natural_width(item) for item in node.items)
+    return max(natural_width(branch) for branch in node.branches)
+
+
+def height(node: Node) -> int:
+    if isinstance(node, Element):
+        return 1
+    if isinstance(node, Series):
+        return max((height(item) for item in node.items), default=1)
+    return sum(height(branch) for branch in node.branches)
+
+
+def _width(node: Node, so_far: int, columns: int) -> int:
+    """Width while drawing: end-of-line elements stretch to the last column."""
+    if isinstance(node, Element):
+        if node.spec.eol:
+            return max(columns - so_far, 1)
+        return cells_of(node)
+    if isinstance(node, Series):
+        total = 0
+        for item in node.items:
+            total += _width(item, so_far + total, columns)
+        return total
+    return max(_width(branch, so_far, columns) for branch in node.branches)
+
+
+def layout(circuit: Series, columns: int) -> Grid:
+    grid = Grid(columns, height=height(circuit))
+    _place(circuit, 0, 0, grid)
+    return grid
+
+
+def _place(node: Node, col: int, row: int, grid: Grid) -> int:
+    if isinstance(node, Element):
+        if node.spec.eol:
+            while col < grid.columns - 1:
+                grid.put(None, col, row)
+                col += 1
+        grid.put(node, col, row, cells_of(node))
+        return col + cells_of(node)
+    if isinstance(node, Series):
+        for item in node.items:
+            col = _place(item, col, row, grid)
+        return col
+    width = _width(node, col, grid.columns)
+    total_height = height(node)
+    top = row
+    for branch in node.branches:
+        end = _place(branch, col, top, grid)
+        while end - col < width:
+            grid.put(None, end, top)
+            end += 1
+        top += height(branch)
+    end_col = col + width
+    if end_col != grid.columns:
+        _connect(grid, end_col - 1, end_col - 1, row, total_height)
+    _connect(grid, col, col - 1, row, total_height)
+    return end_col
+
+
+def _connect(grid: Grid, edge: int, at: int, row: int, total_height: int) -> None:
+    """From the lowest row whose edge cell is occupied, up to the first."""
+    needed = False
+    for j in range(total_height - 1, 0, -1):
+        if (edge, row + j) in grid.occupied:
+            needed = True
+        if needed:
+            grid.connectors.add((at, row + j))

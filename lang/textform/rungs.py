@@ -1,0 +1,366 @@
+"""Reading one rung of the drawing: rows of three lines (name line, symbol
+line, spacer), elements recognised on each symbol line, junctions joined by
+vertical connectors, and the wires reduced to a series/parallel circuit."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .. import codes
+from ..diagnostics import Diagnostic, error
+from ..instructions import INSTRUCTIONS
+from ..model import Element, Rung, Series, Span, rung_circuit
+from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
+from .elements import GLYPH_RE, complete_args, recognise
+
+
+@dataclass
+class Line:
+    """A diagram line: `left` is the column of the left rail's first `|`,
+    `end` where the drawing stops (the right rail or the end of the text)."""
+
+    number: int  # 0-based line in the file
+    text: str
+    left: int
+    end: int
+    label: str  # what stands in the number field (a rung number, END count)
+
+    @property
+    def start(self) -> int:
+        return self.left + 2
+
+    @property
+    def content(self) -> str:
+        return self.text[self.start:self.end]
+
+    @property
+    def blank(self) -> bool:
+        return not self.content.strip()
+
+    def char(self, col: int) -> str:
+        return self.text[col] if self.start <= col < self.end else " "
+
+
+SYMBOL_TOKEN = re.compile(
+    "(?P<glyph>" + GLYPH_RE.pattern + r")|(?P<wire>-+)|(?P<plus>\+)|(?P<gap>[ ]+)|(?P<bar>\|)|(?P<other>[^\s\-+|]+)",
+    re.X,
+)
+TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
+COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
+
+
+@dataclass
+class Glyph:
+    line: int
+    start: int
+    end: int
+    text: str
+
+
+def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung | None, list[Diagnostic]]:
+    """Read a rung whose first symbol line is lines[symbol_index]; the line
+    above it, if any, is its first name line."""
+    span = Span(lines[0].number, 0, lines[-1].number, len(lines[-1].text))
+    comment = _read_comment(lines)
+    if comment is not None:
+        text, comment_span = comment
+        element = Element("COMMENT", {"text": text}, comment_span)
+        return Rung(Series([element], comment_span), span), []
+    reader = _RungReader(lines, symbol_index)
+    circuit = reader.read()
+    if reader.problems:
+        return None, reader.problems
+    return Rung(rung_circuit(circuit), span), []
+
+
+def _read_comment(lines: list[Line]) -> tuple[str, Span] | None:
+    texts = [line for line in lines if not line.blank]
+    if not texts or not all(line.content.lstrip().startswith(";") for line in texts):
+        return None
+    parts = [COMMENT_RE.match(line.content).group(1) for line in texts]
+    first, last = texts[0], texts[-1]
+    return "\n".join(parts), Span(first.number, first.start, last.number, last.end)
+
+
+class _RungReader:
+    def __init__(self, lines: list[Line], symbol_index: int):
+        self.lines = lines
+        self.first = symbol_index
+        self.symbol_rows = list(range(symbol_index, len(lines), 3))
+        self.nodes = Nodes()
+        self.edges: list[Edge] = []
+        self.problems: list[Diagnostic] = []
+        self.junctions: dict[tuple[int, int], int] = {}
+        self.claimed: set[tuple[int, int]] = set()
+        self.element_count = 0
+
+    def problem(self, code: str, message: str, line: int, start: int, end: int | None = None) -> None:
+        number = self.lines[line].number
+        self.problems.append(error(code, message, Span.at(number, start, end)))
+
+    # --- the rows ---------------------------------------------------------------
+
+    def read(self):
+        tokens = {row: self._tokens(row) for row in self.symbol_rows}
+        self._connect_verticals(tokens)
+        self._check_stray_connectors()
+        for row in self.symbol_rows:
+            self._walk_row(row, tokens[row])
+        if self.problems:
+            return None
+        return self._circuit()
+
+    def _tokens(self, row: int) -> list[tuple[str, int, int, str]]:
+        line = self.lines[row]
+        found = []
+        for match in SYMBOL_TOKEN.finditer(line.content):
+            kind = match.lastgroup
+            found.append((kind, line.start + match.start(), line.start + match.end(), match.group()))
+        return found
+
+    def _connect_verticals(self, tokens) -> None:
+        """Join every `+` that has a `|` below it to the `+` three lines down."""
+        for row in self.symbol_rows:
+            for kind, start, _, _ in tokens[row]:
+                if kind != "plus":
+                    continue
+                node = self._junction(row, start)
+                below = [row + 1, row + 2]
+                if all(r < len(self.lines) and self.lines[r].char(start) == "|" for r in below):
+                    target = row + 3
+                    if target < len(self.lines) and self.lines[target].char(start) == "+":
+                        self.claimed.update((r, start) for r in below)
+                        self.nodes.union(node, self._junction(target, start))
+                    else:
+                        where = min(target, len(self.lines) - 1)
+                        self.problem(codes.BAD_JUNCTION,
+                                     "this vertical connector meets no `+` junction on the next symbol line",
+                                     where, start)
+            # the left rail joins every branch drawn from it (`|+`)
+            line = self.lines[row]
+            if line.text[line.left + 1:line.left + 2] == "+":
+                self.nodes.union(LEFT, self._junction(row, line.left + 1))
+
+    def _junction(self, row: int, col: int) -> int:
+        key = (row, col)
+        if key not in self.junctions:
+            self.junctions[key] = self.nodes.new(Span.at(self.lines[row].number, col))
+        return self.junctions[key]
+
+    def _is_junction(self, row: int, col: int) -> bool:
+        """A `+` is a junction when a connector leaves it up or down; else it
+        is part of a SHORT or OPEN glyph."""
+        up = row - 1 >= 0 and self.lines[row - 1].char(col) == "|"
+        down = row + 1 < len(self.lines) and self.lines[row + 1].char(col) == "|"
+        return up or down
+
+    def _check_stray_connectors(self) -> None:
+        symbol = set(self.symbol_rows)
+        for index, line in enumerate(self.lines):
+            if index in symbol:
+                continue
+            for col in range(line.start, line.end):
+                if line.text[col] == "|" and (index, col) not in self.claimed:
+                    above = index - 1 in symbol and self.lines[index - 1].char(col) == "+"
+                    below = index + 1 in symbol and self.lines[index + 1].char(col) == "+"
+                    if above or below or (index + 1 < len(self.lines) and self.lines[index + 1].char(col) == "|"):
+                        self.problem(codes.BAD_JUNCTION,
+                                     "this connector does not join two `+` junctions in the same column",
+                                     index, col)
+
+    def _walk_row(self, row: int, tokens) -> None:
+        line = self.lines[row]
+        tokens = self._fold_short_open(row, tokens)
+        current: int | None = None
+        current_is_junction = False
+        if tokens and tokens[0][0] != "gap" and tokens[0][1] == line.start:
+            current = LEFT
+            current_is_junction = True
+        for index, (kind, start, end, text) in enumerate(tokens):
+            if kind == "wire":
+                if current is None:
+                    self.problem(codes.BROKEN_WIRE, "this wire is not connected on its left", row, start, end)
+                    return
+            elif kind == "plus":
+                node = self._junction(row, start)
+                if current is not None:
+                    self.nodes.union(current, node)
+                current, current_is_junction = node, True
+            elif kind in ("glyph", "short", "open"):
+                if current is None:
+                    self.problem(codes.BROKEN_WIRE, "this element is not connected on its left", row, start, end)
+                    return
+                element = self._element(row, kind, start, end, text)
+                if element is None:
+                    return
+                output = self.nodes.new(Span.at(line.number, end - 1))
+                span = element.span
+                self.edges.append(Edge(current, output, element, (line.number, start), span))
+                current, current_is_junction = output, False
+            elif kind == "gap":
+                rest = tokens[index + 1:]
+                if current is not None and not current_is_junction and rest:
+                    self.problem(codes.BROKEN_WIRE,
+                                 "this branch stops before reaching a junction", row, start, end)
+                    return
+                if current is not None and not current_is_junction and not rest:
+                    if row != self.first:
+                        self.problem(codes.BROKEN_WIRE,
+                                     "this branch stops before reaching a junction or the right rail",
+                                     row, start, end)
+                        return
+                    self.nodes.union(current, RIGHT)
+                current = None
+            elif kind == "bar":
+                self.problem(codes.BAD_JUNCTION, "a connector crossing a symbol line must be a `+`", row, start)
+                return
+            else:
+                self.problem(codes.UNKNOWN_ELEMENT, f"unrecognised text {text!r} in the drawing", row, start, end)
+                return
+        if current is not None and not current_is_junction:
+            self.nodes.union(current, RIGHT)
+
+    def _fold_short_open(self, row: int, tokens):
+        """`+------+` and `+      +` without connectors are SHORT and OPEN."""
+        folded = []
+        index = 0
+        while index < len(tokens):
+            kind, start, end, text = tokens[index]
+            if kind == "plus" and not self._is_junction(row, start) and index + 2 < len(tokens):
+                middle, closing = tokens[index + 1], tokens[index + 2]
+                if (middle[0] in ("wire", "gap") and closing[0] == "plus"
+                        and not self._is_junction(row, closing[1])):
+                    shape = "short" if middle[0] == "wire" else "open"
+                    folded.append((shape, start, closing[2], text + middle[3] + closing[3]))
+                    index += 3
+                    continue
+            if kind == "plus" and not self._is_junction(row, start):
+                self.problem(codes.BAD_JUNCTION,
+                             "this `+` has no connector above or below it", row, start)
+            folded.append(tokens[index])
+            index += 1
+        return folded
+
+    # --- elements -------------------------------------------------------------
+
+    def _element(self, row: int, kind: str, start: int, end: int, glyph: str) -> Element | None:
+        line = self.lines[row]
+        top_text, top_span = self._top_text(row, start, end)
+        if kind in ("short", "open"):
+            if top_text.strip():
+                self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
+                             top_span[0], top_span[1])
+                return None
+            key, drawn = kind.upper(), {}
+        else:
+            found = recognise(glyph, top_text)
+            if found is None:
+                shown = glyph if not top_text.strip() else f"{top_text.strip()} / {glyph}"
+                self.problem(codes.UNKNOWN_ELEMENT, f"no instruction is drawn like {shown!r}", row, start, end)
+                return None
+            key, values = found
+            drawn = dict(values)
+        span = Span(line.number if top_span is None else self.lines[row - 1].number,
+                    start if top_span is None else min(start, top_span[0]), line.number, end)
+        args = complete_args(key, drawn)
+        element = Element(key, args, span)
+        element.arg_spans = self._arg_spans(row, start, end, top_span, INSTRUCTIONS[key], drawn)
+        self.element_count += 1
+        return element
+
+    def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
+        """The text on the name line above this glyph: every word of that line
+        whose columns overlap this glyph more than any other glyph's."""
+        owned = self._top_owners(row).get((start, end))
+        if not owned:
+            return "", None
+        name_line = self.lines[row - 1]
+        first, last = owned[0][0], owned[-1][1]
+        return name_line.text[first:last], (first, last)
+
+    def _top_owners(self, row: int) -> dict[tuple[int, int], list[tuple[int, int]]]:
+        cache = getattr(self, "_owners", None)
+        if cache is None:
+            cache = self._owners = {}
+        if row in cache:
+            return cache[row]
+        owners: dict[tuple[int, int], list[tuple[int, int]]] = {}
+        cache[row] = owners
+        if row - 1 < 0 or (row - 1) in self.symbol_rows:
+            return owners
+        name_line = self.lines[row - 1]
+        glyphs = [(s, e) for kind, s, e, _ in self._fold_short_open_quiet(row) if kind in ("glyph", "short", "open")]
+        text = "".join(" " if (row - 1, col) in self.claimed else ch
+                       for col, ch in enumerate(name_line.text[:name_line.end]))
+        for match in TOP_TOKEN.finditer(text, name_line.start):
+            word = (match.start(), match.end())
+            best, best_overlap = None, 0
+            for glyph in glyphs:
+                overlap = min(word[1], glyph[1]) - max(word[0], glyph[0])
+                if overlap > best_overlap:
+                    best, best_overlap = glyph, overlap
+            if best is None:
+                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1,
+                             word[0], word[1])
+                continue
+            owners.setdefault(best, []).append(word)
+        return owners
+
+    def _fold_short_open_quiet(self, row: int):
+        saved = self.problems
+        self.problems = []
+        try:
+            return self._fold_short_open(row, self._tokens(row))
+        finally:
+            self.problems = saved
+
+    def _arg_spans(self, row, start, end, top_span, instruction, drawn) -> dict[str, Span]:
+        spans = {}
+        places = []
+        if top_span is not None:
+            places.append((self.lines[row - 1], top_span[0], top_span[1]))
+        places.append((self.lines[row], start, end))
+        for f in instruction.fields:
+            value = drawn.get(f.name)
+            if not isinstance(value, str) or not value or f.kind in ("flag", "edge", "coil"):
+                continue
+            for line, lo, hi in places:
+                found = _find_word(line.text, value, lo, hi)
+                if found >= 0:
+                    spans[f.name] = Span.at(line.number, found, found + len(value))
+                    break
+        return spans
+
+    # --- the circuit ------------------------------------------------------------------
+
+    def _circuit(self):
+        if not self.edges:
+            first = self.lines[self.first]
+            span = Span.at(first.number, first.start, max(first.start + 1, first.end))
+            if self.nodes.find(RIGHT) == self.nodes.find(LEFT) or first.content.lstrip().startswith("-"):
+                return Series([Element("PLACEHOLDER", {}, span)], span)
+            self.problems.append(error(codes.BROKEN_WIRE, "this rung has no element", span))
+            return None
+        outgoing = {self.nodes.find(e.start) for e in self.edges}
+        for edge in self.edges:
+            end = self.nodes.find(edge.end)
+            if end not in outgoing and end != RIGHT:
+                self.nodes.union(end, RIGHT)
+        try:
+            return reduce(self.edges, self.nodes)
+        except NotSeriesParallel as failure:
+            code = codes.EMPTY_BRANCH if "bare wire" in str(failure) else codes.NOT_SERIES_PARALLEL
+            self.problems.append(error(code, str(failure), failure.span))
+            return None
+
+
+def _find_word(text: str, word: str, lo: int, hi: int) -> int:
+    position = text.find(word, lo, hi)
+    while position >= 0:
+        before = text[position - 1] if position > 0 else " "
+        after = text[position + len(word)] if position + len(word) < len(text) else " "
+        if not (before.isalnum() or before == "_") and not (after.isalnum() or after == "_"):
+            return position
+        position = text.find(word, position + 1, hi)
+    return -1

@@ -1,0 +1,206 @@
+"""Writing a Program as text in LDmicro's layout: the formatter.
+
+The diagram is LDmicro's Export as Text (17-character cells, end-of-line
+elements right-justified, `%04d` rung numbers, the END rung), except that
+nothing is truncated: a cell that needs more room widens, and a rung wider
+than the diagram grows alone, so an edit inside one rung changes only that
+rung's lines."""
+
+from __future__ import annotations
+
+from decimal import Decimal
+
+from ..drawing import CELL, Box, center_offset, with_wires
+from ..model import Element, Program, Rung
+from . import details
+from .layout import Grid, layout, natural_width
+
+IO_TYPES = {"X": "digital in", "Y": "digital out", "A": "adc input", "P": "PWM out"}
+COMMENT_MARGIN = 8  # LDmicro keeps a comment line 8 characters short of the right rail
+
+
+def element_text(element: Element) -> tuple[str, str, bool]:
+    """The element's name line text, its glyph, and whether the glyph is a
+    box (LDmicro's field formatter: no wire before it, one after)."""
+    instruction = element.spec
+    args = {**instruction.consts, **element.args}
+    kinds = instruction.kinds
+    top = instruction.top.render(args, kinds, instruction.cells) if instruction.top else ""
+    glyph = instruction.glyph.render(args, kinds, instruction.cells) if instruction.glyph else ""
+    return top, glyph, isinstance(instruction.glyph, Box)
+
+
+def _needed_width(element: Element) -> int:
+    """Characters the element needs so that no text is cut and the last
+    character of its cell stays free for a junction."""
+    if element.kind == "PLACEHOLDER":
+        return CELL
+    top, glyph, boxed = element_text(element)
+    return max(CELL * element.spec.cells, len(top) + 1, len(glyph) + (1 if boxed else 2))
+
+
+def diagram_width(program: Program) -> int:
+    """LDmicro's C: the widest rung, end-of-line elements counted as one."""
+    widths = [natural_width(rung.circuit) for rung in program.rungs if not rung.is_comment]
+    return max(widths, default=1)
+
+
+def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
+    """The lines of one rung, without the separator line after it."""
+    if rung.is_comment:
+        return _render_comment(rung.circuit.items[0].args["text"], number, columns)
+    grid = layout(rung.circuit, max(columns, natural_width(rung.circuit)))
+    widths = _column_widths(grid)
+    offsets = [0]
+    for width in widths:
+        offsets.append(offsets[-1] + width)
+    total = offsets[-1]
+    lines = [[" "] * total for _ in range(3 * grid.height)]
+
+    def write(line: int, col: int, text: str) -> None:
+        for i, ch in enumerate(text):
+            if 0 <= col + i < total:
+                lines[line][col + i] = ch
+
+    for placed in grid.placed:
+        start = offsets[placed.col]
+        slot = offsets[placed.col + placed.cells] - start
+        symbol = 3 * placed.row + 1
+        if placed.element is None:
+            write(symbol, start, "-" * slot)
+            continue
+        if placed.element.kind == "PLACEHOLDER":
+            write(symbol, start, "--")
+            continue
+        top, glyph, _ = element_text(placed.element)
+        if top:
+            write(symbol - 1, start + max(0, center_offset(slot, len(top))), top)
+        write(symbol, start, with_wires(glyph, slot))
+    rail_junction_rows = set()
+    for k, row in grid.connectors:
+        if k < 0:
+            rail_junction_rows.update((row - 1, row))
+            continue
+        x = offsets[k + 1] - 1
+        write(3 * row - 2, x, "+")
+        write(3 * row + 1, x, "+")
+        write(3 * row - 1, x, "|")
+        write(3 * row, x, "|")
+    result = []
+    for index, chars in enumerate(lines):
+        label = f"{number:04d}" if index == 1 else "    "
+        rail = "|+" if index % 3 == 1 and index // 3 in rail_junction_rows else "||"
+        result.append(label + rail + "".join(chars) + "||")
+    return result
+
+
+def _column_widths(grid: Grid) -> list[int]:
+    count = max([p.col + p.cells for p in grid.placed] + [grid.columns])
+    widths = [CELL] * count
+    for placed in grid.placed:
+        if placed.element is None:
+            continue
+        need = _needed_width(placed.element)
+        have = sum(widths[placed.col:placed.col + placed.cells])
+        if need > have:
+            widths[placed.col + placed.cells - 1] += need - have
+    return widths
+
+
+def _render_comment(text: str, number: int, columns: int) -> list[str]:
+    parts = [" ; " + part for part in text.split("\n")]
+    width = max([CELL * columns] + [len(p) + COMMENT_MARGIN for p in parts])
+    rows = max(1, -(-len(parts) // 3)) if len(parts) > 2 else 1
+    lines = []
+    for index in range(3 * rows):
+        body = parts[index] if index < len(parts) else ""
+        label = f"{number:04d}" if index == 1 else "    "
+        lines.append(label + "||" + body.ljust(width) + "||")
+    return lines
+
+
+def render_diagram(program: Program, columns: int | None = None) -> list[str]:
+    """The LADDER DIAGRAM block. `columns` keeps a file's existing width
+    (its END rung shows it); by default the widest rung sets it."""
+    columns = columns or diagram_width(program)
+    width = CELL * columns
+    blank = "    ||" + " " * width + "||"
+    lines = [blank]
+    pending = None  # the number of an empty rung, shown on the next line
+    for number, rung in enumerate(program.rungs, 1):
+        drawn = render_rung(rung, number, columns) if rung.circuit.items else []
+        if pending is not None:
+            drawn = drawn or [blank]
+            drawn[0] = pending + drawn[0][4:]
+            pending = None
+        lines.extend(drawn)
+        lines.append(blank)
+        if not rung.circuit.items:
+            pending = f"{number:04d}"
+    end = with_wires("[END]", CELL) + "-" * (width - CELL)
+    lines += [(pending or "    ") + blank[4:], f"{len(program.rungs):4d}||{end}||", blank, blank]
+    return lines
+
+
+def _format_mhz(hertz: int) -> str:
+    text = f"{hertz / 1e6:.9g}"
+    if Decimal(text) * 1000000 != hertz:
+        text = format((Decimal(hertz) / 1000000).normalize(), "f")
+    return text
+
+
+def header_line(program: Program) -> str:
+    settings = program.settings
+    timing = f"{_format_mhz(settings.crystal_hz)} MHz crystal, {settings.cycle_us / 1000:.3f} ms cycle time"
+    if settings.mcu:
+        return f"for '{settings.mcu}', {timing}"
+    return f"no MCU assigned, {timing}"
+
+
+def io_rows(program: Program) -> list[str]:
+    from ..devices import find_device
+
+    device = find_device(program.settings.mcu) if program.settings.mcu else None
+    names = {name for _, element in program.elements() for name in _pin_names(element)}
+    names.update(program.pins)
+    order = "XYAP"
+    rows = []
+    for name in sorted(names, key=lambda n: (order.index(n[0]) if n[:1] in order else len(order), n)):
+        kind = IO_TYPES.get(name[:1], "general var")
+        assignment = program.pins.get(name)
+        pin_text, port, label = "", "", ""
+        if assignment is not None:
+            pin_text = str(assignment.pin)
+            pin = device.pin(assignment.pin) if device else None
+            if pin is not None and pin.is_io:
+                port, label = pin.name, pin.label
+        elif program.settings.mcu:
+            pin_text = "(not assigned)"
+        row = f"  {name:<27}| {kind:<19}| {pin_text:>3} | {port:<5} | {label}"
+        rows.append(row.rstrip())
+    return rows
+
+
+def _pin_names(element: Element):
+    for f in element.spec.fields:
+        value = element.args.get(f.name)
+        if f.kind in ("bit", "var") and isinstance(value, str) and value[:1] in IO_TYPES and len(value) > 1:
+            yield value
+
+
+def render_program(program: Program, columns: int | None = None) -> str:
+    lines = ["LDmicro export text.", header_line(program), "", "LADDER DIAGRAM:"]
+    lines += render_diagram(program, columns)
+    lines += ["", "I/O ASSIGNMENT:",
+              "  Name                       | Type               | Pin | Port | Pin name",
+              " ----------------------------+--------------------+-----+------+-----------"]
+    lines += io_rows(program)
+    lines += ["", "VAR LIST:"]
+    lines += [f"  {size:3d} bytes {name}" for name, size in sorted(program.var_sizes.items())]
+    settings = details.write_settings(program)
+    if settings:
+        lines += ["", "SETTINGS:"] + settings
+    extra = details.write_details(program)
+    if extra:
+        lines += ["", "DETAILS:"] + extra
+    return "\n".join(line.rstrip() for line in lines) + "\n"
