@@ -1,0 +1,37 @@
+"""What the subcommands share: reading files and reporting problems."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from lang.diagnostics import ERROR, Diagnostic
+from lang.loader import Loaded, load_file
+
+EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE = 0, 1, 2
+
+
+def add_encoding(parser) -> None:
+    parser.add_argument("--encoding", help="encoding of LDmicro files (default cp1252; .ladder files are UTF-8)")
+
+
+def load(path: str, encoding: str | None) -> Loaded | None:
+    """The file read, or None after saying why it cannot be read."""
+    try:
+        return load_file(path, encoding)
+    except OSError as problem:
+        print(f"{path}: error: {problem.strerror or problem}", file=sys.stderr)
+        return None
+
+
+def report(path: str, diagnostics: list[Diagnostic], stream=sys.stdout) -> None:
+    for diagnostic in sorted(diagnostics, key=lambda d: (d.span is None, d.span or 0, d.code)):
+        print(diagnostic.format(path), file=stream)
+
+
+def has_errors(diagnostics: list[Diagnostic]) -> bool:
+    return any(d.severity == ERROR for d in diagnostics)
+
+
+def write_bytes(path: str, data: bytes) -> None:
+    Path(path).write_bytes(data)
