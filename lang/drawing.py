@@ -76,6 +76,11 @@ def _parse_field(kind: str, fmt: str | None, text: str) -> object:
         return int(text) + 1
     if kind == "edge":
         return text or "-"
+    if kind == "int":
+        try:
+            return int(text, 0)
+        except ValueError:
+            return text
     return text
 
 

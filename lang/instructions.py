@@ -84,6 +84,8 @@ def integer(name: str, default: int | None = None, drawn: bool = True) -> Field:
 
 
 def token(name: str, default: str | None = None, drawn: bool = True) -> Field:
+    if default is None and not drawn:
+        default = ""
     return Field(name, "token", access="", default=default, drawn=drawn)
 
 
@@ -479,7 +481,8 @@ for _n in ("7", "9", "14", "16"):
     )
 define(
     "BUS", "bus tracer",
-    (var("dest"), operand("src")) + tuple(integer(f"b{i}", 7 - i, drawn=False) for i in range(8)),
+    # .ld order: the source bit for destination bit 7 first, bit 0 last
+    (var("dest"), operand("src")) + tuple(integer(f"b{i}", i, drawn=False) for i in range(7, -1, -1)),
     box("{BUS ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
     "While its input is 1, sets each bit i of the destination to bit b_i of the source.",
     "display", support=SIM_ONLY,

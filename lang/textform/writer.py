@@ -31,12 +31,13 @@ def element_text(element: Element) -> tuple[str, str, bool]:
 
 
 def _needed_width(element: Element) -> int:
-    """Characters the element needs so that no text is cut and the last
-    character of its cell stays free for a junction."""
+    """Characters the element needs so that no text is cut: the name line
+    keeps its last character free for a connector; a glyph may fill its slot
+    (LDmicro draws a 17-character glyph with no wire either side)."""
     if element.kind == "PLACEHOLDER":
         return CELL
     top, glyph, boxed = element_text(element)
-    return max(CELL * element.spec.cells, len(top) + 1, len(glyph) + (1 if boxed else 2))
+    return max(CELL * element.spec.cells, len(top) + 1, len(glyph) + (1 if boxed else 0))
 
 
 def diagram_width(program: Program) -> int:
@@ -104,6 +105,14 @@ def _column_widths(grid: Grid) -> list[int]:
         have = sum(widths[placed.col:placed.col + placed.cells])
         if need > have:
             widths[placed.col + placed.cells - 1] += need - have
+    # a glyph filling its slot would lose its last character to a junction there
+    for placed in grid.placed:
+        if placed.element is None or placed.element.kind == "PLACEHOLDER":
+            continue
+        last = placed.col + placed.cells - 1
+        if ((last, placed.row) in grid.connectors or (last, placed.row + 1) in grid.connectors) and \
+                len(element_text(placed.element)[1]) >= sum(widths[placed.col:last + 1]):
+            widths[last] += 1
     return widths
 
 
