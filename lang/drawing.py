@@ -234,13 +234,28 @@ class Box:
         free = max(0, budget - sum(len(p) for p in parts))
         after_center = free // 2
         before_center = free - after_center
-        prefix, left, center, right, suffix = parts
-        return prefix + left + " " * before_center + center + " " * after_center + right + suffix
+        gaps = [0, before_center, after_center, 0]
+        # where LDmicro would cut a field, we grow instead; but two fields that
+        # then touch must not run together into one token
+        templates = self.templates()
+        present = [i for i, part in enumerate(parts) if part]
+        for a, b in zip(present, present[1:]):
+            if (sum(gaps[a:b]) == 0 and templates[a].fields() and templates[b].fields()
+                    and _wordish(parts[a][-1]) and _wordish(parts[b][0])):
+                gaps[b - 1] = 1
+        out = parts[0]
+        for gap, part in zip(gaps, parts[1:]):
+            out += " " * gap + part
+        return out
 
     def regex(self, kinds: dict[str, str], edges: bool) -> str:
         pieces = [t.regex(kinds, edges and i in (0, 4), left=i == 0, right=i == 4)
                   for i, t in enumerate(self.templates())]
         return r"\s*".join(p for p in pieces if p)
+
+
+def _wordish(ch: str) -> bool:
+    return ch.isalnum() or ch in "_$#@.~'\"-+\\"
 
 
 def _compare_width(args: dict) -> int:
