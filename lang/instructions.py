@@ -477,7 +477,8 @@ for _n in ("7", "9", "14", "16"):
         box("{" + _n + "SEG ", "", "", "{dest}", ":=}"), box("{", "{common}", "", "{src}", "}"),
         f"While its input is 1, sets the destination to the {_n}-segment pattern of the "
         "source character (C common cathode, A common anode).",
-        "display", support=SIM_ONLY | {"avr", "pic16"} if _n == "7" else SIM_ONLY,
+        # LDmicro has a font only for 7 segments; 9/14/16 are drawn, never run
+        "display", support=ALL if _n == "7" else DRAWN_ONLY,
     )
 define(
     "BUS", "bus tracer",
@@ -485,7 +486,7 @@ define(
     (var("dest"), operand("src")) + tuple(integer(f"b{i}", i, drawn=False) for i in range(7, -1, -1)),
     box("{BUS ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
     "While its input is 1, sets each bit i of the destination to bit b_i of the source.",
-    "display", support=SIM_ONLY,
+    "display",
 )
 
 _SPI_DETAILS = (token("mode", "Master", drawn=False), token("modes", "0", drawn=False),

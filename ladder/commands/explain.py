@@ -18,7 +18,8 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    import lang.checks  # noqa: F401  (the checks register their codes)
+    import lang.checks  # noqa: F401  (the checks and the simulator register their codes)
+    import lang.sim.errors  # noqa: F401
 
     if args.code is None:
         for code in sorted(CODES.values(), key=lambda c: c.code):

@@ -140,7 +140,8 @@ def write_details(program: Program) -> list[str]:
     return lines
 
 
-_DETAIL_RE = re.compile(r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?P<name>.*?))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
+_DETAIL_RE = re.compile(
+    r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?!#\d+\s*:)(?P<name>.*?))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
 
 
 def read_details(section: Section, program: Program, problems: list[Diagnostic]) -> None:

@@ -20,8 +20,8 @@ from ..instructions import INSTRUCTIONS, Instruction
 # trailing ^ belong to the glyph.
 GLYPH_RE = re.compile(
     r"""
-      \{".*?",[^{}]*\}                 # STRING: {"format", var}
-    | \{".*?"\}                        # FORMATTED_STRING: {"text"}
+      \{"(?:(?!"\}).)*?",[^{}]*\}      # STRING: {"format", var}
+    | \{"(?:(?!"\}).)*"\}              # FORMATTED_STRING: {"text"}
     | [/\\o^]?\{(?:[^{}\[\]]|\[[^\[\]]*\])*\}      # braces, may hold one [index]
     | [/\\o^]?\[[^\[\]]*\]\^?          # brackets
     | \([^()]\)                        # coils

@@ -1,0 +1,106 @@
+"""`ladder test FILE...`: run scenario files (docs/testing.md) against the
+simulator; print each failure with a timing diagram; exit 1 on any failure."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from xml.etree import ElementTree
+
+EXIT_OK, EXIT_FAILED = 0, 1
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "test", help="run test scenarios against the simulator",
+        description="Run scenario files: each names its program, drives inputs over simulated time and "
+                    "checks outputs. Exit 0 when every expectation holds, 1 otherwise.")
+    parser.add_argument("files", nargs="+", metavar="FILE")
+    parser.add_argument("--junit", metavar="OUT.xml", help="also write the results as JUnit XML")
+    parser.set_defaults(func=run)
+
+
+def run(args) -> int:
+    suites = [_run_file(path) for path in args.files]
+    failed = sum(1 for suite in suites for case in suite["cases"] if case["failures"] or case["error"])
+    total = sum(len(suite["cases"]) for suite in suites)
+    print(f"{total - failed} passed, {failed} failed")
+    if args.junit:
+        _write_junit(suites, args.junit)
+    return EXIT_FAILED if failed else EXIT_OK
+
+
+def _run_file(path: str) -> dict:
+    from lang.sim.scenario import ScenarioError, parse_scenarios
+
+    suite = {"name": path, "cases": []}
+    try:
+        scenarios = parse_scenarios(Path(path).read_text(encoding="utf-8"), path)
+    except (OSError, UnicodeDecodeError) as problem:
+        return _broken(suite, path, f"{path}: error: {getattr(problem, 'strerror', None) or problem}")
+    except ScenarioError as problem:
+        return _broken(suite, path, str(problem))
+    for scenario in scenarios:
+        started = time.perf_counter()
+        case = {"name": scenario.name, "failures": [], "error": None}
+        case["error"], case["failures"] = _run_scenario(scenario)
+        case["seconds"] = time.perf_counter() - started
+        _print_case(path, case)
+        suite["cases"].append(case)
+    return suite
+
+
+def _run_scenario(scenario) -> tuple[str | None, list[str]]:
+    from lang.diagnostics import ERROR
+    from lang.loader import load_path
+    from lang.sim import SimulationError, Simulator
+    from lang.sim.scenario import run_scenario
+
+    program_path = str(scenario.program)
+    try:
+        program, diagnostics = load_path(program_path)
+    except OSError as problem:
+        return f"{scenario.path}:{scenario.line}: error: {program_path}: {problem.strerror or problem}", []
+    errors = [d.format(program_path) for d in diagnostics if d.severity == ERROR]
+    if errors:
+        return "\n".join(errors), []
+    try:
+        sim = Simulator(program)
+    except SimulationError as problem:
+        return "\n".join(d.format(program_path) for d in problem.diagnostics), []
+    return None, [failure.format(scenario.path) for failure in run_scenario(scenario, sim)]
+
+
+def _broken(suite: dict, path: str, message: str) -> dict:
+    case = {"name": Path(path).stem, "failures": [], "error": message, "seconds": 0.0}
+    _print_case(path, case)
+    suite["cases"].append(case)
+    return suite
+
+
+def _print_case(path: str, case: dict) -> None:
+    if case["error"] or case["failures"]:
+        print(f"FAIL {path}: {case['name']}")
+        for text in ([case["error"]] if case["error"] else []) + case["failures"]:
+            print("  " + text.replace("\n", "\n  "))
+    else:
+        print(f"ok   {path}: {case['name']}")
+    sys.stdout.flush()
+
+
+def _write_junit(suites: list[dict], out: str) -> None:
+    root = ElementTree.Element("testsuites")
+    for suite in suites:
+        failures = sum(1 for c in suite["cases"] if c["failures"])
+        errors = sum(1 for c in suite["cases"] if c["error"])
+        node = ElementTree.SubElement(root, "testsuite", name=suite["name"], tests=str(len(suite["cases"])),
+                                      failures=str(failures), errors=str(errors))
+        for case in suite["cases"]:
+            item = ElementTree.SubElement(node, "testcase", classname=suite["name"], name=case["name"],
+                                          time=f"{case.get('seconds', 0.0):.3f}")
+            if case["error"]:
+                ElementTree.SubElement(item, "error", message=case["error"].splitlines()[0]).text = case["error"]
+            for text in case["failures"]:
+                ElementTree.SubElement(item, "failure", message=text.splitlines()[0]).text = text
+    ElementTree.ElementTree(root).write(out, encoding="utf-8", xml_declaration=True)

@@ -1,0 +1,74 @@
+"""LD304: a malformed constant (a bad character literal, a number with stray characters)."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from ..codes import register
+from ..diagnostics import error
+from ..values import is_literal, literal_value
+from .common import arg_span, label, rung_no
+
+CODE = register(
+    "LD304", "malformed constant",
+    "A constant is a decimal number, 0x hex, 0b binary, 0o or leading-0 octal, or one character in "
+    "single quotes ('A', or one escape such as '\\n' or '\\x41'). Anything else that starts like a "
+    "number is malformed: '09' (not octal), '12ab', 'AB' in quotes. LDmicro: \"Expected "
+    "single-character or one simple-escape-sequence in single-quotes: <%s>!\". Table entries (LUT "
+    "values, PWL points) must be constants.",
+)
+
+
+@lru_cache(maxsize=4096)
+def _problem(text: str) -> str | None:
+    """Why a constant is malformed, or None."""
+    if text.endswith("~"):
+        return None  # a value LDmicro's export cut: LD010
+    try:
+        literal_value(text)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+def _table_problem(value) -> str | None:
+    if isinstance(value, int):
+        return None
+    text = str(value)
+    if text.endswith("~"):
+        return None
+    if not is_literal(text):
+        return f"'{text}' is not a number (table entries must be constants)"
+    return _problem(text)
+
+
+def check(program, index):
+    found = []
+    for literal in index.literals:
+        reason = _problem(literal.text)
+        if reason:
+            found.append(error(
+                CODE,
+                f"malformed constant in {label(literal.element)}, {rung_no(literal.rung)}: {reason}",
+                arg_span(literal.element, literal.field),
+            ))
+    for rung, element in index.of_kind("LOOK_UP_TABLE"):
+        for position, value in enumerate(element.args.get("values") or ()):
+            reason = _table_problem(value)
+            if reason:
+                found.append(error(
+                    CODE,
+                    f"LUT in {rung_no(rung)}, entry {position}: {reason}",
+                    arg_span(element, "values"),
+                ))
+    for rung, element in index.of_kind("PIECEWISE_LINEAR"):
+        for position, point in enumerate(element.args.get("points") or ()):
+            for axis, value in zip("xy", point):
+                reason = _table_problem(value)
+                if reason:
+                    found.append(error(
+                        CODE,
+                        f"PWL in {rung_no(rung)}, point {position} {axis}: {reason}",
+                        arg_span(element, "points"),
+                    ))
+    return found

@@ -1,0 +1,354 @@
+"""Small helpers the rules share: how to name an element, a rung, an operand's
+place in the source, and the value range of a variable of a given size."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from ..instructions import INSTRUCTIONS
+from ..diagnostics import Related
+from ..model import Element, Parallel, Series, Span, iter_elements
+from ..values import format_delay, is_literal, literal_value
+
+# Instructions that must end their branch (coils, MOV, RES...).
+EOL_KINDS = frozenset(key for key, spec in INSTRUCTIONS.items() if spec.eol)
+
+# How messages name an instruction: the word LDmicro draws, not the model key.
+_LABELS = {
+    "CONTACTS": "contact",
+    "COIL": "coil",
+    "MOVE": "MOV",
+    "LOOK_UP_TABLE": "LUT",
+    "PIECEWISE_LINEAR": "PWL",
+    "READ_ADC": "READ ADC",
+    "SET_PWM": "SET PWM",
+    "TIME2COUNT": "T2CNT",
+    "TIME2DELAY": "T2DLY",
+    "SEED_RANDOM": "SRAND",
+    "RANDOM": "RAND",
+    "MASTER_RELAY": "MASTER RLY",
+    "SHIFT_REGISTER": "SHIFT REG",
+    "FORMATTED_STRING": "formatted string",
+    "UART_SEND": "UART SEND",
+    "UART_RECV": "UART RECV",
+    "UART_SEND_READY": "UART SEND ready test",
+    "UART_RECV_AVAIL": "UART RECV available test",
+    "PLACEHOLDER": "empty rung",
+    "IF_BIT_SET": "IF BIT SET",
+    "IF_BIT_CLEAR": "IF BIT CLR",
+    "SET_BIT": "SET BIT",
+    "CLEAR_BIT": "CLR BIT",
+}
+_COIL_WORDS = {" ": "coil", "/": "negated coil", "S": "set coil", "R": "reset coil", "T": "toggle coil"}
+
+# Timer and counter families, used by several rules.
+TIMERS = ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")
+COUNTERS = ("CTU", "CTD", "CTC", "CTR")
+UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
+
+# Names the compiler writes itself (§4.2): never "read but never written".
+GENERATED = frozenset({"ROverflowFlagV", "RUartRecvErrorFlag", "RUartSendErrorFlag", "YPlcCycleDuty"})
+
+
+def label(element: Element) -> str:
+    """The instruction as messages name it: 'TON', 'coil', 'set coil', 'MOV'."""
+    if element.kind == "COIL":
+        return _COIL_WORDS.get(str(element.args.get("type", " ")), "coil")
+    return _LABELS.get(element.kind, element.kind.replace("_", " "))
+
+
+_NAMED = {
+    key: next((f.name for f in spec.fields if f.kind in ("bit", "var", "label")), None)
+    for key, spec in INSTRUCTIONS.items()
+}
+
+
+def describe(element: Element) -> str:
+    """The instruction and its main operand: "coil 'Ya'", "TON 'T1'", "OSR"."""
+    field = _NAMED.get(element.kind)
+    value = token(element.args.get(field)) if field else ""
+    return f"{label(element)} '{value}'" if value else label(element)
+
+
+def rung_no(index: int) -> str:
+    """Rungs are numbered from 1 in messages, as LDmicro and the drawing do."""
+    return f"rung {index + 1}"
+
+
+def token(value: object) -> str:
+    """An operand as source text ('' for none)."""
+    if value is None:
+        return ""
+    text = str(value)
+    return "" if text == "(none)" else text
+
+
+def arg_span(element: Element, field: str) -> Span | None:
+    """Where an operand sits, or the element when the reader did not say."""
+    span = element.arg_spans.get(field)
+    return span if span is not None else element.span
+
+
+@lru_cache(maxsize=4096)
+def literal_or_none(text: str) -> int | None:
+    """The value of a well-formed literal; None for names and malformed ones."""
+    if not is_literal(text):
+        return None
+    try:
+        return literal_value(text)
+    except ValueError:
+        return None
+
+
+def is_decimal(text: str) -> bool:
+    """A literal written in decimal (hex, binary, octal and characters may use
+    the unsigned range of a variable, as LDmicro's hex variants allow)."""
+    body = text.lstrip("+-").lower()
+    if text.startswith("'"):
+        return False
+    return not (body.startswith(("0x", "0b", "0o")) or (len(body) > 1 and body.startswith("0")))
+
+
+def var_size(program, name: str) -> int | None:
+    """A variable's size in bytes (2 unless the VAR LIST says otherwise), or
+    None when the VAR LIST gives no integer size (a table's, or nonsense)."""
+    size = program.var_sizes.get(name, 2)
+    return size if isinstance(size, int) and 1 <= size <= 4 else None
+
+
+def signed_range(size: int) -> tuple[int, int]:
+    bits = 8 * size
+    return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+
+
+def fits(value: int, size: int, decimal: bool) -> bool:
+    low, high = signed_range(size)
+    if low <= value <= high:
+        return True
+    return not decimal and 0 <= value <= (1 << (8 * size)) - 1
+
+
+def range_text(size: int, decimal: bool) -> str:
+    low, high = signed_range(size)
+    text = f"{low} to {high}"
+    if not decimal:
+        text += f" (or 0 to {(1 << (8 * size)) - 1} written in hex)"
+    return text
+
+
+def mark_text(mark) -> str:
+    """How a varflags Mark is named in messages: 'the TON timer of rung 2'."""
+    from .varflags import ANY, PWM, RES, TABLE
+
+    where = rung_no(mark.rung)
+    if mark.flag in TIMERS:
+        return f"the {mark.flag} timer of {where}"
+    if mark.flag in COUNTERS:
+        return f"the {mark.flag} counter of {where}"
+    if mark.flag == PWM:
+        return f"the SET PWM of {where}"
+    if mark.flag == RES:
+        return f"the RES of {where}"
+    if mark.flag == TABLE:
+        return f"the {label(mark.element)} table of {where}"
+    assert mark.flag == ANY
+    return f"{label(mark.element)} in {where}"
+
+
+def mark_related(marks, limit: int = 4):
+    """Related entries for the earlier uses a conflict is with."""
+    related = []
+    for mark in marks[:limit]:
+        span = mark.element.arg_spans.get(mark.field) or mark.element.span
+        if span is not None:
+            related.append(Related(span, f"'{mark.name}' used here by {mark_text(mark)}"))
+    return related
+
+
+def first_element(node) -> Element | None:
+    """The first element of a circuit in evaluation order."""
+    return next(iter_elements(node), None)
+
+
+def node_span(node) -> Span | None:
+    """A node's span, or its first element's when the reader gave none."""
+    if node.span is not None:
+        return node.span
+    element = first_element(node)
+    return element.span if element is not None else None
+
+
+def node_text(node) -> str:
+    """'TON', 'coil', or 'a parallel block' for messages."""
+    if isinstance(node, Element):
+        return describe(node)
+    return "a parallel block" if isinstance(node, Parallel) else "a series block"
+
+
+def terminal(node) -> Element | None:
+    """The end-of-line element a circuit ends in (any branch of a parallel), or None."""
+    if isinstance(node, Element):
+        return node if node.kind in EOL_KINDS else None
+    if isinstance(node, Series):
+        return terminal(node.items[-1]) if node.items else None
+    if isinstance(node, Parallel):
+        for branch in node.branches:
+            found = terminal(branch)
+            if found is not None:
+                return found
+    return None
+
+
+def table_numbers(values) -> list[int] | None:
+    """Table entries as integers, or None if one is not a well-formed constant
+    (LD304 reports those)."""
+    numbers = []
+    for value in values:
+        if isinstance(value, int):
+            numbers.append(value)
+            continue
+        number = literal_or_none(str(value))
+        if number is None:
+            return None
+        numbers.append(number)
+    return numbers
+
+
+TIMED = TIMERS + ("TIME2COUNT",)
+
+
+def _trunc_div(a: int, b: int) -> int:
+    """C integer division (toward zero)."""
+    q = abs(a) // abs(b)
+    return q if (a >= 0) == (b > 0) else -q
+
+
+def timer_periods(program, index) -> list[tuple]:
+    """(rung, element, delay_us, adjust, P, Padj) for every timer with a
+    constant delay, as LDmicro's TestTimerPeriod computes them (P = delay /
+    cycle, Padj = (delay + adjust * cycle) / cycle, C integer division).
+    P and Padj are None when the cycle time is 0 or less."""
+    cached = index.cache.get("timer_periods")
+    if cached is not None:
+        return cached
+    cycle = program.settings.cycle_us
+    found = []
+    for rung, element in index.of_kind(*TIMED):
+        delay = element.args.get("delay")
+        if not isinstance(delay, int):
+            continue
+        try:
+            adjust = int(element.args.get("adjust") or 0)
+        except (TypeError, ValueError):
+            adjust = 0
+        if cycle and cycle > 0:
+            period = _trunc_div(delay, cycle)
+            adjusted = _trunc_div(delay + adjust * cycle, cycle)
+        else:
+            period = adjusted = None
+        found.append((rung, element, delay, adjust, period, adjusted))
+    index.cache["timer_periods"] = found
+    return found
+
+
+def timer_text(element: Element) -> str:
+    """'TON 'Tdelay'' for messages."""
+    return f"{element.kind} '{token(element.args.get('name'))}'"
+
+
+def delay_text(microseconds: int) -> str:
+    return format_delay(microseconds)
+
+
+_FSTRING_ESCAPES = frozenset("abefnrtv\\'\"?")
+_HEX = frozenset("0123456789abcdefABCDEF")
+
+
+def scan_format(text: str) -> tuple[list[str], list[tuple[str, str]]]:
+    """LDmicro's reading of a formatted string (intcode.cpp, FORMATTED_STRING):
+    the interpolations found (`\\3`, `\\-5`...) and the bad escapes, each as
+    (the sequence, what is wrong)."""
+    interpolations: list[str] = []
+    bad: list[tuple[str, str]] = []
+    i, n = 0, len(text)
+    while i < n:
+        if text[i] != "\\":
+            i += 1
+            continue
+        nxt = text[i + 1] if i + 1 < n else ""
+        if nxt.isdigit() or nxt == "-":
+            j = i + 1 + (nxt == "-")
+            digit = text[j] if j < n else ""
+            sequence = text[i:j + 1]
+            interpolations.append(sequence)
+            if not digit.isdigit() or digit == "0" or digit > "5":
+                bad.append((sequence, "after \\ a digit count must be 1 to 5 (\\3, \\-3); "
+                                      "for a literal backslash write \\\\"))
+            i = j + 1
+        elif nxt == "x":
+            if text[i + 2:i + 3] in _HEX and text[i + 3:i + 4] in _HEX and i + 3 < n:
+                i += 4
+            else:
+                bad.append((text[i:i + 4], "the correct form is \\xAB, two hex digits"))
+                i += 2
+        elif nxt in _FSTRING_ESCAPES and nxt:
+            i += 2
+        else:
+            bad.append((text[i:i + 2], "unknown escape; for a literal backslash write \\\\"))
+            i += 2
+    return interpolations, bad
+
+
+# --- pins ------------------------------------------------------------------------
+
+BUS_PIN_SUFFIXES = ("_MOSI", "_MISO", "_SCK", "__SS", "_SCL", "_SDA")
+
+
+def is_assigned(assignment) -> bool:
+    """LDmicro writes pin 0 for a name with no pin."""
+    pin = assignment.pin
+    if pin is None:
+        return False
+    text = str(pin).strip()
+    return text not in ("", "0")
+
+
+def pin_text(assignment) -> str:
+    pin = assignment.pin
+    return f"pin {pin}" if isinstance(pin, int) or str(pin).isdigit() else str(pin)
+
+
+def adc_names(index) -> set[str]:
+    """Names that are A/D inputs: A names and whatever READ ADC reads."""
+    found = index.cache.get("adc_names")
+    if found is None:
+        found = {name for name in index.uses if name.startswith("A")}
+        found.update(token(e.args.get("name")) for _, e in index.of_kind("READ_ADC"))
+        index.cache["adc_names"] = found
+    return found
+
+
+def pwm_names(index) -> set[str]:
+    """Names that are PWM outputs: P names and whatever SET PWM drives."""
+    found = index.cache.get("pwm_names")
+    if found is None:
+        found = {name for name in index.uses if name.startswith("P")}
+        found.update(token(e.args.get("name")) for _, e in index.of_kind("SET_PWM"))
+        index.cache["pwm_names"] = found
+    return found
+
+
+def used_pins(program, index) -> list[tuple]:
+    """(name, assignment, Pin or None) for every assigned pin of a name the
+    program uses, with the selected part's data; [] without a part we know."""
+    cached = index.cache.get("used_pins")
+    if cached is not None:
+        return cached
+    device = index.device
+    found = []
+    if device is not None:
+        for name, assignment in program.pins.items():
+            if name in index.uses and is_assigned(assignment):
+                found.append((name, assignment, device.pin(assignment.pin)))
+    index.cache["used_pins"] = found
+    return found

@@ -1,0 +1,72 @@
+"""LD301: a constant that does not fit the variable it is stored in or compared with."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from ..codes import register
+from ..diagnostics import warning
+from ..values import is_literal
+from .common import (
+    COUNTERS, arg_span, fits, is_decimal, label, literal_or_none, range_text, rung_no, token, var_size,
+)
+
+CODE = register(
+    "LD301", "constant out of range for its variable",
+    "Variables are signed integers of 1 to 4 bytes (2 unless the VAR LIST says otherwise). A "
+    "constant moved into a variable, used in arithmetic with it, compared with it, or given as a "
+    "counter's limit or start value must fit that size: -128..127 for 1 byte, -32768..32767 for 2, "
+    "and so on (constants written in hex, binary, octal or as characters may also use the unsigned "
+    "range, 0..255 for 1 byte). Otherwise the value is cut to the variable's size. LDmicro: "
+    "\"Variable %s=%d out of range\" / \"Constant %s=%d out of variable '%s' range\".",
+)
+
+# (kind, constant's field) -> (the field naming the variable it must fit, its role)
+_TARGETS: dict[tuple[str, str], tuple[str, str]] = {("MOVE", "src"): ("dest", "source")}
+for _kind in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR"):
+    _TARGETS[(_kind, "op1")] = ("dest", "operand")
+    _TARGETS[(_kind, "op2")] = ("dest", "operand")
+for _kind in ("NEG", "NOT", "SHL", "SHR", "SR0", "ROL", "ROR"):
+    _TARGETS[(_kind, "op1")] = ("dest", "operand")  # a shift count (op2) is LD302
+for _kind in ("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ"):
+    _TARGETS[(_kind, "op1")] = ("op2", "operand")
+    _TARGETS[(_kind, "op2")] = ("op1", "operand")
+for _kind in COUNTERS:
+    _TARGETS[(_kind, "max")] = ("name", "limit")
+    _TARGETS[(_kind, "init")] = ("name", "start value")
+
+
+@lru_cache(maxsize=4096)
+def _outside(text: str, size: int) -> str | None:
+    """The range a constant misses for a variable of `size` bytes, or None
+    when it fits (or is malformed: LD304 reports those)."""
+    value = literal_or_none(text)
+    if value is None:
+        return None
+    decimal = is_decimal(text)
+    return None if fits(value, size, decimal) else range_text(size, decimal)
+
+
+def check(program, index):
+    found = []
+    for literal in index.literals:
+        target = _TARGETS.get((literal.element.kind, literal.field))
+        if target is None:
+            continue
+        field, role = target
+        name = token(literal.element.args.get(field))
+        if not name or is_literal(name) or name.startswith(("#", "$")):
+            continue
+        size = var_size(program, name)
+        if size is None:
+            continue
+        allowed = _outside(literal.text, size)
+        if allowed is None:
+            continue
+        found.append(warning(
+            CODE,
+            f"constant {literal.text} ({label(literal.element)} {role}, {rung_no(literal.rung)}) does not "
+            f"fit '{name}', a {size}-byte variable: {allowed}",
+            arg_span(literal.element, literal.field),
+        ))
+    return found

@@ -1,0 +1,235 @@
+"""One cheap pass over a program that every rule shares.
+
+The index lists the elements in evaluation order (series left to right,
+parallel branches top to bottom, rungs top to bottom), groups them by kind,
+records for each name every place it is used (which element, which operand,
+read or written, in order), every constant written where an operand could be
+a name, and every series of every rung. Whole-program rules (a relay never
+written, a timer name used twice) then look a name up instead of walking the
+tree again. Analyses that several rules need (LDmicro's variable-flag walk,
+the timer periods, the selected device) are computed once and kept in
+`ProgramIndex.cache`.
+
+The language server re-checks after every edit, so this pass is written for
+speed: one walk, no generators per element, tuples for the records.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import NamedTuple
+
+from ..instructions import INSTRUCTIONS
+from ..model import Element, Program, Series, Span
+from .common import EOL_KINDS, token
+
+# Operand kinds that hold variable names (or, for operands, a constant).
+_NAME_KINDS = ("bit", "var", "operand", "delay")
+
+
+def _plan(key: str) -> tuple[tuple[str, str], ...]:
+    """(field, access) of the operands of an instruction that may name a
+    variable or hold a constant; shift registers are handled apart."""
+    plan = []
+    for f in INSTRUCTIONS[key].fields:
+        if f.kind not in _NAME_KINDS or not f.access:
+            continue
+        access = f.access
+        if key == "RSFR" and f.name == "dest":
+            access = "write"  # the SFR read stores into its second operand
+        if key == "SPI_WR" and f.name == "send":
+            continue  # the text to send, not a variable
+        plan.append((f.name, access))
+    return tuple(plan)
+
+
+_PLANS = {key: _plan(key) for key in INSTRUCTIONS}
+_TABLE_KINDS = ("LOOK_UP_TABLE", "PIECEWISE_LINEAR")
+
+
+class Use(NamedTuple):
+    """One use of a name by one operand of one element."""
+
+    name: str
+    rung: int
+    element: Element
+    field: str  # the operand's field name ("name", "dest", ...; "table" for a LUT/PWL table)
+    access: str  # "read", "write", "rw" (both) or "table" (a LUT/PWL table name)
+    order: int  # position of the element in evaluation order
+
+    @property
+    def span(self) -> Span | None:
+        span = self.element.arg_spans.get(self.field)
+        return span if span is not None else self.element.span
+
+    @property
+    def reads(self) -> bool:
+        return self.access == "read" or self.access == "rw"
+
+    @property
+    def writes(self) -> bool:
+        return self.access == "write" or self.access == "rw"
+
+
+class Literal(NamedTuple):
+    """A constant written where an operand could also be a name."""
+
+    text: str
+    rung: int
+    element: Element
+    field: str
+
+
+_DIGITS = frozenset("0123456789")
+_new = tuple.__new__  # builds a NamedTuple without its Python-level __new__ (hot loop)
+
+
+def is_literal_fast(text: str) -> bool:
+    """lang.values.is_literal, inlined for the hot loop (text is not empty)."""
+    first = text[0]
+    if first in _DIGITS or first == "'":
+        return True
+    return (first == "-" or first == "+") and len(text) > 1 and text[1] in _DIGITS
+
+
+def _stages(element: Element) -> list[tuple[str, str, str]]:
+    """The names a shift register uses: name0 is the input the program
+    writes; the register reads name0..name(n-2) and writes name1..name(n-1)."""
+    args = element.args
+    base = token(args.get("name"))
+    try:
+        stages = int(args.get("stages") or 0)
+    except (TypeError, ValueError):
+        stages = 0
+    if not base or is_literal_fast(base):
+        return []
+    found = []
+    for i in range(stages):
+        access = "read" if i == 0 else ("write" if i == stages - 1 else "rw")
+        found.append((f"{base}{i}", "name", access))
+    return found
+
+
+class ProgramIndex:
+    """Elements in order, by kind, every use of every name, every constant
+    operand, and every series (for the rules about rung shapes)."""
+
+    def __init__(self, program: Program):
+        self.program = program
+        self.elements: list[tuple[int, Element]] = []
+        self.by_kind: dict[str, list[tuple[int, Element]]] = {}
+        self.uses: dict[str, list[Use]] = {}  # in order of first use
+        self.literals: list[Literal] = []
+        self.series: list[tuple[int, Series]] = []  # every series, rung circuits included
+        # (rung, series, position) of every end-of-line element or parallel
+        # block that something follows in its series (LD201, LD202)
+        self.followed: list[tuple[int, Series, int]] = []
+        self.cache: dict[str, object] = {}
+        self._build(program)
+
+    def _build(self, program: Program) -> None:
+        # one walk; everything it touches is bound to a local name (hot loop)
+        elements, by_kind, uses = self.elements, self.by_kind, self.uses
+        literals, series, followed = self.literals, self.series, self.followed
+        eol_kinds = EOL_KINDS
+        plans, table_kinds, is_literal_, new = _PLANS, _TABLE_KINDS, is_literal_fast, _new
+        element_class, series_class = Element, Series
+
+        def add(element: Element, rung: int) -> None:
+            order = len(elements)
+            pair = (rung, element)
+            elements.append(pair)
+            kind = element.kind
+            same = by_kind.get(kind)
+            if same is None:
+                by_kind[kind] = [pair]
+            else:
+                same.append(pair)
+            args = element.args
+            if kind == "SHIFT_REGISTER":
+                names = _stages(element)
+            else:
+                names = None
+                for field, access in plans.get(kind, ()):
+                    value = args.get(field)
+                    if value.__class__ is not str or not value or value == "(none)":
+                        continue  # a numeric delay, an absent operand
+                    if is_literal_(value):
+                        literals.append(new(Literal, (value, rung, element, field)))
+                        continue
+                    use = new(Use, (value, rung, element, field, access, order))
+                    found = uses.get(value)
+                    if found is None:
+                        uses[value] = [use]
+                    else:
+                        found.append(use)
+                if kind not in table_kinds:
+                    return
+                table = token(args.get("table"))
+                if not table:
+                    return
+                names = [(table, "table", "table")]
+            for name, field, access in names:
+                use = new(Use, (name, rung, element, field, access, order))
+                found = uses.get(name)
+                if found is None:
+                    uses[name] = [use]
+                else:
+                    found.append(use)
+
+        def walk(node, rung: int) -> None:
+            cls = node.__class__
+            if cls is element_class:
+                add(node, rung)
+            elif cls is series_class:
+                series.append((rung, node))
+                items = node.items
+                last = len(items) - 1
+                for position, item in enumerate(items):
+                    if item.__class__ is element_class:
+                        add(item, rung)
+                        if position < last and item.kind in eol_kinds:
+                            followed.append((rung, node, position))
+                    else:
+                        walk(item, rung)
+                        if position < last and item.__class__ is not series_class:
+                            followed.append((rung, node, position))
+            else:
+                for branch in node.branches:
+                    walk(branch, rung)
+
+        for rung_index, rung in enumerate(program.rungs):
+            walk(rung.circuit, rung_index)
+
+    # --- look-ups ------------------------------------------------------------
+
+    def of_kind(self, *kinds: str) -> list[tuple[int, Element]]:
+        """(rung index, element) of the given kinds, in evaluation order."""
+        if len(kinds) == 1:
+            return self.by_kind.get(kinds[0], [])
+        present = [kind for kind in kinds if kind in self.by_kind]
+        if len(present) <= 1:
+            return self.by_kind[present[0]] if present else []
+        wanted = frozenset(present)
+        return [pair for pair in self.elements if pair[1].kind in wanted]
+
+    def has_kind(self, *kinds: str) -> bool:
+        return any(kind in self.by_kind for kind in kinds)
+
+    def is_written(self, name: str) -> bool:
+        return any(use.writes for use in self.uses.get(name, ()))
+
+    @cached_property
+    def device(self):
+        """The selected part's pin data, or None (no part, or no data for it)."""
+        mcu = self.program.settings.mcu
+        if not mcu:
+            return None
+        from ..devices import find_device
+
+        return find_device(mcu)
+
+
+def all_series(index: ProgramIndex) -> list[tuple[int, Series]]:
+    """(rung index, Series) for every series of the program, rung circuits included."""
+    return index.series

@@ -1,0 +1,43 @@
+"""LD112: a pin operand of QUAD ENCOD, PULSER, STEPPER or NPULSE with the wrong prefix."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..values import is_literal
+from ..diagnostics import error
+from ..instructions import INSTRUCTIONS
+from .common import COUNTERS, TIMERS, arg_span, label, rung_no, token
+
+CODE = register(
+    "LD112", "operand with the wrong name prefix",
+    "Some operands must be pins of one kind: the A, B and Z inputs of QUAD ENCOD are X inputs, its "
+    "direction flag a Y output or R relay, the PULSER coil a Y output or R relay, the STEPPER and "
+    "N PULSE coils Y outputs. LDmicro refuses the program otherwise (\"Connect QUAD ENCOD input A "
+    "to input pin XqAn.\" and the like).",
+)
+
+# contacts, coils, timers, counters, RES and SET PWM have rules of their own
+_OWN_RULE = frozenset(("CONTACTS", "COIL", "RES", "SET_PWM") + TIMERS + COUNTERS)
+_FIELDS = {
+    key: tuple((f.name, f.prefixes) for f in spec.fields if f.prefixes)
+    for key, spec in INSTRUCTIONS.items()
+    if key not in _OWN_RULE and any(f.prefixes for f in spec.fields)
+}
+_LETTERS = {"X": "X (input pin)", "Y": "Y (output pin)", "R": "R (internal relay)"}
+
+
+def check(program, index):
+    found = []
+    for kind, fields in _FIELDS.items():
+        for rung, element in index.of_kind(kind):
+            for field, prefixes in fields:
+                name = token(element.args.get(field))
+                if not name or is_literal(name) or name[0] in prefixes:
+                    continue
+                allowed = " or ".join(_LETTERS.get(p, p) for p in prefixes)
+                found.append(error(
+                    CODE,
+                    f"{label(element)} operand '{field}' = '{name}' in {rung_no(rung)} must start with {allowed}",
+                    arg_span(element, field),
+                ))
+    return found

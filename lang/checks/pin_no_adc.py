@@ -1,0 +1,32 @@
+"""LD404: an A/D input on a pin without an A/D converter channel."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import adc_names, pin_text, used_pins
+
+CODE = register(
+    "LD404", "A/D input on a pin without ADC",
+    "A names (and any name READ ADC reads) must sit on a pin with an A/D converter channel. "
+    "LDmicro: \"Must assign pins for all ADC inputs\". Choose one of the part's analog pins.",
+)
+
+
+def check(program, index):
+    found = []
+    device = index.device
+    analog = adc_names(index)
+    for name, assignment, pin in used_pins(program, index):
+        if pin is None or name not in analog or pin.name in device.adc:
+            continue
+        if not pin.is_io:
+            continue  # LD403 says it
+        choices = ", ".join(sorted(n for n in device.adc if device.pin(n) is not None)) or "none"
+        found.append(error(
+            CODE,
+            f"A/D input '{name}' is assigned to {pin_text(assignment)} ({pin.name}), which has no A/D "
+            f"channel on the {device.title}; analog pins: {choices}",
+            assignment.span,
+        ))
+    return found

@@ -1,0 +1,32 @@
+"""LD406: an X or Y name on the UART pins of a program that uses the UART."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import UART_KINDS, pin_text, used_pins
+
+CODE = register(
+    "LD406", "I/O on the UART pins while the UART is used",
+    "When the program uses the UART (UART SEND/RECV, formatted strings), its receive and transmit "
+    "pins belong to the UART and cannot also be X inputs or Y outputs. LDmicro: \"UART in use; "
+    "pins %d and %d reserved for that.\"",
+)
+
+
+def check(program, index):
+    device = index.device
+    if device is None or not device.uart or not index.has_kind(*UART_KINDS):
+        return []
+    reserved = {pin_name: role for role, pin_name in device.uart.items()}
+    found = []
+    for name, assignment, pin in used_pins(program, index):
+        if pin is None or pin.name not in reserved or name[:1] not in ("X", "Y"):
+            continue
+        found.append(error(
+            CODE,
+            f"'{name}' is assigned to {pin_text(assignment)} ({pin.name}), the UART {reserved[pin.name].upper()} "
+            "pin, but the program uses the UART",
+            assignment.span,
+        ))
+    return found

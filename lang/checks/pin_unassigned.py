@@ -1,0 +1,51 @@
+"""LD407: an I/O name with no pin while a part is selected."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import adc_names, is_assigned, pwm_names
+
+CODE = register(
+    "LD407", "I/O name without a pin",
+    "With a part selected, every X input, Y output, A/D input and PWM output needs a pin in the "
+    "I/O assignment; LDmicro refuses to compile otherwise (\"Must assign pins for all I/O. '...' is "
+    "not assigned.\"). Without a part (simulation only) pins are not needed. The bare name P of a "
+    "classic SET PWM (an old file with no PWM name) is exempt: it means the part's PWM pin.",
+)
+
+# A classic two-field SET_PWM has no name; LDmicro's loader calls it "P", and
+# classic LDmicro drove the part's one PWM pin without an assignment (the
+# corpus reg tests compile that way).
+CLASSIC_PWM = "P"
+
+_WHAT = {"X": "input", "Y": "output", "A": "A/D input", "P": "PWM output"}
+
+
+def check(program, index):
+    if index.device is None:
+        return []
+    analog, pwm = adc_names(index), pwm_names(index)
+    found = []
+    for name in index.uses:  # in order of first use
+        if name[:1] not in ("X", "Y") and name not in analog and name not in pwm:
+            continue
+        if name.endswith("~"):
+            continue  # LD010
+        if name == CLASSIC_PWM:
+            continue
+        assignment = program.pins.get(name)
+        if assignment is not None and is_assigned(assignment):
+            continue
+        uses = [u for u in index.uses[name] if u.access != "table"]
+        if not uses:
+            continue
+        first = uses[0]
+        what = _WHAT.get(name[0]) or ("A/D input" if name in analog else "PWM output")
+        found.append(error(
+            CODE,
+            f"{what} '{name}' has no pin: assign it a pin of the {index.device.title} "
+            f"(first used in rung {first.rung + 1})",
+            first.span,
+        ))
+    return found

@@ -1,0 +1,38 @@
+"""LD307: a PWL segment whose interpolation overflows 16-bit arithmetic."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import arg_span, rung_no, table_numbers
+
+CODE = register(
+    "LD307", "PWL segment too steep or too long for 16-bit math",
+    "PWL computes y[i-1] + (x - x[i-1]) * dy / dx in 16-bit arithmetic, so for every segment the "
+    "product dx * dy must stay within -32768..32766. LDmicro: \"Numerical problem with piecewise "
+    "linear lookup table. Either make the table entries smaller, or space the points together more "
+    "closely.\"",
+)
+
+
+def check(program, index):
+    found = []
+    for rung, element in index.of_kind("PIECEWISE_LINEAR"):
+        points = element.args.get("points") or ()
+        xs = table_numbers([p[0] for p in points])
+        ys = table_numbers([p[1] for p in points])
+        if xs is None or ys is None:
+            continue
+        for i in range(len(xs) - 1, 0, -1):
+            dx, dy = xs[i] - xs[i - 1], ys[i] - ys[i - 1]
+            product = dx * dy
+            if product >= 32767 or product <= -32768:
+                found.append(error(
+                    CODE,
+                    f"PWL in {rung_no(rung)}: the segment from point {i - 1} to point {i} has "
+                    f"dx * dy = {dx} * {dy} = {product}, beyond 16-bit math; make the entries smaller "
+                    "or put the points closer together",
+                    arg_span(element, "points"),
+                ))
+                break
+    return found

@@ -1,0 +1,36 @@
+"""LD302: a shift or rotate count outside 0..8*size."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from ..values import is_literal
+from .common import arg_span, literal_or_none, rung_no, token, var_size
+
+CODE = register(
+    "LD302", "shift count out of range",
+    "SHL, SHR, SR0, ROL and ROR shift within the size of their first operand, so a constant count "
+    "must be between 0 and 8 times that size in bytes (0..16 for a 2-byte variable). LDmicro: "
+    "\"Shift constant %s=%d out of range of the '%s' variable: 0 to %d inclusive.\"",
+)
+
+
+def check(program, index):
+    found = []
+    for rung, element in index.of_kind("SHL", "SHR", "SR0", "ROL", "ROR"):
+        count = literal_or_none(token(element.args.get("op2")))
+        if count is None:
+            continue
+        source = token(element.args.get("op1"))
+        if not source or is_literal(source):
+            source = token(element.args.get("dest"))
+        size = var_size(program, source)
+        if size is None or 0 <= count <= 8 * size:
+            continue
+        found.append(error(
+            CODE,
+            f"{element.kind} in {rung_no(rung)}: shift count {count} is out of range for '{source}' "
+            f"({size} bytes): 0 to {8 * size} inclusive",
+            arg_span(element, "op2"),
+        ))
+    return found

@@ -1,0 +1,42 @@
+"""LD205: a SUBPROG without its ENDSUB, or an ENDSUB without its SUBPROG."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import arg_span, rung_no, token
+
+CODE = register(
+    "LD205", "SUBPROG and ENDSUB not paired",
+    "A subroutine runs from the rung after SUBPROG name to the ENDSUB of the same name, which must "
+    "come after it. LDmicro: \"SUBPROG: ENDSUB '...' not found!\" and \"ENDSUB: SUBPROG '...' not "
+    "found!\".",
+)
+
+
+def check(program, index):
+    found = []
+    starts: dict[str, int] = {}
+    for rung, element in index.of_kind("SUBPROG"):
+        starts.setdefault(token(element.args.get("label")), rung)
+    ends: dict[str, int] = {}
+    for rung, element in index.of_kind("ENDSUB"):
+        name = token(element.args.get("label"))
+        ends[name] = max(ends.get(name, rung), rung)
+        if name not in starts or starts[name] > rung:
+            found.append(error(
+                CODE,
+                f"ENDSUB '{name}' in {rung_no(rung)} has no SUBPROG '{name}' before it",
+                arg_span(element, "label"),
+            ))
+    for rung, element in index.of_kind("SUBPROG"):
+        name = token(element.args.get("label"))
+        if starts.get(name) != rung:
+            continue  # a duplicate: LD206
+        if name not in ends or ends[name] < rung:
+            found.append(error(
+                CODE,
+                f"SUBPROG '{name}' in {rung_no(rung)} has no ENDSUB '{name}' after it",
+                arg_span(element, "label"),
+            ))
+    return found

@@ -1,0 +1,35 @@
+"""LD206: two SUBPROG (or two ENDSUB) of one name."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import Related, error
+from .common import arg_span, rung_no, token
+
+CODE = register(
+    "LD206", "subroutine declared twice",
+    "Each subroutine name may have one SUBPROG and one ENDSUB. LDmicro: \"SUBPROG: Only one SUBPROG "
+    "'...' is allowed!\" and \"ENDSUB: Only one ENDSUB '...' is allowed!\".",
+)
+
+
+def check(program, index):
+    found = []
+    for kind in ("SUBPROG", "ENDSUB"):
+        first: dict[str, tuple[int, object]] = {}
+        for rung, element in index.of_kind(kind):
+            name = token(element.args.get("label"))
+            if name not in first:
+                first[name] = (rung, element)
+                continue
+            first_rung, first_element = first[name]
+            span = arg_span(first_element, "label")
+            related = [Related(span, f"the first {kind} '{name}'")] if span else []
+            found.append(error(
+                CODE,
+                f"{kind} '{name}' in {rung_no(rung)}: there is already a {kind} '{name}' in "
+                f"{rung_no(first_rung)}; only one is allowed",
+                arg_span(element, "label"),
+                *related,
+            ))
+    return found

@@ -1,0 +1,34 @@
+"""LD314: a timer delay too long to count."""
+
+from __future__ import annotations
+
+from ..codes import register
+from ..diagnostics import error
+from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
+
+CODE = register(
+    "LD314", "timer delay too long",
+    "A delay is held in microseconds in a signed 32-bit number (at most 2147483647 us, about 35.79 "
+    "minutes), and the period in cycles must fit a 32-bit timer variable. LDmicro: \"Timer period "
+    "too long.\" Use a slower cycle time, or count longer times with a counter.",
+)
+
+MAX = (1 << 31) - 1
+
+
+def check(program, index):
+    found = []
+    for rung, element, delay, adjust, period, adjusted in timer_periods(program, index):
+        if delay > MAX:
+            reason = (f"the delay {delay_text(delay)} ({delay} us) is more than the maximum "
+                      "2147483647 us (35.79 min)")
+        elif adjusted is not None and max(period, adjusted) > MAX:
+            reason = f"the period of {max(period, adjusted)} cycles does not fit a 32-bit timer"
+        else:
+            continue
+        found.append(error(
+            CODE,
+            f"{timer_text(element)} in {rung_no(rung)}: {reason}",
+            arg_span(element, "delay"),
+        ))
+    return found

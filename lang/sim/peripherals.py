@@ -1,0 +1,90 @@
+"""The simulated MCU peripherals: ADC readings, the UART, PWM outputs and the
+EEPROM. Their state lives outside the scan's variables because the user (or
+a scenario) drives it from outside, and the EEPROM outlives a reset."""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+
+ADC_MAX = 1023  # LDmicro's converters are 10 bits
+
+
+@dataclass
+class Uart:
+    """A transmitter that stays busy for 10 bit times per byte at `baud`,
+    and a receive queue the user fills."""
+
+    baud: int
+    received: deque = field(default_factory=deque)
+    sent: list = field(default_factory=list)  # (time_us, byte)
+    busy_until_us: float = 0.0
+
+    @property
+    def byte_time_us(self) -> float:
+        return 10e6 / self.baud
+
+    def ready(self, now_us: int) -> bool:
+        return now_us >= self.busy_until_us
+
+    def send(self, now_us: int, byte: int, wait: bool = False) -> None:
+        """Start sending. A byte written while the transmitter is busy is
+        lost, as the AVR ignores a write to UDR when UDRE is 0; a `wait`
+        send is queued behind the byte in progress (the MCU busy-waits)."""
+        if now_us < self.busy_until_us:
+            if not wait:
+                return
+            now_us = self.busy_until_us
+        self.sent.append((now_us, byte & 0xFF))
+        self.busy_until_us = now_us + self.byte_time_us
+
+    def available(self) -> bool:
+        return bool(self.received)
+
+    def take(self) -> int:
+        return self.received.popleft()
+
+    def text(self) -> bytes:
+        return bytes(b for _, b in self.sent)
+
+
+@dataclass
+class PwmOutput:
+    duty: int  # in the element's resolution units (percent for 0-100%)
+    freq_hz: int
+    resolution: str
+    on: bool = True
+
+
+@dataclass
+class Eeprom:
+    """Starts erased (every byte 0xFF); PERSIST variables live here."""
+
+    data: dict = field(default_factory=dict)
+
+    def read(self, address: int, size: int) -> int:
+        raw = bytes(self.data.get(address + i, 0xFF) for i in range(size))
+        return int.from_bytes(raw, "little", signed=True)
+
+    def write(self, address: int, size: int, value: int) -> None:
+        raw = (value & ((1 << (8 * size)) - 1)).to_bytes(size, "little")
+        for i, byte in enumerate(raw):
+            self.data[address + i] = byte
+
+
+@dataclass
+class Peripherals:
+    uart: Uart
+    adc: dict = field(default_factory=dict)  # A name -> reading
+    pwm: dict = field(default_factory=dict)  # P name -> PwmOutput
+    eeprom: Eeprom = field(default_factory=Eeprom)
+
+    def read_adc(self, name: str) -> int:
+        return self.adc.get(name, 0)
+
+    def set_pwm(self, name: str, duty: int, freq_hz: int, resolution: str) -> None:
+        self.pwm[name] = PwmOutput(duty, freq_hz, resolution)
+
+    def pwm_off(self, name: str) -> None:
+        if name in self.pwm:
+            self.pwm[name].on = False

@@ -1,0 +1,122 @@
+"""Recording signals scan by scan, and showing them: change lines and a
+text timing diagram readable in a terminal."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .runtime import Simulator
+
+
+def format_time(time_us: int, cycle_us: int) -> str:
+    """Milliseconds, with as many decimals as the cycle time needs."""
+    decimals = 0
+    step = cycle_us
+    while step % 1000 and decimals < 3:
+        step *= 10
+        decimals += 1
+    return f"{time_us / 1000:.{decimals}f}"
+
+
+@dataclass
+class Trace:
+    """Each watched signal's changes as (time_us, value); a signal starts at
+    0, so a first value that differs from 0 is a change at its scan's time."""
+
+    cycle_us: int
+    names: list[str]
+    widths: dict[str, int]  # 1 for bits, 8 x bytes for integers
+    changes: dict[str, list[tuple[int, int]]] = field(default_factory=dict)
+    end_us: int = 0  # the time after the last recorded scan
+    last: dict[str, int] = field(default_factory=dict)
+
+    @classmethod
+    def watching(cls, sim: Simulator, names: list[str]) -> "Trace":
+        slots = sim.compiled.slots
+        index = sim.compiled.index
+        widths = {n: 1 if slots[index[n]].kind == "bit" else 8 * slots[index[n]].size for n in names}
+        return cls(sim.cycle_us, list(names), widths, {n: [] for n in names})
+
+    def record(self, sim: Simulator) -> list[tuple[str, int]]:
+        """After a scan: note and return the watched signals that changed."""
+        time_us = (sim.scan_count - 1) * sim.cycle_us
+        changed = []
+        for name in self.names:
+            value = sim.value(name)
+            if self.last.get(name, 0) != value:
+                self.changes[name].append((time_us, value))
+                self.last[name] = value
+                changed.append((name, value))
+        self.end_us = sim.scan_count * sim.cycle_us
+        return changed
+
+    def value_at(self, name: str, time_us: int) -> int:
+        value = 0
+        for when, new in self.changes[name]:
+            if when > time_us:
+                break
+            value = new
+        return value
+
+    def lines(self) -> list[str]:
+        """`TIME NAME VALUE` for every change, by time then name."""
+        events = sorted((t, n, v) for n in self.names for t, v in self.changes[n])
+        return [f"{format_time(t, self.cycle_us)} {n} {v}" for t, n, v in events]
+
+
+def diagram(trace: Trace, names: list[str] | None = None, start_us: int = 0,
+            end_us: int | None = None, width: int = 60) -> str:
+    """A timing diagram: bits as `_` (0) and `#` (1), `|` where a bit changes
+    inside one column; integers as their values where they change."""
+    names = names if names is not None else trace.names
+    end_us = trace.end_us if end_us is None else end_us
+    cycle = trace.cycle_us
+    scans = max(1, (end_us - start_us + cycle - 1) // cycle)
+    per_column = -(-scans // width)
+    columns = -(-scans // per_column)
+    label = max([len(n) for n in names] + [9])
+    spans = [(start_us + c * per_column * cycle, start_us + (c + 1) * per_column * cycle) for c in range(columns)]
+    rows = [_axis(trace, spans, label)]
+    for name in names:
+        if trace.widths.get(name, 1) == 1:
+            rows.append(name.ljust(label) + " " + "".join(_bit_cell(trace, name, a, b) for a, b in spans))
+        else:
+            rows.append(name.ljust(label) + " " + _int_row(trace, name, spans))
+    return "\n".join(row.rstrip() for row in rows)
+
+
+def _values_in(trace: Trace, name: str, start: int, end: int) -> set[int]:
+    values = {trace.value_at(name, start)}
+    values.update(v for t, v in trace.changes[name] if start < t < end)
+    return values
+
+
+def _bit_cell(trace: Trace, name: str, start: int, end: int) -> str:
+    values = _values_in(trace, name, start, end)
+    if len(values) > 1:
+        return "|"
+    return "#" if values.pop() else "_"
+
+
+def _int_row(trace: Trace, name: str, spans) -> str:
+    cells = [" "] * len(spans)
+    previous = None
+    for c, (start, end) in enumerate(spans):
+        value = trace.value_at(name, end - 1)
+        if value != previous or c == 0:
+            text = f"|{value}" if c else str(value)
+            for i, ch in enumerate(text):
+                if c + i < len(cells):
+                    cells[c + i] = ch
+            previous = value
+    return "".join(cells)
+
+
+def _axis(trace: Trace, spans, label: int) -> str:
+    cells = [" "] * len(spans)
+    for c in (0, len(spans) // 2, len(spans) - 1):
+        text = format_time(spans[c][0], trace.cycle_us)
+        position = min(c, max(0, len(spans) - len(text)))
+        for i, ch in enumerate(text):
+            cells[position + i] = ch
+    return "time (ms)".ljust(label) + " " + "".join(cells)
