@@ -24,6 +24,8 @@ VAR_RE = re.compile(r"\s*(\d+)\s+bytes?\s+(\S+)")
 
 _CACHE: "OrderedDict[tuple, tuple[Rung | None, list[Diagnostic]]]" = OrderedDict()
 _CACHE_SIZE = 50000
+# LDmicro allows 63 branches of 63 elements; no real rung is anywhere near this
+MAX_RUNG_LINES = 1000
 
 
 def read_text(text: str) -> tuple[Program, list[Diagnostic]]:
@@ -95,6 +97,11 @@ def _read_diagram(section: Section, problems: list[Diagnostic]) -> list[Rung]:
         if not block:
             rungs.append(Rung(Series([])))
             continue
+        if len(block) > MAX_RUNG_LINES:
+            problems.append(error(codes.BROKEN_WIRE, f"this rung is {len(block)} lines tall; a rung has at most "
+                                  f"{MAX_RUNG_LINES} (is a rung number or an empty line missing?)",
+                                  Span.at(block[0].number, 0, len(block[0].text))))
+            continue
         key = (tuple((line.number, line.text) for line in block), symbol_index)
         cached = _CACHE.get(key)
         if cached is None:
@@ -127,9 +134,10 @@ def rung_blocks(section: Section, problems: list[Diagnostic]):
         current, symbol = [], None
 
     items = diagram_lines(section)
+    texts = dict(section.lines)
     for position, item in enumerate(items):
         if isinstance(item, int):
-            text = dict(section.lines)[item]
+            text = texts[item]
             if text.strip():
                 problems.append(error(codes.BROKEN_WIRE, "this diagram line has no left rail `||`",
                                       Span.at(item, 0, len(text.rstrip()))))

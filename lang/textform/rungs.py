@@ -107,6 +107,8 @@ class _RungReader:
         self._check_stray_connectors()
         for row in self.symbol_rows:
             self._walk_row(row, tokens[row])
+            self._top_owners(row)  # text above no element is an error even where no element is
+        self._check_spacers()
         if self.problems:
             return None
         return self._circuit()
@@ -168,6 +170,13 @@ class _RungReader:
                         self.problem(codes.BAD_JUNCTION,
                                      "this connector does not join two `+` junctions in the same column",
                                      index, col)
+
+    def _check_spacers(self) -> None:
+        for index in range(self.first + 1, len(self.lines), 3):
+            line = self.lines[index]
+            for match in re.finditer(r"[^\s|]+", line.content):
+                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands between two rows, above no element",
+                             index, line.start + match.start(), line.start + match.end())
 
     def _walk_row(self, row: int, tokens) -> None:
         line = self.lines[row]

@@ -1,0 +1,146 @@
+"""Damaged drawings give located errors, never a traceback."""
+
+from __future__ import annotations
+
+import random
+
+from hypothesis import given, strategies as st
+
+from corpus import EXPORTS
+from lang import codes
+from lang.loader import load_bytes
+from lang.textform.formatter import format_text
+from lang.textform.reader import read_text
+
+GOOD = """LADDER DIAGRAM:
+    ||                                                   ||
+    ||     Xstart            Xstop             Rrun       ||
+0001|+-------] [------+-------]/[----------------( )-------||
+    ||                |                                   ||
+    ||      Rrun      |                                   ||
+    |+-------] [------+                                   ||
+    ||                                                   ||
+"""
+
+
+def _problems(text: str):
+    program, problems = read_text(text)
+    return problems
+
+
+def _one(text: str, code: str):
+    found = [p for p in _problems(text) if p.code == code]
+    assert found, _problems(text)
+    return found[0]
+
+
+def test_the_good_rung_reads():
+    assert _problems(GOOD) == []
+
+
+def test_a_missing_wire_is_located():
+    broken = GOOD.replace("+-------]/[----------------( )", "+-------]/[----     -------( )")
+    problem = _one(broken, codes.BROKEN_WIRE)
+    assert (problem.span.line, problem.span.col) == (3, 37)
+
+
+def test_a_connector_one_column_off_is_located():
+    broken = GOOD.replace("    ||      Rrun      |", "    ||      Rrun       |")
+    problem = _one(broken, codes.BAD_JUNCTION)
+    assert problem.span.line in (4, 5, 6)
+
+
+def test_a_cut_off_box_is_an_unknown_element():
+    text = GOOD.replace("( )", "{MO").replace("Rrun       ||", "Rrun       ||", 1)
+    problem = _one(text, codes.UNKNOWN_ELEMENT)
+    assert problem.span.line == 3
+
+
+def test_an_unknown_glyph_is_an_unknown_element():
+    problem = _one(GOOD.replace("]/[", "[?]"), codes.UNKNOWN_ELEMENT)
+    assert problem.span.line == 3 and "[?]" in problem.message
+
+
+def test_a_name_above_nothing():
+    text = GOOD.replace("    ||                |                                   ||",
+                        "    ||                |              Stray                ||", 1)
+    problem = _one(text, codes.STRAY_TEXT)
+    assert problem.span.line == 4 and "Stray" in problem.message
+
+
+def test_a_bridge_is_not_series_parallel():
+    bridge = """LADDER DIAGRAM:
+    ||       Xa               Xb              Yc       ||
+0001|+-------] [------+-------] [------+-------( )-----||
+    ||                |                |               ||
+    ||       Xd       |       Xe       |               ||
+    |+-------] [------+-------] [------+               ||
+    ||                |                                ||
+    ||                |       Xf                       ||
+    ||                +-------] [-------               ||
+"""
+    problems = _problems(bridge)
+    assert any(p.code in (codes.NOT_SERIES_PARALLEL, codes.BROKEN_WIRE, codes.BAD_JUNCTION) for p in problems)
+
+
+def test_a_junction_with_nothing_below():
+    text = GOOD.replace("|+-------] [------+                                   ||",
+                        "|+-------] [-------                                   ||")
+    problem = _one(text, codes.BAD_JUNCTION)
+    assert problem.span.line in (3, 4, 5, 6)
+
+
+def test_binary_garbage_is_unreadable_not_a_crash():
+    loaded = load_bytes(bytes(range(256)) * 10, "junk.ladder")
+    assert [p.code for p in loaded.diagnostics] == [codes.UNREADABLE]
+
+
+def test_invalid_utf8_is_located():
+    loaded = load_bytes(b"LADDER DIAGRAM:\n    ||  \xff\xfe  ||\n", "bad.ladder")
+    problem = next(p for p in loaded.diagnostics if p.code == codes.UNREADABLE)
+    assert (problem.span.line, problem.span.col) == (1, 8)
+
+
+def test_a_ten_megabyte_file_gives_errors_not_a_traceback():
+    line = "    ||--] [--( )--  garbage {{ [[ ]] ++ || \n"
+    text = "LADDER DIAGRAM:\n" + line * (10 * 1024 * 1024 // len(line))
+    program, problems = read_text(text)
+    assert problems
+
+
+def test_a_file_with_errors_is_not_reformatted():
+    assert format_text(GOOD.replace("]/[", "[?]"))[0] is None
+
+
+def _mutations():
+    texts = [path.read_text(encoding="cp1252") for path in sorted(EXPORTS.glob("*.txt"))]
+    return st.tuples(st.sampled_from(texts), st.integers(0, 2**32 - 1), st.integers(1, 8))
+
+
+@given(_mutations())
+def test_mutated_corpus_rungs_never_crash(case):
+    text, seed, count = case
+    rng = random.Random(seed)
+    lines = text.splitlines()
+    start = lines.index("LADDER DIAGRAM:") + 1
+    for _ in range(count):
+        number = rng.randrange(start, len(lines))
+        line = lines[number]
+        col = rng.randrange(len(line) + 1)
+        edit = rng.choice(["replace", "delete", "insert", "swap-lines"])
+        glyph = rng.choice("-+| []{}()/\\o^~X;\"")
+        if edit == "replace" and line:
+            line = line[:col] + glyph + line[col + 1:]
+        elif edit == "delete":
+            line = line[:col] + line[col + 1:]
+        elif edit == "insert":
+            line = line[:col] + glyph + line[col:]
+        else:
+            other = rng.randrange(start, len(lines))
+            lines[other], line = line, lines[other]
+        lines[number] = line
+    mutated = "\n".join(lines)
+    program, problems = read_text(mutated)
+    for problem in problems:
+        assert problem.span is None or 0 <= problem.span.line < len(lines) + 1
+        assert problem.message
