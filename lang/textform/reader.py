@@ -77,34 +77,45 @@ def _read_header(section: Section, settings: Settings, problems: list[Diagnostic
 
 # --- the diagram ---------------------------------------------------------------------
 
-def diagram_lines(section: Section) -> list[Line | int]:
-    """Each line of the diagram as a Line, or its number when it has no rail."""
-    result: list[Line | int] = []
-    for number, text in section.lines:
-        match = RAIL_RE.search(text)
-        if not match:
-            result.append(number)
-            continue
-        stripped = text.rstrip()
-        end = len(stripped) - 2 if stripped.endswith("||") and len(stripped) - 2 > match.start() else len(stripped)
-        result.append(Line(number, text, match.start(), end, text[:match.start()].strip()))
-    return result
+def _rail(text: str) -> int:
+    """Column of the left rail: the first `|` followed by `|` or `+` (-1: none)."""
+    left = text.find("|")
+    while left >= 0 and text[left + 1:left + 2] not in ("|", "+"):
+        left = text.find("|", left + 1)
+    return left
+
+
+def _end(text: str, left: int) -> int:
+    stripped = text.rstrip()
+    return len(stripped) - 2 if stripped.endswith("||") and len(stripped) - 2 > left else len(stripped)
+
+
+def _blank(raw: tuple[int, str, int]) -> bool:
+    _, text, left = raw
+    return not text[left + 2:_end(text, left)].strip()
+
+
+def _line(raw: tuple[int, str, int], label: str | None = None) -> Line:
+    number, text, left = raw
+    return Line(number, text, left, _end(text, left), text[:left].strip() if label is None else label)
 
 
 def _read_diagram(section: Section, problems: list[Diagnostic]) -> list[Rung]:
     rungs: list[Rung] = []
-    for block, symbol_index in rung_blocks(section, problems):
-        if not block:
+    for raws, symbol_index, labels in _raw_blocks(section, problems):
+        if not raws:
             rungs.append(Rung(Series([])))
             continue
-        if len(block) > MAX_RUNG_LINES:
-            problems.append(error(codes.BROKEN_WIRE, f"this rung is {len(block)} lines tall; a rung has at most "
+        if len(raws) > MAX_RUNG_LINES:
+            problems.append(error(codes.BROKEN_WIRE, f"this rung is {len(raws)} lines tall; a rung has at most "
                                   f"{MAX_RUNG_LINES} (is a rung number or an empty line missing?)",
-                                  Span.at(block[0].number, 0, len(block[0].text))))
+                                  Span.at(raws[0][0], 0, len(raws[0][1]))))
             continue
-        key = (tuple((line.number, line.text) for line in block), symbol_index)
+        # unchanged rungs (same lines at the same place) are not read again
+        key = (raws[0][0], "\n".join(raw[1] for raw in raws), symbol_index)
         cached = _CACHE.get(key)
         if cached is None:
+            block = [_line(raw, labels.get(raw[0])) for raw in raws]
             _fix_right_rail(block)
             cached = read_rung(block, symbol_index)
             _CACHE[key] = cached
@@ -117,68 +128,78 @@ def _read_diagram(section: Section, problems: list[Diagnostic]) -> list[Rung]:
     return rungs
 
 
-def rung_blocks(section: Section, problems: list[Diagnostic]):
-    """The lines of each rung and the index of its first symbol line.
+def rung_blocks(section: Section, problems: list[Diagnostic]) -> list[tuple[list[Line], int]]:
+    """The lines of each rung and the index of its first symbol line."""
+    return [([_line(raw, labels.get(raw[0])) for raw in raws], symbol)
+            for raws, symbol, labels in _raw_blocks(section, problems)]
+
+
+def _raw_blocks(section: Section, problems: list[Diagnostic]):
+    """Each rung's lines as (number, text, rail column), the index of its first
+    symbol line, and labels overridden (an empty rung's number).
 
     A rung starts on the name line above a line numbered in the number field,
     or on the first drawn line after a line with no rail; a rung without a
     number whose first line starts with a wire has no name line."""
-    blocks: list[tuple[list[Line], int | None]] = []
-    current: list[Line] = []
+    blocks: list = []
+    current: list[tuple[int, str, int]] = []
     symbol: int | None = None
+    labels: dict[int, str] = {}
 
     def close() -> None:
         nonlocal current, symbol
-        if any(not line.blank for line in current):
+        if any(not _blank(raw) for raw in current):
             blocks.append((current, symbol))
         current, symbol = [], None
 
-    items = diagram_lines(section)
-    texts = dict(section.lines)
-    for position, item in enumerate(items):
-        if isinstance(item, int):
-            text = texts[item]
+    raws = [(number, text, _rail(text)) for number, text in section.lines]
+    for position, raw in enumerate(raws):
+        number, text, left = raw
+        if left < 0:
             if text.strip():
                 problems.append(error(codes.BROKEN_WIRE, "this diagram line has no left rail `||`",
-                                      Span.at(item, 0, len(text.rstrip()))))
+                                      Span.at(number, 0, len(text.rstrip()))))
             close()
             continue
-        if "[END]" in item.content:
+        if "[END]" in text:
             close()
             break
-        following = items[position + 1] if position + 1 < len(items) else None
-        if item.label.isdigit() and isinstance(following, Line) and following.label.isdigit():
-            # LDmicro draws an empty rung with no rows: its number lands on
-            # the next rung's name line
-            close()
-            blocks.append(([], None))
-            item = Line(item.number, item.text, item.left, item.end, "")
-        if item.label.isdigit():
-            name_line = current.pop() if current and current[-1].number == item.number - 1 else None
+        label = text[:left].strip()
+        if label.isdigit() and position + 1 < len(raws):
+            following = raws[position + 1]
+            if following[2] >= 0 and following[1][:following[2]].strip().isdigit():
+                # LDmicro draws an empty rung with no rows: its number lands
+                # on the next rung's name line
+                close()
+                blocks.append(([], None))
+                labels[number] = label = ""
+        if label.isdigit():
+            name_line = current.pop() if current and current[-1][0] == number - 1 else None
             close()
             current = [name_line] if name_line is not None else []
             symbol = len(current)
-        elif item.label:
-            problems.append(error(codes.UNKNOWN_ELEMENT, f"{item.label!r} in the rung-number field",
-                                  Span.at(item.number, 0, item.left)))
-        current.append(item)
+        elif label:
+            problems.append(error(codes.UNKNOWN_ELEMENT, f"{label!r} in the rung-number field",
+                                  Span.at(number, 0, left)))
+        current.append(raw)
     close()
-    return [_trim(block, symbol) for block, symbol in blocks]
+    return [(*_trim(block, symbol), labels) for block, symbol in blocks]
 
 
-def _trim(block: list[Line], symbol: int | None) -> tuple[list[Line], int]:
+def _trim(block: list, symbol: int | None) -> tuple[list, int]:
     if not block:
         return block, 0
     if symbol is None:
-        while block and block[0].blank:
+        while block and _blank(block[0]):
             block = block[1:]
-        first = block[0]
-        starts_drawn = first.content[:1] in ("-", "+") or first.text[first.left + 1:first.left + 2] == "+"
-        symbol = 0 if starts_drawn or first.content.lstrip().startswith(";") else min(1, len(block) - 1)
+        _, text, left = block[0]
+        content = text[left + 2:]
+        starts_drawn = content[:1] in ("-", "+") or text[left + 1:left + 2] == "+"
+        symbol = 0 if starts_drawn or content.lstrip().startswith(";") else min(1, len(block) - 1)
     else:
         drop = max(0, symbol - 1)
         block, symbol = block[drop:], symbol - drop
-    while len(block) > symbol + 1 and block[-1].blank:
+    while len(block) > symbol + 1 and _blank(block[-1]):
         block = block[:-1]
     return block, symbol
 

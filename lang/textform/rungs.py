@@ -15,7 +15,7 @@ from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
 from .elements import GLYPH_RE, complete_args, recognise
 
 
-@dataclass
+@dataclass(slots=True)
 class Line:
     """A diagram line: `left` is the column of the left rail's first `|`,
     `end` where the drawing stops (the right rail or the end of the text)."""
@@ -32,11 +32,11 @@ class Line:
 
     @property
     def content(self) -> str:
-        return self.text[self.start:self.end]
+        return self.text[self.left + 2:self.end]
 
     @property
     def blank(self) -> bool:
-        return not self.content.strip()
+        return self.text[self.left + 2:self.end].isspace() or self.end <= self.left + 2
 
     def char(self, col: int) -> str:
         return self.text[col] if self.start <= col < self.end else " "
@@ -93,7 +93,7 @@ class _RungReader:
         self.problems: list[Diagnostic] = []
         self.junctions: dict[tuple[int, int], int] = {}
         self.claimed: set[tuple[int, int]] = set()
-        self.element_count = 0
+        self._folded: dict[int, list] = {}
 
     def problem(self, code: str, message: str, line: int, start: int, end: int | None = None) -> None:
         number = self.lines[line].number
@@ -114,8 +114,11 @@ class _RungReader:
         return self._circuit()
 
     def _tokens(self, row: int) -> list[tuple[str, int, int, str]]:
+        cache = self.__dict__.setdefault("_token_cache", {})
+        if row in cache:
+            return cache[row]
         line = self.lines[row]
-        found = []
+        found = cache[row] = []
         for match in SYMBOL_TOKEN.finditer(line.content):
             kind = match.lastgroup
             found.append((kind, line.start + match.start(), line.start + match.end(), match.group()))
@@ -162,14 +165,16 @@ class _RungReader:
         for index, line in enumerate(self.lines):
             if index in symbol:
                 continue
-            for col in range(line.start, line.end):
-                if line.text[col] == "|" and (index, col) not in self.claimed:
+            col = line.text.find("|", line.start, line.end)
+            while col >= 0:
+                if (index, col) not in self.claimed:
                     above = index - 1 in symbol and self.lines[index - 1].char(col) == "+"
                     below = index + 1 in symbol and self.lines[index + 1].char(col) == "+"
                     if above or below or (index + 1 < len(self.lines) and self.lines[index + 1].char(col) == "|"):
                         self.problem(codes.BAD_JUNCTION,
                                      "this connector does not join two `+` junctions in the same column",
                                      index, col)
+                col = line.text.find("|", col + 1, line.end)
 
     def _check_spacers(self) -> None:
         for index in range(self.first + 1, len(self.lines), 3):
@@ -180,7 +185,7 @@ class _RungReader:
 
     def _walk_row(self, row: int, tokens) -> None:
         line = self.lines[row]
-        tokens = self._fold_short_open(row, tokens)
+        tokens = self._folded[row] = self._fold_short_open(row, tokens)
         current: int | None = None
         current_is_junction = False
         if tokens and tokens[0][0] != "gap" and tokens[0][1] == line.start:
@@ -275,7 +280,6 @@ class _RungReader:
         args = complete_args(key, drawn)
         element = Element(key, args, span)
         element.arg_spans = self._arg_spans(row, start, end, top_span, INSTRUCTIONS[key], drawn)
-        self.element_count += 1
         return element
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
@@ -299,9 +303,15 @@ class _RungReader:
         if row - 1 < 0 or (row - 1) in self.symbol_rows:
             return owners
         name_line = self.lines[row - 1]
-        glyphs = [(s, e) for kind, s, e, _ in self._fold_short_open_quiet(row) if kind in ("glyph", "short", "open")]
-        text = "".join(" " if (row - 1, col) in self.claimed else ch
-                       for col, ch in enumerate(name_line.text[:name_line.end]))
+        folded = self._folded.get(row)
+        if folded is None:
+            folded = self._fold_short_open_quiet(row)
+        glyphs = [(s, e) for kind, s, e, _ in folded if kind in ("glyph", "short", "open")]
+        chars = list(name_line.text[:name_line.end])
+        for line, col in self.claimed:
+            if line == row - 1 and col < len(chars):
+                chars[col] = " "  # a connector, not part of a name
+        text = "".join(chars)
         for match in TOP_TOKEN.finditer(text, name_line.start):
             word = (match.start(), match.end())
             best, best_overlap = None, 0
