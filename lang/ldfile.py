@@ -255,6 +255,7 @@ class _Reader:
             self.seen_micro = True
             name = value[len("MICRO="):]
             self.settings.mcu = name or None
+            self.settings.mcu_span = span
         elif kind == "cycle":
             self.cycle(value, span)
         elif kind == "crystal":

@@ -99,6 +99,8 @@ class Settings:
     # LDmicro file dialect the program came from ("0.1" or "0.2"); it decides
     # defaults such as the timer adjust of old files and how a .ld is written
     ld_version: str = "0.2"
+    # where the part is named (the header line, the MICRO= line), for diagnostics
+    mcu_span: Span | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass

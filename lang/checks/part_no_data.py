@@ -21,5 +21,5 @@ def check(program, index):
     return [warning(
         CODE,
         f"no pin data for '{mcu}': pins and peripherals are not checked for this part",
-        None,
+        program.settings.mcu_span,
     )]

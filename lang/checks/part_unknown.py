@@ -18,4 +18,4 @@ def check(program, index):
     mcu = program.settings.mcu
     if not mcu or find_device(mcu) is not None or is_known_ldmicro_name(mcu):
         return []
-    return [error(CODE, f"unknown part '{mcu}'", None)]
+    return [error(CODE, f"unknown part '{mcu}'; `ladder parts` lists the parts", program.settings.mcu_span)]

@@ -67,6 +67,9 @@ def _read_header(section: Section, settings: Settings, problems: list[Diagnostic
                                       "<t> ms cycle time`", Span.at(number, 0, len(text))))
             continue
         settings.mcu = match.group("mcu")
+        if settings.mcu is not None:
+            start = text.index("'") + 1
+            settings.mcu_span = Span.at(number, start, start + len(settings.mcu))
         try:
             if match.group("mhz"):
                 settings.crystal_hz = int(Decimal(match.group("mhz")) * 1000000)

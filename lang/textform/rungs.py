@@ -268,7 +268,11 @@ class _RungReader:
                 return None
             key, drawn = kind.upper(), {}
         else:
-            found = recognise(glyph, top_text)
+            try:
+                found = recognise(glyph, top_text)
+            except ValueError as bad:  # a value of the right shape but not a valid one
+                self.problem(codes.BAD_VALUE, str(bad), row, start, end)
+                return None
             if found is None:
                 shown = glyph if not top_text.strip() else f"{top_text.strip()} / {glyph}"
                 self.problem(codes.UNKNOWN_ELEMENT, f"no instruction is drawn like {shown!r}", row, start, end)
