@@ -352,3 +352,20 @@ def used_pins(program, index) -> list[tuple]:
                 found.append((name, assignment, device.pin(assignment.pin)))
     index.cache["used_pins"] = found
     return found
+
+
+def read_never_written(index):
+    """(name, its first read) for every name that is read but that nothing
+    writes, compiler-generated and truncated names left out."""
+    for name, uses in index.uses.items():
+        if name in GENERATED or name.endswith("~"):
+            continue
+        first_read = None
+        for use in uses:
+            if use.writes:
+                break
+            if first_read is None and use.reads:
+                first_read = use
+        else:
+            if first_read is not None:
+                yield name, first_read

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import register
 from ..diagnostics import warning
-from .common import GENERATED, label, rung_no
+from .common import label, read_never_written, rung_no
 
 CODE = register(
     "LD131", "variable read but never written",
@@ -20,21 +20,13 @@ _EXEMPT = ("X", "I", "M", "H", "R", "$", "#")
 
 def check(program, index):
     found = []
-    for name, uses in index.uses.items():
-        if name.startswith(_EXEMPT) or name in GENERATED or name.endswith("~"):
+    for name, first_read in read_never_written(index):
+        if name.startswith(_EXEMPT):
             continue
-        first_read = None
-        for use in uses:
-            if use.writes:
-                break
-            if first_read is None and use.reads:
-                first_read = use
-        else:
-            if first_read is not None:
-                found.append(warning(
-                    CODE,
-                    f"'{name}' is read by {label(first_read.element)} in {rung_no(first_read.rung)} "
-                    "but nothing ever writes it: it is always 0",
-                    first_read.span,
-                ))
+        found.append(warning(
+            CODE,
+            f"'{name}' is read by {label(first_read.element)} in {rung_no(first_read.rung)} "
+            "but nothing ever writes it: it is always 0",
+            first_read.span,
+        ))
     return found

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import register
 from ..diagnostics import warning
-from .common import GENERATED, label, rung_no
+from .common import label, read_never_written, rung_no
 
 CODE = register(
     "LD130", "internal relay read but never written",
@@ -18,21 +18,13 @@ CODE = register(
 
 def check(program, index):
     found = []
-    for name, uses in index.uses.items():
-        if not name.startswith("R") or name in GENERATED or name.endswith("~"):
+    for name, first_read in read_never_written(index):
+        if not name.startswith("R"):
             continue
-        first_read = None
-        for use in uses:
-            if use.writes:
-                break
-            if first_read is None and use.reads:
-                first_read = use
-        else:
-            if first_read is not None:
-                found.append(warning(
-                    CODE,
-                    f"internal relay '{name}' is read by {label(first_read.element)} in "
-                    f"{rung_no(first_read.rung)} but no coil ever writes it: it is always 0",
-                    first_read.span,
-                ))
+        found.append(warning(
+            CODE,
+            f"internal relay '{name}' is read by {label(first_read.element)} in "
+            f"{rung_no(first_read.rung)} but no coil ever writes it: it is always 0",
+            first_read.span,
+        ))
     return found
