@@ -654,7 +654,8 @@ class _ElementLine:
     def form_comment(self) -> dict:
         raw = self.raw[self.kw.column - 1 + len("COMMENT") + 1:]
         text = unescape_ld(raw, self.r.encoding).replace("\r\n", "\n")
-        return {"text": text}
+        # blanks at the end of a comment line carry nothing and cannot be drawn
+        return {"text": "\n".join(line.rstrip(" \t") for line in text.split("\n"))}
 
     def form_sleep(self) -> dict:
         name = self.toks[0].value if self.toks else ""
@@ -930,9 +931,6 @@ def _comment_token(text: str) -> str:
     token = escape_ld(text.replace("\n", "\r\n"), False)
     if text == "(none)":
         token = "\\x28" + token[1:]
-    stripped = token.rstrip(" ")
-    if len(stripped) != len(token):  # trailing blanks would be lost with the line trim
-        token = stripped + "\\x20" * (len(token) - len(stripped))
     return token
 
 

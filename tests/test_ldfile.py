@@ -35,11 +35,12 @@ EXPORT = CORPUS / "ldmicro-export"
 # blanks per level, every element in its long form. Not in this list: the other
 # 0.2 files test-uart.ld (UART_RECV/UART_SEND short forms and a numeric
 # FORMATTED_STRING, written by an older 5.x), sample/swatch2.ld (4-blank
-# indentation, 3-flag coils) and catalog.ld (hand-written, unnumbered rungs).
+# indentation, 3-flag coils), catalog.ld (hand-written, unnumbered rungs) and
+# test-i2c-2.ld, whose comment has a blank before a line break that we drop
+# (docs/format.md: blanks ending a comment line carry nothing).
 WRITTEN_BY_54 = [
     "ldmicro/Tests/test-adc.ld",
     "ldmicro/Tests/test-i2c-1.ld",
-    "ldmicro/Tests/test-i2c-2.ld",
     "ldmicro/Tests/test-i2c-lcd16x2.ld",
     "ldmicro/Tests/test-pwm.ld",
     "ldmicro/Tests/test-spi.ld",
@@ -424,10 +425,11 @@ def test_comments_keep_line_breaks_and_blanks():
     element = one("COMMENT first\\r\\nsecond line  with  blanks\\r\\n")
     assert element.args["text"] == "first\nsecond line  with  blanks\n"
     assert element_line(element) == "COMMENT first\\r\\nsecond line  with  blanks\\r\\n"
-    # a lone CR and LF stay what they are; trailing blanks survive as \x20
-    for text in ["a\rb", "ends in blanks  ", " leading", "back\\slash", "tab\there", "", "(none)"]:
+    # a lone CR stays what it is; blanks ending a line are dropped, as LDmicro's export does
+    for text in ["a\rb", " leading", "back\\slash", "tab\there", "", "(none)"]:
         line = element_line(Element("COMMENT", {"text": text}))
         assert one(line).args["text"] == text, line
+    assert one("COMMENT ends in blanks\\x20\\x20\\r\\nnext  ").args["text"] == "ends in blanks\nnext"
     assert one("COMMENT (none)").args["text"] == ""
 
 

@@ -163,3 +163,17 @@ def test_fmt_is_idempotent_and_keeps_the_model(txt, ld):
     twice, _ = format_text(once)
     assert twice == once
     assert read_text(once)[0] == read_text(text)[0]
+
+
+@pytest.mark.parametrize("ld", [p for p in __import__("corpus").all_ld_files()], ids=lambda p: p.parent.name + "/" + p.name)
+def test_every_ld_survives_the_text_form(ld):
+    """.ld -> .ladder -> .ld loses nothing: settings, pins, sizes, every
+    element parameter (what the drawing does not show goes to DETAILS)."""
+    from lang.ldfile import read_ld, write_ld
+
+    original, _ = load_path(ld)
+    text = render_program(original)
+    through_text, problems = read_text(text)
+    assert not [p for p in problems if p.severity == ERROR], [p.format("x") for p in problems]
+    assert through_text == original
+    assert read_ld(write_ld(through_text))[0] == original
