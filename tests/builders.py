@@ -26,8 +26,8 @@ def el(_kind: str, **args) -> Element:
     return Element(kind, full)
 
 
-def contact(name: str, negated: int = 0) -> Element:
-    return el("CONTACTS", name=name, negated=negated, set1=0)
+def contact(name: str, negated: int = 0, set1: int = 0) -> Element:
+    return el("CONTACTS", name=name, negated=negated, set1=set1)
 
 
 def coil(name: str, type: str = " ") -> Element:

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from test_sim_helpers import coil, contact, el, parallel, program, series
+from builders import coil, contact, el, program
+from builders import par as parallel, ser as series
 
 from lang.sim import ElementKey, SimulationError, Simulator
 

@@ -1,38 +1,14 @@
-"""Builders for simulator tests (programs made from the model classes), and
-the simulator API's basic contract."""
+"""Helpers for simulator tests (driving an input scan by scan), and the
+simulator API's basic contract. Programs are built with tests/builders.py."""
 
 from __future__ import annotations
 
 import pytest
 
-from lang.model import Element, Parallel, Program, Rung, Series, Settings
+from builders import coil, contact, el, program
+from builders import par as parallel, ser as series
+from lang.model import Element
 from lang.sim import ElementKey, SimulationError, Simulator
-
-
-def el(kind: str, /, **args) -> Element:
-    return Element(kind, args)
-
-
-def series(*items) -> Series:
-    return Series(list(items))
-
-
-def parallel(*branches) -> Parallel:
-    return Parallel(list(branches))
-
-
-def program(*rungs, cycle_us: int = 10000, var_sizes: dict | None = None, baud: int = 9600) -> Program:
-    """Each rung is a Series or a list of items in series."""
-    built = [Rung(r if isinstance(r, Series) else series(*r)) for r in rungs]
-    return Program(Settings(cycle_us=cycle_us, baud=baud), built, var_sizes=dict(var_sizes or {}))
-
-
-def contact(name: str, negated: int = 0, set1: int = 0) -> Element:
-    return el("CONTACTS", name=name, negated=negated, set1=set1)
-
-
-def coil(name: str, kind: str = " ") -> Element:
-    return el("COIL", name=name, type=kind)
 
 
 def drive(sim: Simulator, name: str, pattern: str, watch: str) -> str:

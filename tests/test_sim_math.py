@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import pytest
 
-from test_sim_helpers import el, program
+from builders import el, program
 
 from lang.sim import SimulationError, Simulator
 
 
 def compute(*elements, sizes=None, values=None) -> Simulator:
-    sim = Simulator(program(*[[e] for e in elements], var_sizes=sizes))
+    sim = Simulator(program(*[[e] for e in elements], sizes=sizes))
     for name, value in (values or {}).items():
         sim.set_variable(name, value)
     sim.step()

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from test_sim_helpers import coil, contact, el, program
+from builders import coil, contact, el, program
 
 from lang.sim import SimulationError, Simulator
 from lang.sim.strings import parse_format

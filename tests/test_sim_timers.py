@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from test_sim_helpers import coil, contact, drive, el, parallel, program, through
+from builders import coil, contact, el, program
+from builders import par as parallel
+from test_sim_helpers import drive, through
 
 from lang.sim import Simulator
 
