@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..model import Element, Node, Parallel, Series
+from ..model import Element, Node, Series
 
 
 @dataclass

@@ -40,7 +40,7 @@ def split_sections(lines: list[str]) -> list[Section]:
 
 
 def _title(text: str, lines: list[str], number: int, current: Section) -> str | None:
-    if text[:1].isspace() or "|" in text:
+    if text[:1].isspace() or "|" in text or not text.rstrip().endswith(":"):
         return None
     match = _TITLE_RE.match(text)
     if not match:

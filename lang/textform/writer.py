@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from decimal import Decimal
 
+from ..devices import find_device
 from ..drawing import CELL, Box, center_offset, with_wires
 from ..model import Element, Program, Rung
 from . import details
@@ -167,8 +168,6 @@ def header_line(program: Program) -> str:
 
 
 def io_rows(program: Program) -> list[str]:
-    from ..devices import find_device
-
     device = find_device(program.settings.mcu) if program.settings.mcu else None
     names = {name for _, element in program.elements() for name in _pin_names(element)}
     names.update(program.pins)
