@@ -127,3 +127,15 @@ def test_mutated_corpus_rungs_never_crash(case):
     for problem in problems:
         assert problem.span is None or 0 <= problem.span.line < lines
         assert problem.message
+
+
+def test_details_do_not_stick_to_cached_rungs():
+    """The reader caches rungs; a DETAILS line applies to this text only."""
+    text = ("LADDER DIAGRAM:\n    ||      Xa             Tdly     ||\n"
+            "0001||-------] [-------[TON 1 s]--||\n    ||                          ||\n\n"
+            "DETAILS:\n  TON Tdly: adjust -1\n")
+    with_detail, _ = read_text(text)
+    without, _ = read_text(text[:text.index("DETAILS:")])
+    again, _ = read_text(text)
+    timer = lambda program: next(e for _, e in program.elements() if e.kind == "TON")  # noqa: E731
+    assert (timer(with_detail).args["adjust"], timer(without).args["adjust"], timer(again).args["adjust"]) == (-1, 0, -1)

@@ -6,8 +6,10 @@ LDmicro's defaults is written, so most programs have neither section."""
 
 from __future__ import annotations
 
+import copy
 import re
 from dataclasses import fields as dataclass_fields
+from itertools import islice
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -145,9 +147,12 @@ _DETAIL_RE = re.compile(
 
 
 def read_details(section: Section, program: Program, problems: list[Diagnostic]) -> None:
-    groups: dict[tuple[str, str], list[Element]] = {}
-    for _, element in program.elements():
-        groups.setdefault((element.kind, identity(element)), []).append(element)
+    # (rung, position in the rung) of each element, by instruction and name
+    groups: dict[tuple[str, str], list[tuple[int, int]]] = {}
+    for index, rung in enumerate(program.rungs):
+        for position, element in enumerate(rung.elements()):
+            groups.setdefault((element.kind, identity(element)), []).append((index, position))
+    copied: set[int] = set()
     for number, text in section.lines:
         if not text.strip():
             continue
@@ -169,7 +174,13 @@ def read_details(section: Section, program: Program, problems: list[Diagnostic])
         except ValueError as problem:
             problems.append(error(codes.SECTION, str(problem), span))
             continue
-        for element in targets:
+        for index, position in targets:
+            if index not in copied:
+                # rungs come from the reader's cache, shared with earlier reads:
+                # the details of this text go on a copy
+                program.rungs[index] = copy.deepcopy(program.rungs[index])
+                copied.add(index)
+            element = next(islice(program.rungs[index].elements(), position, None))
             element.args.update(values)
 
 

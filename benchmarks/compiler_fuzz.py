@@ -1,0 +1,91 @@
+"""Differential fuzzing of the AVR compiler, time-boxed, run on demand:
+`python benchmarks/compiler_fuzz.py [--seconds 600] [--workers 2] [--out DIR]`.
+
+Each worker draws random compilable programs (tests/test_compiler_random.py),
+runs each in simavr under its random stimulus and compares every name with
+the simulator after every scan. The report is how many programs were
+reached (goal: 1,000) and every mismatch, each saved as an .ld file with its
+stimulus for replay.
+"""
+
+from __future__ import annotations
+
+import argparse
+import multiprocessing
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))
+
+GOAL = 1000
+
+
+class TimeUp(BaseException):
+    """Ends a worker's run from inside hypothesis, which does not treat a
+    BaseException as a failing example."""
+
+
+def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
+    seed_value, deadline, out = args
+    from hypothesis import HealthCheck, Phase, given, seed, settings
+    from test_compiler_harness import differential
+    from test_compiler_random import cases
+
+    from lang.ldfile import write_ld
+
+    reached, failures = 0, []
+
+    @seed(seed_value)
+    @settings(max_examples=10**9, deadline=None, database=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
+    @given(case=cases())
+    def run(case):
+        nonlocal reached
+        if time.monotonic() > deadline:
+            raise TimeUp
+        with tempfile.TemporaryDirectory() as tmp:
+            try:
+                problems = differential(case.program, case.events, case.scans, Path(tmp))
+            except Exception as error:  # noqa: BLE001  (a crash is a finding too)
+                problems = [f"{type(error).__name__}: {error}"]
+        reached += 1
+        if problems:
+            path = Path(out) / f"mismatch-{seed_value}-{reached}.ld"
+            stimulus = "\n".join(f"; scan {e.scan}: {e.name} = {e.value}" for e in case.events)
+            path.write_text(write_ld(case.program) + f"\n; {case.scans} scans\n{stimulus}\n; " + "\n; ".join(problems))
+            failures.append(f"{path}: {problems[0]}")
+
+    try:
+        run()
+    except TimeUp:
+        pass
+    return reached, failures
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=600)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", default=tempfile.mkdtemp(prefix="compiler-fuzz-"))
+    args = parser.parse_args()
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    started = time.monotonic()
+    deadline = started + args.seconds
+    with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
+        results = pool.map(worker, [(n + 1, deadline, args.out) for n in range(args.workers)])
+    reached = sum(r for r, _ in results)
+    failures = [f for _, fs in results for f in fs]
+    elapsed = time.monotonic() - started
+    print(f"{reached} programs compiled, run in simavr and compared scan for scan in {elapsed:.0f} s on "
+          f"{args.workers} workers (goal {GOAL}): {len(failures)} mismatches")
+    for failure in failures:
+        print("  " + failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,155 @@
+"""Where every bit and variable lives.
+
+Bits are packed eight to a byte. Input pins are bits of their PIN register,
+outputs bits of their PORT latch. The program's relays and the elements'
+hidden memories go to registers r3..r15 (the most used first), where one
+instruction tests or copies them, and the rest to RAM bytes. The rung's
+temporary power bits share registers r16 and r17: two temporaries whose uses
+do not overlap get the same bit; when more are live at once they spill to
+RAM. Integer variables are consecutive RAM bytes, least significant first;
+`#PORTB`-style names are the part's registers.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from lang.model import Program
+
+from .. import ir
+from ..errors import NOT_COMPILED, RAM_FULL, fail
+from .part import Part
+
+HOME_REGISTERS = tuple(range(3, 16))
+TEMP_REGISTERS = (16, 17)
+
+
+@dataclass(frozen=True)
+class RegBit:
+    reg: int
+    bit: int
+
+
+@dataclass(frozen=True)
+class MemBit:
+    """A bit of a data-space byte: an I/O register or RAM."""
+
+    addr: int
+    bit: int
+    ram: bool = True
+
+
+@dataclass(frozen=True)
+class Storage:
+    addr: int
+    size: int
+    ram: bool  # False for I/O registers, whose value hardware may change
+
+
+@dataclass
+class Layout:
+    bits: dict[str, RegBit | MemBit]
+    vars: dict[str, Storage]
+    ram_used: int  # bytes from the start of RAM
+    homes: tuple[int, ...]  # registers holding memory bits
+    stack_reserve: int
+
+
+_REGISTER_NAME = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-L])$", re.IGNORECASE)
+
+
+def _register_of(name: str, part: Part) -> int | None:
+    """The data address a `#` name refers to, or None if it names none."""
+    m = _REGISTER_NAME.match(name)
+    if m:
+        kind = {"TRIS": "DDR"}.get(m.group(1).upper(), m.group(1).upper())
+        return part.port(kind, m.group(2).upper()) if part.has(kind + m.group(2).upper()) else None
+    body = name[1:]
+    try:
+        address = int(body, 0)
+    except ValueError:
+        return None
+    return address if 0x20 <= address <= part.ram_end else None
+
+
+def _first_use(program: Program, name: str):
+    for _, element in program.elements():
+        if name in {str(v) for v in element.args.values()}:
+            return element
+    return None
+
+
+def _intervals(ops: list[ir.Op], names: set[str]) -> dict[str, tuple[int, int]]:
+    spans: dict[str, tuple[int, int]] = {}
+    for i, op in enumerate(ops):
+        for bit in op.reads() + op.writes():
+            if bit.name in names:
+                first, _ = spans.get(bit.name, (i, i))
+                spans[bit.name] = (first, i)
+    return spans
+
+
+def _use_counts(ops: list[ir.Op], names: set[str]) -> dict[str, int]:
+    counts = dict.fromkeys(names, 0)
+    for op in ops:
+        for bit in op.reads() + op.writes():
+            if bit.name in counts:
+                counts[bit.name] += 1
+    return counts
+
+
+def allocate(code: ir.Code, part: Part, program: Program) -> Layout:
+    bits: dict[str, RegBit | MemBit] = {}
+    ram_bits: list[str] = []
+    # pins
+    for name, kind in code.bits.items():
+        if kind in (ir.INPUT, ir.OUTPUT):
+            pin = part.device.pin(program.pins[name].pin)
+            bits[name] = MemBit(part.port("PIN" if kind == ir.INPUT else "PORT", pin.port), pin.bit, False)
+    # memory bits: the most used in registers
+    memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
+    counts = _use_counts(code.scan, set(memory))
+    ranked = sorted(memory, key=lambda n: -counts[n])
+    slots = [RegBit(r, b) for r in HOME_REGISTERS for b in range(8)]
+    for name, slot in zip(ranked, slots):
+        bits[name] = slot
+    ram_bits += ranked[len(slots):]
+    homes = tuple(sorted({bits[n].reg for n in ranked[:len(slots)]}))
+    # temporaries: interval allocation over the scan's ops
+    temps = {n for n, k in code.bits.items() if k == ir.TEMP}
+    free = [RegBit(r, b) for r in TEMP_REGISTERS for b in range(8)]
+    active: list[tuple[int, str]] = []
+    for name, (start, end) in sorted(_intervals(code.scan, temps).items(), key=lambda kv: kv[1]):
+        for last, other in list(active):
+            if last < start:
+                active.remove((last, other))
+                free.append(bits[other])
+        if free:
+            bits[name] = free.pop(0)
+            active.append((end, name))
+        else:
+            ram_bits.append(name)
+    # RAM: bit bytes, then variables
+    address = part.ram_start
+    for i, name in enumerate(ram_bits):
+        bits[name] = MemBit(address + i // 8, i % 8)
+    address += (len(ram_bits) + 7) // 8
+    variables: dict[str, Storage] = {}
+    for name, size in code.vars.items():
+        if name.startswith("#"):
+            register = _register_of(name, part)
+            if register is None:
+                raise fail(NOT_COMPILED, f"'{name}' names no register of the {part.title}; indirect "
+                                         "register access is not compiled", _first_use(program, name))
+            variables[name] = Storage(register, 1, False)
+            continue
+        variables[name] = Storage(address, size, True)
+        address += size
+    used = address - part.ram_start
+    reserve = 8 * (part.pc_bytes + 2) + 4 * part.pc_bytes + 8
+    size = part.ram_end - part.ram_start + 1
+    if used + reserve > size:
+        raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {reserve}; "
+                             f"the {part.title} has {size}")
+    return Layout(bits, variables, used, homes, reserve)

@@ -1,0 +1,95 @@
+"""An AVR part as the back end sees it: the `avr` key of its device file
+(lang/devices/atmega*.json, taken from avr-libc's headers) behind names.
+
+Register addresses are data-space addresses. Below 0x60 a register is also
+reachable with IN/OUT (I/O address = data address - 0x20), below 0x40 with
+the bit instructions SBI/CBI/SBIS/SBIC; from 0x60 on ("extended I/O", such as
+the UART and timer registers of the ATmega328P or PORTF/G of the ATmega128)
+only LDS/STS reach it. Bit positions that are the same on every part are
+constants here; tests/test_compiler_parts.py checks them against avr-libc.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lang.devices import Device
+
+IO_END = 0x60  # first data address IN/OUT cannot reach
+BIT_IO_END = 0x40  # first data address SBI/CBI/SBIS/SBIC cannot reach
+
+# bit positions common to all the parts
+WGM12 = 3  # TCCR1B: clear timer on compare match
+TXC, UDRE, RXC, U2X = 6, 5, 7, 1  # UCSRA
+RXEN, TXEN = 4, 3  # UCSRB
+URSEL = 7  # UCSRC/UBRRH shared address: 0 selects UBRRH
+ADEN, ADSC = 7, 6  # ADCSRA
+MUX5 = 3  # ADCSRB (ATmega2560)
+EERE, EEWE, EEMWE = 0, 1, 2  # EECR (EEPE/EEMPE on the newer parts)
+
+CYCLE_PRESCALERS = {1: 1, 8: 2, 64: 3, 256: 4, 1024: 5}  # Timer1 clock select
+
+
+@dataclass(frozen=True)
+class Part:
+    device: Device
+    avr: dict
+
+    @classmethod
+    def of(cls, device: Device) -> Part:
+        return cls(device, device.data["avr"])
+
+    @property
+    def title(self) -> str:
+        return self.device.title
+
+    @property
+    def mmcu(self) -> str:
+        return self.avr["mmcu"]
+
+    @property
+    def flash(self) -> int:
+        return self.avr["flash"]
+
+    @property
+    def ram_start(self) -> int:
+        return self.avr["ram"]["start"]
+
+    @property
+    def ram_end(self) -> int:
+        """The last RAM address (the stack starts there)."""
+        return self.avr["ram"]["start"] + self.avr["ram"]["size"] - 1
+
+    @property
+    def eeprom(self) -> int:
+        return self.avr["eeprom"]
+
+    @property
+    def long_jumps(self) -> bool:
+        return self.avr["long_jumps"]
+
+    @property
+    def pc_bytes(self) -> int:
+        return self.avr["pc_bytes"]
+
+    def reg(self, name: str) -> int:
+        """A register's data address."""
+        return self.avr["registers"][name]
+
+    def has(self, name: str) -> bool:
+        return name in self.avr["registers"]
+
+    def port(self, kind: str, letter: str) -> int:
+        """PIN, DDR or PORT register of a port letter."""
+        return self.reg(f"{kind}{letter}")
+
+    @property
+    def uart(self) -> dict | None:
+        return self.avr.get("uart")
+
+    @property
+    def adc(self) -> dict | None:
+        return self.avr.get("adc")
+
+    def pwm(self, unit: str) -> dict | None:
+        return self.avr["pwm"].get(unit)

@@ -1,0 +1,320 @@
+"""Peripheral patterns and their set-up: the A/D converter, PWM on the 8-bit
+timers, the UART and the EEPROM.
+
+The UART's "ready" means what the simulator means: the last byte has left
+the transmitter completely (TXC), or nothing was sent yet (a flag set at
+start-up), so a byte written while one is still shifting out is lost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .. import ir
+from ..errors import BAD_BAUD, BAD_PWM, PWM_FREQUENCY, fail, note
+from . import bits, integers
+from .emit import LOADED, SCRATCH, A
+from .memory import MemBit
+from .part import (
+    ADEN,
+    ADSC,
+    BIT_IO_END,
+    EEMWE,
+    EERE,
+    EEWE,
+    MUX5,
+    RXC,
+    RXEN,
+    TXC,
+    TXEN,
+    U2X,
+    URSEL,
+    Part,
+)
+
+ADC_MAX_CLOCK = 200_000  # the converter's clock for full resolution
+BAUD_TOLERANCE = 0.02  # LDmicro's limit
+PWM_TOLERANCE = 0.05
+UART_IDLE = "~uart.idle"  # no byte sent yet: the transmitter is ready
+
+
+def _io_bit(e, part: Part, register: str, bit: int, value: bool) -> None:
+    bits.write(e, MemBit(part.reg(register), bit, False), value)
+
+
+def _wait_while(e, part: Part, register: str, bit: int, value: bool) -> None:
+    top = e.new_label()
+    e.label(top, loop=True)
+    bits.jump_if(e, MemBit(part.reg(register), bit, False), value, top)
+
+
+def _write(e, part: Part, register: str, value: int) -> None:
+    e.store_byte(part.reg(register), e.constant_reg(value, SCRATCH), False)
+
+
+# --- A/D converter -------------------------------------------------------------------------
+
+def adc_prescaler(crystal_hz: int) -> int:
+    """ADPS bits: the smallest division that brings the clock to 200 kHz."""
+    for bits_ in range(1, 8):
+        if crystal_hz >> bits_ <= ADC_MAX_CLOCK:
+            return bits_
+    return 7
+
+
+def read_adc(cx, op: ir.ReadAdc) -> None:
+    e, part, adc = cx.e, cx.part, cx.part.adc
+    _write(e, part, adc["ADMUX"], (op.refs & 3) << 6 | (op.channel & 7))
+    if "MUX5" in adc:
+        _io_bit(e, part, adc["MUX5"], MUX5, op.channel >= 8)
+    _write(e, part, adc["ADCSRA"], 1 << ADEN | 1 << ADSC | adc_prescaler(cx.crystal_hz))
+    _wait_while(e, part, adc["ADCSRA"], ADSC, True)
+    e.load_byte(part.reg(adc["ADCL"]), A[0], False)  # ADCL first: it latches ADCH
+    e.load_byte(part.reg(adc["ADCH"]), A[1], False)
+    n = integers.target_size(cx, op.dst)
+    integers.extend(cx, A[:max(n, 2)], 2, signed=False)
+    integers.store(cx, op.dst, A[:max(n, 2)])
+
+
+# --- PWM --------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PwmSetting:
+    select: int  # clock select bits
+    freq: float
+
+
+def pwm_setting(part: Part, unit: str, freq: int, crystal_hz: int, element=None) -> PwmSetting:
+    """Fast PWM counting 0..255: the prescaler whose frequency is nearest."""
+    cfg = part.pwm(unit)
+    if cfg is None or "ocr" not in cfg:
+        timer = cfg["timer"] if cfg else "?"
+        why = "Timer1 makes the scan cycle" if timer == 1 else f"Timer{timer} is a 16-bit timer, not compiled"
+        raise fail(BAD_PWM, f"PWM on {unit}: {why}; use an 8-bit timer's output", element)
+    if freq <= 0:
+        raise fail(BAD_PWM, f"PWM frequency {freq} Hz is not possible", element)
+    choices = [PwmSetting(select, crystal_hz / (int(prescaler) * 256)) for prescaler, select in cfg["prescalers"].items()]
+    return min(choices, key=lambda c: abs(c.freq - freq))
+
+
+def check_pwm(cx, ops: list[ir.Op], elements) -> list:
+    """Warnings for approximated frequencies; an error when two outputs of
+    one timer ask for different frequencies."""
+    found, timers = [], {}
+    for op in ops:
+        if not isinstance(op, ir.SetPwm):
+            continue
+        setting = pwm_setting(cx.part, op.unit, op.freq, cx.crystal_hz, elements.get(op.unit))
+        timer = cx.part.pwm(op.unit)["timer"]
+        if timers.setdefault(timer, setting) != setting:
+            raise fail(BAD_PWM, f"the outputs of Timer{timer} ask for different PWM frequencies; "
+                                "they share the timer, so they need the same one", elements.get(op.unit))
+        if abs(setting.freq - op.freq) > PWM_TOLERANCE * op.freq:
+            found.append(note(PWM_FREQUENCY, f"PWM on {op.unit} runs at {setting.freq:.1f} Hz "
+                                             f"(asked {op.freq} Hz)", elements.get(op.unit)))
+    return found
+
+
+def set_pwm(cx, op: ir.SetPwm) -> None:
+    """0 or less: the output disconnected and low; full or more: disconnected
+    and high (the timer would still make a spike at either end)."""
+    e, part = cx.e, cx.part
+    cfg = part.pwm(op.unit)
+    setting = pwm_setting(part, op.unit, op.freq, cx.crystal_hz)
+    off, on, done = e.new_label(), e.new_label(), e.new_label()
+    duty = A[:max(2, integers.size(cx, op.duty))]
+    integers.load(cx, op.duty, duty)
+    e.ins("tst", duty[-1])
+    e.branch("brmi", off)
+    e.ins("mov", SCRATCH, duty[0])
+    for reg in duty[1:]:
+        e.ins("or_", SCRATCH, reg)
+    e.branch("breq", off)
+    e.ins("cpi", duty[0], op.full & 0xFF)
+    for i, reg in enumerate(duty[1:], 1):
+        e.ins("cpc", reg, e.constant_reg((op.full >> 8 * i) & 0xFF, SCRATCH + 1))
+    e.branch("brge", on)
+    _scale(e, op.full, duty)
+    e.store_byte(part.reg(cfg["ocr"]), SCRATCH, False)
+    control = cfg["com"] | cfg["fast"]
+    if cfg["clock"] == cfg["control"]:
+        control |= setting.select
+    else:
+        _write(e, part, cfg["clock"], setting.select)
+    e.load_byte(part.reg(cfg["control"]), SCRATCH, False)
+    e.ins("ori", SCRATCH, control)
+    e.store_byte(part.reg(cfg["control"]), SCRATCH, False)
+    e.jump(done)
+    e.label(on)
+    _disconnect(cx, op.unit, True)
+    e.jump(done)
+    e.label(off)
+    _disconnect(cx, op.unit, False)
+    e.label(done)
+
+
+def _scale(e, full: int, duty) -> None:
+    """SCRATCH = duty * 256 / full, for 0 < duty < full."""
+    if full == 100:
+        # duty * 2.56 as duty * 2 + duty * 143 / 256
+        e.constant(143, SCRATCH)
+        e.ins("mul", duty[0], SCRATCH)
+        e.ins("mov", SCRATCH, 1)
+        e.ins("add", SCRATCH, duty[0])
+        e.ins("add", SCRATCH, duty[0])
+        return
+    shifts = {256: 0, 512: 1, 1024: 2}[full]
+    for _ in range(shifts):
+        e.ins("lsr", duty[1])
+        e.ins("ror", duty[0])
+    e.ins("mov", SCRATCH, duty[0])
+
+
+def _disconnect(cx, unit: str, level: bool) -> None:
+    """The output taken from the timer: the pin shows its latch, written
+    here (which also makes a simulator that keeps the timer's last level
+    see the pin change)."""
+    e, part, cfg = cx.e, cx.part, cx.part.pwm(unit)
+    e.load_byte(part.reg(cfg["control"]), SCRATCH, False)
+    e.ins("andi", SCRATCH, ~cfg["com"] & 0xFF)
+    e.store_byte(part.reg(cfg["control"]), SCRATCH, False)
+    pin = part.device.pin(next(p for p, u in part.device.pwm.items() if u == unit))
+    bits.write(e, MemBit(part.port("PORT", pin.port), pin.bit, False), level)
+
+
+def pwm_off(cx, op: ir.PwmOff) -> None:
+    _disconnect(cx, op.unit, False)
+
+
+# --- UART ---------------------------------------------------------------------------------
+
+def baud_divisor(crystal_hz: int, baud: int) -> tuple[int, bool]:
+    """(UBRR, double speed): the setting nearest the baud rate."""
+    best = None
+    for double in (False, True):
+        divisor = 8 if double else 16
+        ubrr = max(round(crystal_hz / (divisor * baud)) - 1, 0)
+        error = abs(crystal_hz / (divisor * (ubrr + 1)) - baud) / baud
+        if best is None or error < best[0] - 1e-12:
+            best = (error, ubrr, double)
+    error, ubrr, double = best
+    if ubrr > 4095 or error > BAUD_TOLERANCE:
+        actual = crystal_hz / ((8 if double else 16) * (ubrr + 1))
+        raise fail(BAD_BAUD, f"{baud} baud cannot be made from a {crystal_hz / 1e6:g} MHz crystal: the nearest "
+                             f"is {actual:.0f} baud ({100 * error:.1f} % off, at most 2 %)")
+    return ubrr, double
+
+
+def uart_init(cx) -> None:
+    e, part, uart = cx.e, cx.part, cx.part.uart
+    ubrr, double = baud_divisor(cx.crystal_hz, cx.baud)
+    # on parts sharing UBRRH with UCSRC, URSEL = 0 selects UBRRH
+    _write(e, part, uart["UBRRH"], (ubrr >> 8) & ~(1 << URSEL))
+    _write(e, part, uart["UBRRL"], ubrr & 0xFF)
+    _write(e, part, uart["UCSRA"], int(double) << U2X)
+    _write(e, part, uart["UCSRB"], 1 << RXEN | 1 << TXEN)
+    bits.write(e, cx.bit(ir.Bit(UART_IDLE)), True)
+
+
+def _status(cx) -> MemBit:
+    return MemBit(cx.part.reg(cx.part.uart["UCSRA"]), 0, False)
+
+
+def uart_ready(cx, dst) -> None:
+    """dst = TXC, or nothing sent yet"""
+    e = cx.e
+    e.load_byte(_status(cx).addr, LOADED, False)
+    e.ins("bst", LOADED, TXC)
+    bits.when(e, cx.bit(ir.Bit(UART_IDLE)), True, lambda: e.ins("set"))
+    bits.from_t(e, cx.bit(dst))
+
+
+def uart_send(cx, op: ir.UartSend) -> None:
+    e, part, uart = cx.e, cx.part, cx.part.uart
+    done = e.new_label()
+    ready = e.new_label()
+    top = e.new_label()
+    e.label(top, loop=op.wait)
+    status = part.reg(uart["UCSRA"])
+    e.load_byte(status, LOADED, False)
+    e.ins("sbrc", LOADED, TXC)
+    e.jump(ready)
+    bits.jump_if(e, cx.bit(ir.Bit(UART_IDLE)), True, ready)
+    if op.wait:
+        e.ins("wdr")
+        e.jump(top)
+    else:
+        e.jump(done)  # busy: the byte is lost, as on the simulator
+    e.label(ready)
+    integers.load(cx, op.value, A[:1])
+    # clear TXC (writing 1 clears it), keeping the speed bit, then send
+    _write(e, part, uart["UCSRA"], 1 << TXC | int(cx.uart_double) << U2X)
+    e.store_byte(part.reg(uart["UDR"]), A[0], False)
+    bits.write(e, cx.bit(ir.Bit(UART_IDLE)), False)
+    e.label(done)
+
+
+def uart_available(cx, dst) -> None:
+    status = _status(cx)
+    bits.copy(cx.e, cx.bit(dst), MemBit(status.addr, RXC, False), False)
+
+
+def uart_take(cx, op: ir.UartTake) -> None:
+    e, part, uart = cx.e, cx.part, cx.part.uart
+    top = e.new_label()
+    e.label(top, loop=True)
+    e.ins("wdr")
+    bits.jump_if(e, MemBit(part.reg(uart["UCSRA"]), RXC, False), False, top)
+    e.load_byte(part.reg(uart["UDR"]), A[0], False)
+    n = integers.target_size(cx, op.dst)
+    integers.extend(cx, A[:max(n, 2)], 1, signed=False)
+    integers.store(cx, op.dst, A[:max(n, 2)])
+
+
+# --- EEPROM --------------------------------------------------------------------------------
+
+def _eeprom_address(cx, address: int) -> None:
+    e, part = cx.e, cx.part
+    e.store_byte(part.reg("EEARH"), e.constant_reg(address >> 8, SCRATCH), False)
+    e.store_byte(part.reg("EEARL"), e.constant_reg(address & 0xFF, SCRATCH), False)
+
+
+def _eeprom_read(cx, address: int, reg: int) -> None:
+    e, part = cx.e, cx.part
+    _eeprom_address(cx, address)
+    _io_bit(e, part, "EECR", EERE, True)
+    e.load_byte(part.reg("EEDR"), reg, False)
+
+
+def eeprom_load(cx, op: ir.EepromLoad) -> None:
+    e, part = cx.e, cx.part
+    _wait_while(e, part, "EECR", EEWE, True)
+    st = integers.storage(cx, op.var)
+    for i in range(st.size):
+        _eeprom_read(cx, op.address + i, A[0])
+        e.store_byte(st.addr + i, A[0], st.ram)
+
+
+def eeprom_save(cx, op: ir.EepromSave) -> None:
+    """The first byte that differs is written if the EEPROM is idle; the
+    rest wait for later scans (a write takes milliseconds)."""
+    e, part = cx.e, cx.part
+    done = e.new_label()
+    eecr = MemBit(part.reg("EECR"), EEWE, False)
+    bits.jump_if(e, eecr, True, done)
+    st = integers.storage(cx, op.var)
+    for i in range(st.size):
+        same = e.new_label()
+        _eeprom_read(cx, op.address + i, LOADED)
+        e.load_byte(st.addr + i, A[0], st.ram)
+        e.ins("cp", LOADED, A[0])
+        e.branch("breq", same)
+        e.store_byte(part.reg("EEDR"), A[0], False)
+        # the write must follow the master enable within four cycles
+        assert part.reg("EECR") < BIT_IO_END
+        _io_bit(e, part, "EECR", EEMWE, True)
+        _io_bit(e, part, "EECR", EEWE, True)
+        e.jump(done)
+        e.label(same)
+    e.label(done)
+

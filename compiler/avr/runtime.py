@@ -1,0 +1,141 @@
+"""The runtime around the scan: start-up, the scan loop and its timing.
+
+    reset:  stack, zero register, watchdog (2 s), RAM and bit registers
+            cleared, pins (outputs low, inputs with their pull-ups), UART,
+            start values, Timer1 started in CTC mode
+    scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
+    wait:   clear the watchdog until Timer1 matches, clear its flag, scan
+
+The first scan runs at once after start-up and scan k starts k cycle times
+after it, as the simulator's scan k runs at k x cycle. No interrupt is ever
+enabled, so the image needs no vector table: the code starts at address 0.
+The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
+"""
+
+from __future__ import annotations
+
+from lang.model import Program
+
+from .. import ir
+from ..errors import BAD_CYCLE, fail
+from . import bits
+from .emit import ZERO
+from .memory import MemBit, RegBit
+from .part import CYCLE_PRESCALERS, WGM12, Part
+from .peripherals import uart_init
+from .select import Context, select
+
+CYCLE_TOLERANCE = 0.001
+WATCHDOG_2S = 0b111  # WDP2:0
+DUTY_PIN = "YPlcCycleDuty"
+
+
+def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
+    """(clock select, counts) for Timer1: the exact cycle when a prescaler
+    makes it, else the nearest within CYCLE_TOLERANCE."""
+    ticks = crystal_hz * cycle_us / 1_000_000
+    best = None
+    for prescaler, select_bits in CYCLE_PRESCALERS.items():
+        counts = round(ticks / prescaler)
+        if 1 <= counts <= 65536:
+            error = abs(counts * prescaler - ticks) / ticks
+            if best is None or error < best[0]:
+                best = (error, select_bits, counts)
+    if best is None or best[0] > CYCLE_TOLERANCE:
+        raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
+                              "crystal with Timer1 (16 bits, prescaler 1 to 1024)")
+    return best[1], best[2]
+
+
+def _write(cx: Context, register: str, value: int) -> None:
+    cx.e.store_byte(cx.part.reg(register), cx.e.constant_reg(value), False)
+
+
+def _pins(part: Part, program: Program) -> dict[str, tuple[int, int]]:
+    """Port letter -> (DDR, PORT) values: outputs low, inputs pulled up as
+    the PULL-UP LIST says (all of them by default), PWM pins outputs."""
+    ports: dict[str, list[int]] = {}
+    for name, assignment in program.pins.items():
+        pin = part.device.pin(assignment.pin)
+        if pin is None or not pin.is_io or name[:1] not in ("X", "Y", "P"):
+            continue
+        ddr, port = ports.setdefault(pin.port, [0, 0])
+        if name[0] == "X":
+            pulled = program.pullups.get("P" + pin.port, 0xFF) >> pin.bit & 1
+            ports[pin.port] = [ddr, port | pulled << pin.bit]
+        else:
+            ports[pin.port] = [ddr | 1 << pin.bit, port]
+    return {letter: (ddr, port) for letter, (ddr, port) in ports.items()}
+
+
+def _start(cx: Context, code: ir.Code, program: Program) -> None:
+    e, part, layout = cx.e, cx.part, cx.layout
+    e.ins("cli")
+    e.ins("clr", ZERO)
+    _write(cx, "SPH", part.ram_end >> 8)
+    _write(cx, "SPL", part.ram_end & 0xFF)
+    watchdog = part.avr["watchdog"]
+    e.ins("wdr")
+    # the change enable bit opens a four-cycle window for the new setting
+    _write(cx, watchdog["control"], 1 << watchdog["WDCE"] | 1 << watchdog["WDE"])
+    _write(cx, watchdog["control"], 1 << watchdog["WDE"] | WATCHDOG_2S)
+    for reg in layout.homes + tuple(sorted({b.reg for b in layout.bits.values()
+                                            if isinstance(b, RegBit) and b.reg not in layout.homes})):
+        e.ins("clr", reg)
+    if layout.ram_used:
+        top = e.new_label()
+        e.constant(part.ram_start & 0xFF, 26)
+        e.constant(part.ram_start >> 8, 27)
+        e.constant(layout.ram_used & 0xFF, 24)
+        e.constant(layout.ram_used >> 8, 25)
+        e.label(top, loop=True)
+        e.ins("st_xp", ZERO)
+        e.ins("sbiw", 24, 1)
+        e.branch("brne", top)
+    for letter, (ddr, port) in sorted(_pins(part, program).items()):
+        _write(cx, f"PORT{letter}", port)
+        _write(cx, f"DDR{letter}", ddr)
+    if part.uart and any(isinstance(op, (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake))
+                         for op in code.scan):
+        uart_init(cx)
+    select(cx, code.init)
+    e.forget_scratch()
+
+
+def _scan_loop(cx: Context, code: ir.Code, program: Program) -> None:
+    e, part = cx.e, cx.part
+    duty = _duty_pin(part, program)
+    select_bits, counts = cycle_timer(cx.crystal_hz, program.settings.cycle_us)
+    _write(cx, "TCCR1A", 0)
+    _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
+    _write(cx, "OCR1AL", (counts - 1) & 0xFF)
+    _write(cx, "TCCR1B", 1 << WGM12 | select_bits)
+    e.label("scan", loop=True)
+    if duty:
+        bits.write(e, duty, True)
+    select(cx, code.scan)
+    if duty:
+        bits.write(e, duty, False)
+    e.label("wait", loop=True)
+    e.ins("wdr")
+    flags = part.avr["cycle_timer"]
+    flag = MemBit(part.reg(flags["flags"]), flags["OCF1A"], False)
+    bits.jump_if(e, flag, False, "wait")
+    e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
+    _write(cx, flags["flags"], 1 << flags["OCF1A"])  # writing 1 clears it
+    e.jump("scan")
+
+
+def _duty_pin(part: Part, program: Program) -> MemBit | None:
+    """LDmicro's YPlcCycleDuty output: high while the scan runs."""
+    assignment = program.pins.get(DUTY_PIN)
+    if not program.settings.cycle_duty or assignment is None:
+        return None
+    pin = part.device.pin(assignment.pin)
+    return MemBit(part.port("PORT", pin.port), pin.bit, False) if pin is not None and pin.is_io else None
+
+
+def write_runtime(cx: Context, code: ir.Code, program: Program) -> None:
+    _start(cx, code, program)
+    _scan_loop(cx, code, program)
+

@@ -1,0 +1,389 @@
+"""The intermediate code: what one scan of a ladder program does, in terms a
+back end translates op by op.
+
+Storage is named. A `Bit` is an input pin, an output latch, a relay or hidden
+element memory, or a temporary power bit of the rung being evaluated (its
+class is in `Code.bits`). A `Var` is a signed integer of 1 to 4 bytes; a
+`Part` is one unsigned byte of a variable. Integer results are truncated to
+their destination; operands are read as the signed values they hold
+(docs/semantics.md, "Variable sizes"), so an op computes in the widest size
+its operands and destination need.
+
+Control flow is a flat list with labels, jumps and conditional jumps; the
+front end (`compiler.lower`) writes structured code with them and the
+optimiser (`compiler.optimise`) rewrites the list.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Bit:
+    name: str
+
+
+@dataclass(frozen=True)
+class Var:
+    name: str
+    size: int
+
+
+@dataclass(frozen=True)
+class Part:
+    """Byte `index` (0 = least significant) of a variable, read unsigned."""
+
+    var: Var
+    index: int
+
+    @property
+    def size(self) -> int:
+        return 1
+
+
+@dataclass(frozen=True)
+class Const:
+    value: int
+
+
+Operand = Var | Part | Const
+Target = Var | Part
+
+# bit classes
+INPUT, OUTPUT, MEMORY, TEMP = "input", "output", "memory", "temp"
+
+RELATIONS = ("==", "!=", "<", "<=", ">", ">=")
+NEGATED = {"==": "!=", "!=": "==", "<": ">=", ">=": "<", ">": "<=", "<=": ">"}
+
+
+class Op:
+    """An operation; `reads()`/`writes()` name the bits it uses, for the
+    optimiser's dataflow."""
+
+    def reads(self) -> tuple[Bit, ...]:
+        return ()
+
+    def writes(self) -> tuple[Bit, ...]:
+        return ()
+
+
+# --- program structure -------------------------------------------------------
+
+@dataclass
+class Label(Op):
+    name: str
+
+
+@dataclass
+class Note(Op):
+    """Text for the listing (the rung and element the code below is for)."""
+
+    text: str
+
+
+@dataclass
+class Jump(Op):
+    target: str
+
+
+@dataclass
+class JumpIfBit(Op):
+    bit: Bit
+    value: bool
+    target: str
+
+    def reads(self):
+        return (self.bit,)
+
+
+@dataclass
+class JumpIf(Op):
+    """Jump when `a rel b` holds, comparing the signed values."""
+
+    a: Operand
+    rel: str
+    b: Operand
+    target: str
+
+
+@dataclass
+class JumpIfBitOf(Op):
+    """Jump when bit `index` of `a` equals `value`: an index below 0 reads
+    0, one at or past the width reads the sign bit (the value is signed)."""
+
+    a: Operand
+    index: Operand
+    value: bool
+    target: str
+
+
+@dataclass
+class Call(Op):
+    """A subroutine call; `keep` are the temporary bits still needed after
+    it, which the callee's rungs must not clobber (the optimiser fills it)."""
+
+    target: str
+    keep: frozenset = frozenset()
+
+
+@dataclass
+class Return(Op):
+    pass
+
+
+# --- bits ----------------------------------------------------------------------
+
+@dataclass
+class SetBit(Op):
+    dst: Bit
+    value: bool
+
+    def writes(self):
+        return (self.dst,)
+
+
+@dataclass
+class CopyBit(Op):
+    dst: Bit
+    src: Bit
+    invert: bool = False
+
+    def reads(self):
+        return (self.src,)
+
+    def writes(self):
+        return (self.dst,)
+
+
+@dataclass
+class AndBit(Op):
+    """dst = dst and (src, or not src when inverted)"""
+
+    dst: Bit
+    src: Bit
+    invert: bool = False
+
+    def reads(self):
+        return (self.dst, self.src)
+
+    def writes(self):
+        return (self.dst,)
+
+
+@dataclass
+class OrBit(Op):
+    dst: Bit
+    src: Bit
+
+    def reads(self):
+        return (self.dst, self.src)
+
+    def writes(self):
+        return (self.dst,)
+
+
+# --- integers ----------------------------------------------------------------------
+
+@dataclass
+class Move(Op):
+    dst: Target
+    src: Operand
+
+
+@dataclass
+class Arith(Op):
+    """add, sub, mul, and, or, xor; `overflow` is set (never cleared) when an
+    add or sub does not fit the destination."""
+
+    op: str
+    dst: Target
+    a: Operand
+    b: Operand
+    overflow: Bit | None = None
+
+    def writes(self):
+        return (self.overflow,) if self.overflow else ()
+
+
+@dataclass
+class ChangeBitOf(Op):
+    """Set or clear bit `index` of dst; an index outside 0..8*size-1 changes
+    nothing."""
+
+    dst: Target
+    index: Operand
+    value: bool
+
+
+@dataclass
+class Divide(Op):
+    """div (truncating toward zero) or mod (the dividend's sign); a div may
+    also store the remainder, from the same division. The result of a
+    division by zero is left to the back end."""
+
+    op: str
+    dst: Target
+    a: Operand
+    b: Operand
+    remainder: Target | None = None
+
+
+@dataclass
+class Unary(Op):
+    op: str  # neg, not
+    dst: Target
+    a: Operand
+
+
+@dataclass
+class Shift(Op):
+    """shl, shr (arithmetic), sr0 (logical), rol, ror of `a` within `width`
+    bytes by `count` bits (negative: none; past the width: all out or round)."""
+
+    op: str
+    dst: Target
+    a: Operand
+    count: Operand
+    width: int
+
+
+@dataclass
+class Convert(Op):
+    """bin2bcd, bcd2bin, swap, opposite of `src` within `width` bytes."""
+
+    op: str
+    dst: Target
+    src: Operand
+    width: int
+
+
+@dataclass
+class Table(Op):
+    """dst = values[index]; the index must be in range (the front end or the
+    program guarantees it)."""
+
+    dst: Target
+    values: tuple[int, ...]
+    index: Operand
+
+
+@dataclass
+class Permute(Op):
+    """dst = the byte whose bit 7-i is bit sources[i] of src (BUS)."""
+
+    dst: Target
+    src: Operand
+    sources: tuple[int, ...]
+
+
+# --- peripherals and the machine -------------------------------------------------------
+
+@dataclass
+class ReadAdc(Op):
+    dst: Target
+    channel: int
+    refs: int
+
+
+@dataclass
+class SetPwm(Op):
+    """Drive output `unit` (OC0A...) at `freq` Hz with `duty` out of `full`
+    (100 for percent, 256/512/1024 for the other resolutions)."""
+
+    unit: str
+    duty: Operand
+    full: int
+    freq: int
+
+
+@dataclass
+class PwmOff(Op):
+    unit: str
+
+
+@dataclass
+class UartSend(Op):
+    """Send the low byte; without `wait` it is lost while the transmitter is
+    busy, with `wait` the MCU waits for the transmitter first."""
+
+    value: Operand
+    wait: bool = False
+
+
+@dataclass
+class UartReady(Op):
+    dst: Bit
+
+    def writes(self):
+        return (self.dst,)
+
+
+@dataclass
+class UartAvailable(Op):
+    dst: Bit
+
+    def writes(self):
+        return (self.dst,)
+
+
+@dataclass
+class UartTake(Op):
+    """dst = the next received byte (the MCU waits for it)."""
+
+    dst: Target
+
+
+@dataclass
+class EepromLoad(Op):
+    var: Var
+    address: int
+
+
+@dataclass
+class EepromSave(Op):
+    """Bring the EEPROM copy at `address` towards `var`: a byte that differs
+    is written when the EEPROM is idle (one byte per scan at most)."""
+
+    var: Var
+    address: int
+
+
+# CPU cycles one count of a variable DELAY takes (T2DLY converts a time with it)
+DELAY_LOOP_CYCLES = 8
+
+
+@dataclass
+class Delay(Op):
+    """Busy-wait: `amount` microseconds (a constant), or `amount` loops of
+    DELAY_LOOP_CYCLES cycles (a variable)."""
+
+    amount: Operand
+    loops: bool
+
+
+@dataclass
+class ClearWatchdog(Op):
+    pass
+
+
+@dataclass
+class Halt(Op):
+    """Loop forever (LOCK); the watchdog resets the MCU."""
+
+
+@dataclass
+class Sleep(Op):
+    pass
+
+
+@dataclass
+class Code:
+    """A lowered program: the scan, what runs once before the first scan,
+    and the storage both use."""
+
+    scan: list[Op]
+    init: list[Op]
+    bits: dict[str, str]  # bit name -> INPUT, OUTPUT, MEMORY or TEMP
+    vars: dict[str, int]  # variable name -> size in bytes
+    eeprom: int = 0  # EEPROM bytes PERSIST uses

@@ -1,0 +1,165 @@
+"""The front end: a checked ladder Program becomes intermediate code.
+
+Rungs run top to bottom, each on a fresh power bit; series are evaluated
+left to right on it, parallels branch by branch from a copy of their input
+(lang/sim/compile.py is the semantics followed here). Every rung has a
+label, so GOTO and GOSUB jump to rungs; what LDmicro sets before the first
+scan (counter start values, TOF accumulators, random seeds) is `Code.init`.
+"""
+
+from __future__ import annotations
+
+from lang.checks.common import describe
+from lang.devices import Device
+from lang.model import Element, Program, Series
+from lang.sim.compile import DEFAULT_SEED, _counter_defs, _names
+from lang.sim.gen_timers import COUNTERS
+from lang.values import is_literal, literal_value
+
+from .. import ir
+from ..errors import BAD_OPERAND, NOT_COMPILED, fail
+from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
+from .builder import Builder
+
+
+def rung_label(index: int) -> str:
+    return f"rung{index + 1}"
+
+
+class Jumps:
+    """Where GOTO, GOSUB and the end of a SUBPROG's body go, as rung labels."""
+
+    def __init__(self, program: Program):
+        self.count = len(program.rungs)
+        self.labels: dict[str, int] = {}
+        self.subprogs: dict[str, int] = {}
+        self.endsubs: dict[str, int] = {}
+        tables = {"LABEL": self.labels, "SUBPROG": self.subprogs, "ENDSUB": self.endsubs}
+        for rung, element in program.elements():
+            if element.kind in tables:
+                tables[element.kind].setdefault(str(element.args.get("label", "")), rung)
+
+    def goto_target(self, element: Element) -> str:
+        label = str(element.args["label"])
+        if is_literal(label):
+            # a rung number, clamped to 1..rungs+1 as LDmicro does (rungs+1 = end of scan)
+            number = literal_value(label)
+            return rung_label(min(max(number, 1), self.count + 1) - 1)
+        if label not in self.labels:
+            raise fail(BAD_OPERAND, f"GOTO: LABEL '{label}' not found", element)
+        return rung_label(self.labels[label])
+
+    def gosub_target(self, element: Element) -> str:
+        label = str(element.args["label"])
+        if label not in self.subprogs:
+            raise fail(BAD_OPERAND, f"GOSUB: SUBPROG '{label}' not found", element)
+        return rung_label(self.subprogs[label] + 1)
+
+    def after_endsub(self, element: Element) -> str:
+        label = str(element.args["label"])
+        if label not in self.endsubs:
+            raise fail(BAD_OPERAND, f"SUBPROG: ENDSUB '{label}' not found", element)
+        return rung_label(self.endsubs[label] + 1)
+
+
+class TargetBuilder(Builder):
+    """The builder with what lowering needs to know of the part: which
+    A/D channel and which PWM unit a name's pin is."""
+
+    def __init__(self, program: Program, device: Device, bits, sizes, classes):
+        super().__init__(program, bits, sizes, classes)
+        self.device = device
+        self.eeprom_size = device.memory.get("eeprom", 0)
+        self.jumps = Jumps(program)
+        self.counter_defs = _counter_defs(program)
+
+    def _pin(self, name: str):
+        assignment = self.program.pins.get(name)
+        pin = self.device.pin(assignment.pin) if assignment is not None else None
+        if pin is None:
+            raise fail(NOT_COMPILED, f"'{name}' has no pin of the {self.device.title}", self.element)
+        return pin
+
+    def adc_channel(self, name: str) -> int:
+        pin = self._pin(name)
+        if pin.name not in self.device.adc:
+            raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no A/D channel", self.element)
+        return self.device.adc[pin.name]
+
+    def pwm_unit(self, name: str) -> str:
+        pin = self._pin(name)
+        if pin.name not in self.device.pwm:
+            raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no PWM output", self.element)
+        return self.device.pwm[pin.name]
+
+
+def _circuit(b: Builder, node, p: ir.Bit, tail: bool) -> None:
+    if isinstance(node, Element):
+        b.emit(ir.Note(describe(node)))
+        b.lower(node, p)
+    elif isinstance(node, Series):
+        for i, item in enumerate(node.items):
+            _circuit(b, item, p, tail and i == len(node.items) - 1)
+    else:
+        # every branch sees the parallel's input; a branch's side effects
+        # are visible to the branches below it; nothing follows a parallel
+        # that ends its rung, so its output is not needed there
+        out = None if tail else b.temp()
+        if out:
+            b.emit(ir.SetBit(out, False))
+        for branch in node.branches:
+            bp = b.temp()
+            b.emit(ir.CopyBit(bp, p))
+            _circuit(b, branch, bp, out is None)
+            if out:
+                b.emit(ir.OrBit(out, bp))
+        if out:
+            b.emit(ir.CopyBit(p, out))
+
+
+def _initial_values(b: TargetBuilder, program: Program) -> list[ir.Op]:
+    """What LDmicro's INIT VARS block sets before the first scan, in program
+    order so that the last one wins (docs/semantics.md, "Start values")."""
+    ops: list[ir.Op] = []
+    for _, element in program.elements():
+        b.element = element
+        kind = element.kind
+        if kind in COUNTERS and is_literal(str(element.args.get("init", "0"))):
+            name = str(element.args["name"])
+            ops.append(ir.Move(b.var(name), ir.Const(b.literal(element.args.get("init", "0")))))
+        elif kind == "TOF":
+            name, delay = str(element.args["name"]), element.args["delay"]
+            t = b.var(name)
+            if isinstance(delay, int):
+                ops.append(ir.Move(t, ir.Const(b.period(delay, int(element.args.get("adjust", 0) or 0), name))))
+            else:
+                # LDmicro cannot start a variable-delay TOF; start it expired
+                ops.append(ir.Move(t, ir.Const((1 << (8 * t.size - 1)) - 1)))
+        elif kind == "SEED_RANDOM":
+            ops.append(ir.Move(ir.Var(f"$seed_{element.args['name']}", 4), ir.Const(DEFAULT_SEED)))
+    return ops
+
+
+def _classes(program: Program) -> dict[str, str]:
+    return {name: ir.INPUT if name[0] == "X" else ir.OUTPUT
+            for name in program.pins if name[:1] in ("X", "Y")}
+
+
+def lower_program(program: Program, device: Device) -> ir.Code:
+    bits, sizes = _names(program)
+    b = TargetBuilder(program, device, bits, sizes, _classes(program))
+    mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
+    if mcr:
+        b.emit(ir.SetBit(b.bit("$mcr"), True))
+    for index, rung in enumerate(program.rungs):
+        b.rung, b.position = index, -1
+        b.place(rung_label(index))
+        if rung.is_comment or not rung.circuit.items:
+            continue
+        b.emit(ir.Note(f"rung {index + 1}"))
+        p = b.temp()
+        b.emit(ir.CopyBit(p, b.bit("$mcr")) if mcr else ir.SetBit(p, True))
+        _circuit(b, rung.circuit, p, True)
+    b.place(rung_label(len(program.rungs)))
+    init = _initial_values(b, program)
+    return ir.Code(b.ops, init, b.bits, b.vars, b.eeprom)

@@ -1,0 +1,200 @@
+"""The front end's working state: the ops being written, fresh labels and
+temporaries, element memories, operands, and structured conditionals built
+from labels and conditional jumps.
+
+Every element follows what the simulator does for it (lang/sim, the reference
+semantics), statement for statement, so that the compiled scan behaves like
+the simulated one.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from lang.model import Element
+from lang.sim.codegen import CompileError as SimCompileError
+from lang.sim.codegen import timer_period
+from lang.values import is_literal, literal_value
+
+from .. import ir
+from ..errors import BAD_OPERAND, NOT_COMPILED, fail
+
+DEFAULT_SIZE = 2
+
+LOWERINGS: dict[str, Callable] = {}
+
+
+def lowers(*kinds: str):
+    """Register `fn(builder, element, power)` as the lowering of instruction kinds."""
+
+    def register(fn):
+        for kind in kinds:
+            LOWERINGS[kind] = fn
+        return fn
+
+    return register
+
+
+@dataclass(frozen=True)
+class IsSet:
+    bit: ir.Bit
+    value: bool = True
+
+
+@dataclass(frozen=True)
+class Holds:
+    a: ir.Operand
+    rel: str
+    b: ir.Operand
+
+
+Condition = IsSet | Holds
+
+
+class Branch:
+    """The else part of an `if_`: `with branch.otherwise(): ...`."""
+
+    def __init__(self, builder: Builder, otherwise: str, end: str):
+        self.builder = builder
+        self.else_label = otherwise
+        self.end = end
+        self.used = False
+
+    @contextmanager
+    def otherwise(self):
+        self.used = True
+        self.builder.emit(ir.Jump(self.end))
+        self.builder.place(self.else_label)
+        yield
+
+
+class Builder:
+    def __init__(self, program, bits: set[str], sizes: dict[str, int], classes: dict[str, str]):
+        self.program = program
+        self.cycle_us = program.settings.cycle_us
+        self.bit_names = bits
+        self.sizes = sizes
+        self.classes = classes  # program bit name -> ir bit class
+        self.ops: list[ir.Op] = []
+        self.init: list[ir.Op] = []
+        self.vars: dict[str, int] = {}
+        self.bits: dict[str, str] = {}
+        self.element: Element | None = None
+        self.rung = -1
+        self.position = -1
+        self._labels = 0
+        self._temps = 0
+        self.eeprom = 0  # EEPROM bytes the PERSIST variables take so far
+        self.eeprom_size = 0  # the part's
+        self.overflow_read = "ROverflowFlagV" in {
+            str(e.args.get("name")) for _, e in program.elements() if e.kind == "CONTACTS"}
+
+    # --- writing ------------------------------------------------------------------
+
+    def emit(self, op: ir.Op) -> None:
+        self.ops.append(op)
+
+    def new_label(self, hint: str = "L") -> str:
+        self._labels += 1
+        return f"{hint}{self._labels}"
+
+    def place(self, label: str) -> None:
+        self.emit(ir.Label(label))
+
+    def jump_unless(self, cond: Condition, target: str) -> None:
+        if isinstance(cond, IsSet):
+            self.emit(ir.JumpIfBit(cond.bit, not cond.value, target))
+        else:
+            self.emit(ir.JumpIf(cond.a, ir.NEGATED[cond.rel], cond.b, target))
+
+    @contextmanager
+    def if_(self, cond: Condition):
+        """`with b.if_(cond) as branch:` then-part, optionally ending with
+        `with branch.otherwise():` else-part."""
+        branch = Branch(self, self.new_label(), self.new_label())
+        self.jump_unless(cond, branch.else_label)
+        yield branch
+        if not branch.used:
+            self.place(branch.else_label)
+        self.place(branch.end)
+
+    # --- storage --------------------------------------------------------------------
+
+    def temp(self) -> ir.Bit:
+        """A fresh temporary bit (power flow inside a rung)."""
+        self._temps += 1
+        name = f"~t{self._temps}"
+        self.bits[name] = ir.TEMP
+        return ir.Bit(name)
+
+    def temp_var(self, size: int = 4) -> ir.Var:
+        self._temps += 1
+        name = f"~v{self._temps}"
+        self.vars[name] = size
+        return ir.Var(name, size)
+
+    def bit(self, name: str) -> ir.Bit:
+        self.bits[name] = self.classes.get(name, ir.MEMORY)
+        return ir.Bit(name)
+
+    def var(self, name: str) -> ir.Var:
+        if name in self.bit_names:
+            raise fail(BAD_OPERAND, f"'{name}' is a bit; it cannot hold an integer", self.element)
+        size = self.size(name)
+        self.vars[name] = size
+        return ir.Var(name, size)
+
+    def size(self, name: str) -> int:
+        return self.sizes.get(name, DEFAULT_SIZE)
+
+    def memory_bit(self, what: str) -> ir.Bit:
+        """Hidden per-element state (edge memories...), one per element instance."""
+        name = f"~m{self.rung}.{self.position}.{what}"
+        self.bits[name] = ir.MEMORY
+        return ir.Bit(name)
+
+    def memory_var(self, what: str, size: int = 4) -> ir.Var:
+        name = f"~m{self.rung}.{self.position}.{what}"
+        self.vars[name] = size
+        return ir.Var(name, size)
+
+    # --- operands ----------------------------------------------------------------------
+
+    def arg(self, field: str):
+        return self.element.args.get(field, self.element.spec.get_field(field).default)
+
+    def literal(self, token) -> int:
+        try:
+            return literal_value(str(token))
+        except ValueError as bad:
+            raise fail(BAD_OPERAND, str(bad), self.element) from None
+
+    def operand(self, token) -> ir.Operand:
+        token = str(token)
+        if is_literal(token):
+            return ir.Const(self.literal(token))
+        return self.var(token)
+
+    def dest(self, field: str = "dest") -> ir.Var:
+        name = str(self.arg(field))
+        if is_literal(name):
+            raise fail(BAD_OPERAND, f"'{name}' is not a valid destination", self.element)
+        return self.var(name)
+
+    def period(self, delay: int, adjust: int, name: str) -> int:
+        """A timer's period in scans, with LDmicro's checks."""
+        try:
+            return timer_period(self, delay, adjust, name)
+        except SimCompileError as problem:
+            raise fail(BAD_OPERAND, problem.message, self.element) from None
+
+    # --- elements ---------------------------------------------------------------------
+
+    def lower(self, element: Element, power: ir.Bit) -> None:
+        self.element = element
+        self.position += 1
+        if not element.spec.supports("avr") or element.kind not in LOWERINGS:
+            raise fail(NOT_COMPILED, f"{element.kind} cannot be compiled for AVR", element)
+        LOWERINGS[element.kind](self, element, power)

@@ -1,0 +1,230 @@
+"""Peripheral instructions: ADC, PWM, PERSIST and the UART elements with
+formatted strings (lang/sim/gen_io.py and lang/sim/strings.py are the
+semantics followed here)."""
+
+from __future__ import annotations
+
+from lang.sim.strings import parse_format
+
+from .. import ir
+from ..errors import BAD_OPERAND, EEPROM_FULL, fail
+from .builder import Builder, Holds, IsSet, lowers
+
+# SET PWM resolutions: the duty value that means "always on"
+PWM_FULL = {"0-100%": 100, "0-256": 256, "0-512": 512, "0-1024": 1024}
+
+
+@lowers("READ_ADC")
+def read_adc(b: Builder, el, p: ir.Bit) -> None:
+    d = b.dest("name")
+    with b.if_(IsSet(p)):
+        b.emit(ir.ReadAdc(d, b.adc_channel(d.name), int(el.args.get("refs") or 0)))
+
+
+@lowers("SET_PWM")
+def set_pwm(b: Builder, el, p: ir.Bit) -> None:
+    name = el.args["name"]
+    resolution = str(el.args.get("resolution") or "0-100%")
+    if resolution not in PWM_FULL:
+        raise fail(BAD_OPERAND, f"unknown PWM resolution '{resolution}'", el)
+    with b.if_(IsSet(p)):
+        b.emit(ir.SetPwm(b.pwm_unit(name), b.operand(el.args["duty"]), PWM_FULL[resolution],
+                         int(el.args["freq"])))
+        b.emit(ir.SetBit(b.bit(name), True))
+
+
+@lowers("PERSIST")
+def persist(b: Builder, el, p: ir.Bit) -> None:
+    v = b.dest("var")
+    address = b.eeprom
+    b.eeprom += v.size
+    if b.eeprom > b.eeprom_size:
+        raise fail(EEPROM_FULL, f"the PERSIST variables need {b.eeprom} bytes of EEPROM; the part has "
+                                f"{b.eeprom_size}", el)
+    loaded = b.memory_bit("loaded")
+    with b.if_(IsSet(p)):
+        # the first powered scan loads the variable from EEPROM; later ones
+        # write it back whenever it differs from the EEPROM copy
+        with b.if_(IsSet(loaded, False)) as branch:
+            b.emit(ir.SetBit(loaded, True))
+            b.emit(ir.EepromLoad(v, address))
+            with branch.otherwise():
+                b.emit(ir.EepromSave(v, address))
+
+
+def _byte(value: ir.Operand, index: int) -> ir.Operand:
+    if isinstance(value, ir.Const):
+        return ir.Const((value.value >> 8 * index) & 0xFF)
+    return ir.Part(value, index)
+
+
+def _busy(b: Builder, p: ir.Bit) -> None:
+    b.emit(ir.UartReady(p))
+    b.emit(ir.CopyBit(p, p, True))
+
+
+@lowers("UART_SEND")
+def uart_send(b: Builder, el, p: ir.Bit) -> None:
+    value = b.operand(el.args["var"])
+    count = int(el.args.get("bytes", 1) or 1)
+    if count == 1:
+        with b.if_(IsSet(p)):
+            b.emit(ir.UartSend(_byte(value, 0)))
+    elif el.args.get("wait"):
+        # all bytes in this scan, the MCU waiting for each (low byte first)
+        with b.if_(IsSet(p)):
+            for i in range(count):
+                b.emit(ir.UartSend(_byte(value, i), wait=True))
+    else:
+        # one byte per scan from a copy taken when sending starts
+        active, saved, sent = b.memory_bit("active"), b.memory_var("saved"), b.memory_var("sent", 1)
+        with b.if_(IsSet(p)), b.if_(IsSet(active, False)):
+            b.emit(ir.SetBit(active, True))
+            b.emit(ir.Move(saved, value))
+            b.emit(ir.Move(sent, ir.Const(0)))
+        with b.if_(IsSet(active)):
+            ready = b.temp()
+            b.emit(ir.UartReady(ready))
+            with b.if_(IsSet(ready)):
+                for i in range(count):
+                    with b.if_(Holds(sent, "==", ir.Const(i))):
+                        b.emit(ir.UartSend(ir.Part(saved, i)))
+                with b.if_(Holds(sent, "<", ir.Const(count))):
+                    b.emit(ir.Arith("add", sent, sent, ir.Const(1)))
+            with b.if_(Holds(sent, ">=", ir.Const(count))):
+                b.emit(ir.SetBit(active, False))
+        with b.if_(IsSet(active)) as branch:
+            b.emit(ir.SetBit(p, True))
+            with branch.otherwise():
+                _busy(b, p)
+        return
+    # the rung's output is the transmitter's busy flag, whatever the input
+    _busy(b, p)
+
+
+@lowers("UART_RECV")
+def uart_recv(b: Builder, el, p: ir.Bit) -> None:
+    d = b.dest("var")
+    count = int(el.args.get("bytes", 1) or 1)
+    if count > d.size:
+        raise fail(BAD_OPERAND, f"UART RECV of {count} bytes into '{d.name}' of {d.size} bytes", el)
+    if count == 1:
+        with b.if_(IsSet(p)):
+            b.emit(ir.UartAvailable(p))
+            with b.if_(IsSet(p)):
+                b.emit(ir.UartTake(d))
+    elif el.args.get("wait"):
+        received = b.temp_var()
+        with b.if_(IsSet(p)):
+            b.emit(ir.UartAvailable(p))
+            with b.if_(IsSet(p)):
+                b.emit(ir.Move(received, ir.Const(0)))
+                for i in range(count):
+                    b.emit(ir.UartTake(ir.Part(received, i)))
+                b.emit(ir.Move(d, received))
+    else:
+        saved, got = b.memory_var("saved"), b.memory_var("got", 1)
+        with b.if_(IsSet(p)):
+            available = b.temp()
+            b.emit(ir.UartAvailable(available))
+            with b.if_(IsSet(available)):
+                with b.if_(Holds(got, "<", ir.Const(count))):
+                    for i in range(count):
+                        with b.if_(Holds(got, "==", ir.Const(i))):
+                            b.emit(ir.UartTake(ir.Part(saved, i)))
+                    b.emit(ir.Arith("add", got, got, ir.Const(1)))
+            with b.if_(Holds(got, ">=", ir.Const(count))) as branch:
+                b.emit(ir.Move(d, saved))
+                b.emit(ir.Move(got, ir.Const(0)))
+                b.emit(ir.SetBit(p, True))
+                with branch.otherwise():
+                    b.emit(ir.SetBit(p, False))
+
+
+@lowers("UART_SEND_READY")
+def uart_send_ready(b: Builder, el, p: ir.Bit) -> None:
+    with b.if_(IsSet(p)):
+        b.emit(ir.UartReady(p))
+
+
+@lowers("UART_RECV_AVAIL")
+def uart_recv_avail(b: Builder, el, p: ir.Bit) -> None:
+    with b.if_(IsSet(p)):
+        b.emit(ir.UartAvailable(p))
+
+
+@lowers("FORMATTED_STRING")
+def formatted_string(b: Builder, el, p: ir.Bit) -> None:
+    try:
+        fmt = parse_format(str(el.args.get("text") or ""))
+    except ValueError as bad:
+        raise fail(BAD_OPERAND, str(bad), el) from None
+    name = str(el.args.get("var") or "")
+    if fmt.digits and not name:
+        raise fail(BAD_OPERAND, "a variable is interpolated into the formatted string, but none is specified", el)
+    if name and not fmt.digits:
+        raise fail(BAD_OPERAND, "no variable is interpolated into the formatted string, but a variable name "
+                                "is specified; include a string like '\\-3'", el)
+    value = b.operand(name) if name else ir.Const(0)
+    steps, count = fmt.steps, len(fmt.steps)
+    one, busy, lead = b.memory_bit("one"), b.memory_bit("busy"), b.memory_bit("lead")
+    seq, conv = b.memory_var("seq", 1 if count < 128 else 2), b.memory_var("conv")
+    byte, quotient = b.temp_var(1), b.temp_var()
+    with b.if_(IsSet(p)) as branch:
+        with b.if_(IsSet(one, False)):
+            b.emit(ir.SetBit(one, True))
+            b.emit(ir.Move(seq, ir.Const(0)))
+            b.emit(ir.SetBit(busy, True))
+        with branch.otherwise():
+            b.emit(ir.SetBit(one, False))
+    ready = b.temp()
+    with b.if_(IsSet(busy)):
+        with b.if_(Holds(seq, "<", ir.Const(count))):
+            b.emit(ir.UartReady(ready))
+            with b.if_(IsSet(ready)):
+                send = b.new_label()
+                for position, (kind, arg) in enumerate(steps):
+                    if kind == "c":
+                        continue
+                    with b.if_(Holds(seq, "==", ir.Const(position))):
+                        if kind == "s":
+                            _sign(b, value, conv, byte)
+                        else:
+                            _digit(b, fmt, arg, value, conv, byte, quotient, lead)
+                        b.emit(ir.Jump(send))
+                b.emit(ir.Table(byte, tuple(arg if kind == "c" else 0 for kind, arg in steps), seq))
+                b.place(send)
+                b.emit(ir.UartSend(byte))
+                b.emit(ir.Arith("add", seq, seq, ir.Const(1)))
+    with b.if_(Holds(seq, "<", ir.Const(count))) as branch:
+        b.emit(ir.CopyBit(p, busy))
+        with branch.otherwise():
+            b.emit(ir.SetBit(p, False))
+            b.emit(ir.SetBit(busy, False))
+
+
+def _sign(b: Builder, value, conv, byte) -> None:
+    """The sign position also loads the absolute value to convert."""
+    with b.if_(Holds(value, "<", ir.Const(0))) as branch:
+        b.emit(ir.Move(byte, ir.Const(ord("-"))))
+        b.emit(ir.Unary("neg", conv, value))
+        with branch.otherwise():
+            b.emit(ir.Move(byte, ir.Const(ord(" "))))
+            b.emit(ir.Move(conv, value))
+
+
+def _digit(b: Builder, fmt, index: int, value, conv, byte, quotient, lead) -> None:
+    if index == 0:
+        if not fmt.signed:
+            b.emit(ir.Move(conv, value))
+        b.emit(ir.SetBit(lead, True))
+    scale = ir.Const(10 ** (fmt.digits - index - 1))
+    b.emit(ir.Divide("div", quotient, conv, scale, remainder=conv))
+    b.emit(ir.Arith("add", byte, quotient, ir.Const(ord("0"))))
+    if index != fmt.digits - 1:
+        # all but the last digit: leading zeros become blanks
+        with b.if_(Holds(byte, "==", ir.Const(ord("0")))) as branch:
+            with b.if_(IsSet(lead)):
+                b.emit(ir.Move(byte, ir.Const(ord(" "))))
+            with branch.otherwise():
+                b.emit(ir.SetBit(lead, False))

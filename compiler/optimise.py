@@ -1,0 +1,283 @@
+"""Optimising the intermediate code before it is lowered to a target.
+
+* Known bits: a forward pass tracks which temporary and memory bits have a
+  known value (the rung starts powered; after a conditional jump on a bit,
+  both paths know it) and folds the bit operations and tests they decide.
+* Constant folding: integer operations and comparisons of constants.
+* Dead temporaries: a backward liveness pass deletes writes of temporary
+  bits nothing reads, and records on each Call the temporaries that must
+  survive it.
+* Jumps: jumps to the next op, jumps to jumps, unreachable code and unused
+  labels go.
+
+Packing bits into bytes and keeping values in registers are the back end's
+part (compiler/avr/memory.py, compiler/avr/select.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from lang.sim.numbers import cdiv, cmod, wrap
+
+from . import ir
+
+_ENDS = (ir.Jump, ir.Return, ir.Halt)
+
+
+def optimise(code: ir.Code) -> ir.Code:
+    ops = code.scan
+    while True:
+        before = ops
+        ops = _fold_constants(ops)
+        ops = _known_bits(ops, code.bits)
+        ops = _jumps(ops)
+        ops = _dead_temporaries(ops, code.bits)
+        if ops == before:
+            break
+    return replace(code, scan=ops, init=_fold_constants(code.init))
+
+
+# --- control flow helpers ------------------------------------------------------------
+
+def _target(op: ir.Op) -> str | None:
+    return getattr(op, "target", None) if isinstance(op, (ir.Jump, ir.JumpIfBit, ir.JumpIf, ir.JumpIfBitOf)) else None
+
+
+def _label_positions(ops: list[ir.Op]) -> dict[str, int]:
+    return {op.name: i for i, op in enumerate(ops) if isinstance(op, ir.Label)}
+
+
+# --- constants ---------------------------------------------------------------------------
+
+_ARITH = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
+          "and": lambda a, b: a & b, "or": lambda a, b: a | b, "xor": lambda a, b: a ^ b}
+_RELATE = {"==": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
+           "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b}
+
+
+def _fold_constants(ops: list[ir.Op]) -> list[ir.Op]:
+    out: list[ir.Op] = []
+    for op in ops:
+        if isinstance(op, ir.Arith) and isinstance(op.a, ir.Const) and isinstance(op.b, ir.Const):
+            exact = _ARITH[op.op](op.a.value, op.b.value)
+            out.append(ir.Move(op.dst, ir.Const(wrap(exact, op.dst.size))))
+            if op.overflow is not None and wrap(exact, op.dst.size) != exact and op.op in ("add", "sub"):
+                out.append(ir.SetBit(op.overflow, True))
+        elif isinstance(op, ir.Divide) and isinstance(op.a, ir.Const) and isinstance(op.b, ir.Const) \
+                and op.b.value and op.remainder is None:
+            value = (cdiv if op.op == "div" else cmod)(op.a.value, op.b.value)
+            out.append(ir.Move(op.dst, ir.Const(wrap(value, op.dst.size))))
+        elif isinstance(op, ir.Unary) and isinstance(op.a, ir.Const):
+            value = -op.a.value if op.op == "neg" else ~op.a.value
+            out.append(ir.Move(op.dst, ir.Const(wrap(value, op.dst.size))))
+        elif isinstance(op, ir.JumpIf) and isinstance(op.a, ir.Const) and isinstance(op.b, ir.Const):
+            if _RELATE[op.rel](op.a.value, op.b.value):
+                out.append(ir.Jump(op.target))
+        else:
+            out.append(op)
+    return out
+
+
+# --- known bits ------------------------------------------------------------------------------
+
+def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """Forward pass; `known` maps a bit to its value on the path being
+    followed. A label merges what every jump to it and the fall-through
+    know; a label reached by a backward jump knows nothing."""
+    tracked = {name for name, kind in classes.items() if kind in (ir.TEMP, ir.MEMORY)}
+    positions = _label_positions(ops)
+    # labels entered by a backward jump or a call: nothing is known there
+    backward = {op.target for i, op in enumerate(ops) if _target(op) and positions[op.target] <= i}
+    backward |= {op.target for op in ops if isinstance(op, ir.Call)}
+    incoming: dict[str, list[dict]] = {}
+    out: list[ir.Op] = []
+    known: dict | None = {}  # None: this point cannot be reached by falling through
+
+    def merge(states: list[dict]) -> dict:
+        first, *rest = states
+        return {bit: value for bit, value in first.items() if all(s.get(bit) == value for s in rest)}
+
+    for op in ops:
+        if isinstance(op, ir.Label):
+            states = incoming.pop(op.name, []) + ([known] if known is not None else [])
+            known = {} if op.name in backward or not states else merge(states)
+            out.append(op)
+            continue
+        if known is None:
+            out.append(op)  # unreachable; _jumps removes it
+            continue
+        op = _fold_bit_op(op, known)
+        if op is None:
+            continue
+        out.append(op)
+        if isinstance(op, ir.JumpIfBit):
+            taken = dict(known)
+            if op.bit.name in tracked:
+                taken[op.bit.name] = op.value
+                known[op.bit.name] = not op.value
+            incoming.setdefault(op.target, []).append(taken)
+        elif _target(op):
+            incoming.setdefault(op.target, []).append(dict(known))
+            if isinstance(op, ir.Jump):
+                known = None
+        elif isinstance(op, (ir.Return, ir.Halt)):
+            known = None
+        elif isinstance(op, ir.Call):
+            # the subroutine may change any memory bit; the temporaries it
+            # must keep are saved around it
+            known = {bit: value for bit, value in known.items() if ir.Bit(bit) in op.keep}
+        else:
+            _learn(op, known, tracked)
+    return out
+
+
+def _fold_bit_op(op: ir.Op, known: dict) -> ir.Op | None:
+    """The op simplified by what is known, or None when it does nothing."""
+    def value(bit: ir.Bit):
+        return known.get(bit.name)
+
+    if isinstance(op, ir.SetBit):
+        return None if value(op.dst) == op.value else op
+    if isinstance(op, ir.CopyBit):
+        src = value(op.src)
+        if src is not None:
+            return _fold_bit_op(ir.SetBit(op.dst, src != op.invert), known)
+        return None if op.src == op.dst and not op.invert else op
+    if isinstance(op, ir.AndBit):
+        src, dst = value(op.src), value(op.dst)
+        if src is not None:
+            return None if src != op.invert else _fold_bit_op(ir.SetBit(op.dst, False), known)
+        if dst is False:
+            return None
+        if dst is True:
+            return ir.CopyBit(op.dst, op.src, op.invert)
+        return op
+    if isinstance(op, ir.OrBit):
+        src, dst = value(op.src), value(op.dst)
+        if src is not None:
+            return None if not src else _fold_bit_op(ir.SetBit(op.dst, True), known)
+        if dst is True:
+            return None
+        if dst is False:
+            return ir.CopyBit(op.dst, op.src)
+        return op
+    if isinstance(op, ir.JumpIfBit):
+        bit = value(op.bit)
+        if bit is not None:
+            return ir.Jump(op.target) if bit == op.value else None
+    return op
+
+
+def _learn(op: ir.Op, known: dict, tracked: set[str]) -> None:
+    """Update `known` after an op that does not jump."""
+    if isinstance(op, ir.SetBit):
+        if op.dst.name in tracked:
+            known[op.dst.name] = op.value
+        return
+    if isinstance(op, ir.Arith) and op.overflow is not None:
+        if not known.get(op.overflow.name):
+            known.pop(op.overflow.name, None)
+        return
+    for bit in op.writes():
+        known.pop(bit.name, None)
+
+
+# --- jumps ---------------------------------------------------------------------------------
+
+def _jumps(ops: list[ir.Op]) -> list[ir.Op]:
+    # where each label really leads: past other labels and notes, and
+    # through unconditional jumps
+    positions = _label_positions(ops)
+
+    def resolve(label: str) -> str:
+        seen = set()
+        while label not in seen:
+            seen.add(label)
+            i = positions[label]
+            while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
+                i += 1
+            if i < len(ops) and isinstance(ops[i], ir.Jump):
+                label = ops[i].target
+            else:
+                break
+        return label
+
+    threaded = [replace(op, target=resolve(op.target)) if _target(op) else op for op in ops]
+    # drop what no path reaches, and jumps to the op after them
+    kept: list[ir.Op] = []
+    reachable = True
+    for i, op in enumerate(threaded):
+        if isinstance(op, ir.Label):
+            reachable = True
+        if not reachable and not isinstance(op, ir.Note):
+            continue
+        target = _target(op)
+        if target and _falls_to(threaded, i + 1, target):
+            continue
+        kept.append(op)
+        if isinstance(op, _ENDS):
+            reachable = False
+    used = {_target(op) for op in kept if _target(op)} | {op.target for op in kept if isinstance(op, ir.Call)}
+    return [op for op in kept if not isinstance(op, ir.Label) or op.name in used or op.name.startswith("rung")]
+
+
+def _falls_to(ops: list[ir.Op], start: int, label: str) -> bool:
+    """Whether falling through from `start` reaches `label` before any code."""
+    for op in ops[start:]:
+        if isinstance(op, ir.Label):
+            if op.name == label:
+                return True
+        elif not isinstance(op, ir.Note):
+            return False
+    return False
+
+
+# --- dead temporaries --------------------------------------------------------------------------
+
+_PURE_BIT_OPS = (ir.SetBit, ir.CopyBit, ir.AndBit, ir.OrBit, ir.UartReady, ir.UartAvailable)
+
+
+def _dead_temporaries(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    positions = _label_positions(ops)
+    live_in = _liveness(ops, temps, positions)
+    out: list[ir.Op] = []
+    for i, op in enumerate(ops):
+        live_out = frozenset().union(*(live_in[j] for j in _successors(ops, i, positions)))
+        if isinstance(op, _PURE_BIT_OPS):
+            dst = op.writes()[0].name
+            if dst in temps and dst not in live_out:
+                continue
+        if isinstance(op, ir.Call):
+            op = replace(op, keep=frozenset(ir.Bit(name) for name in live_out))
+        out.append(op)
+    return out
+
+
+def _successors(ops: list[ir.Op], i: int, positions: dict[str, int]) -> list[int]:
+    op = ops[i]
+    following = [i + 1] if i + 1 < len(ops) and not isinstance(op, _ENDS) else []
+    target = _target(op)
+    return following + ([positions[target]] if target else [])
+
+
+def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> list[frozenset]:
+    """live_in[i]: the temporaries op i or a later one reads before writing."""
+    live_in = [frozenset()] * len(ops)
+    changed = True
+    while changed:
+        changed = False
+        for i in range(len(ops) - 1, -1, -1):
+            op = ops[i]
+            out = frozenset().union(*(live_in[j] for j in _successors(ops, i, positions)))
+            reads = {b.name for b in op.reads()} & temps
+            writes = {b.name for b in op.writes()} & temps
+            if isinstance(op, ir.AndBit | ir.OrBit):
+                writes = set()  # they read their destination too
+            new = frozenset((out - writes) | reads)
+            if new != live_in[i]:
+                live_in[i] = new
+                changed = True
+    return live_in
+

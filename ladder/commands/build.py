@@ -1,0 +1,69 @@
+"""`ladder build FILE`: compile a program for an AVR part.
+
+On success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` and writes
+the Intel HEX (default: beside FILE, same stem) and the assembly listing
+beside the HEX (.lst). Problems are `path:line:col: error CODE message`
+lines and exit 1; warnings go to stderr and do not stop the build.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from lang import codes
+
+from ._common import (
+    EXIT_OK,
+    EXIT_PROBLEMS,
+    EXIT_USAGE,
+    add_encoding,
+    has_errors,
+    load,
+    report,
+)
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "build", help="compile a program to an Intel HEX file for an AVR",
+        description="Compile a ladder program for an AVR part (ATmega8, 16, 32, 64, 128, 162, 328P, 1284P, "
+                    "2560). Writes OUT.hex and the listing OUT.lst; exit 1 on errors, 2 when FILE cannot "
+                    "be read.")
+    parser.add_argument("file", metavar="FILE")
+    parser.add_argument("-o", "--output", metavar="OUT.hex", help="the HEX file to write (default: FILE with .hex)")
+    parser.add_argument("--target", metavar="PART",
+                        help="compile for this part instead of the program's (LDmicro name or short name, "
+                             "e.g. atmega328p); pins given by port name carry over, package pin numbers "
+                             "must exist on the new part")
+    add_encoding(parser)
+    parser.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import compiler
+    from compiler.errors import CompileError
+
+    loaded = load(args.file, args.encoding)
+    if loaded is None:
+        return EXIT_USAGE
+    if any(d.code == codes.UNREADABLE for d in loaded.diagnostics):
+        report(args.file, loaded.diagnostics, stream=sys.stdout)
+        return EXIT_USAGE
+    if has_errors(loaded.diagnostics):
+        report(args.file, loaded.diagnostics, stream=sys.stdout)
+        return EXIT_PROBLEMS
+    try:
+        build = compiler.build(loaded.program, args.target)
+    except CompileError as problem:
+        report(args.file, problem.diagnostics, stream=sys.stdout)
+        return EXIT_PROBLEMS
+    report(args.file, build.warnings, stream=sys.stderr)
+    output = Path(args.output) if args.output else Path(args.file).with_suffix(".hex")
+    try:
+        build.write(output)
+    except OSError as problem:
+        print(f"{output}: error: {problem.strerror or problem}", file=sys.stderr)
+        return EXIT_USAGE
+    print(build.summary())
+    return EXIT_OK

@@ -1,0 +1,234 @@
+"""What stands at a place in a program's source: the rung of a line, the
+element and operand under a column, the glyph of an element on its symbol
+line, the section of a text file a line belongs to. Positions are 0-based
+lines and character columns, as in `Span`.
+
+A `Locator` is built once per parsed text and answers in O(log rungs + rung
+size), so the language server can ask on every hover and keystroke.
+"""
+
+from __future__ import annotations
+
+import bisect
+import re
+from dataclasses import dataclass
+from functools import cached_property
+
+from .model import Element, Program, Span
+from .textform.elements import GLYPH_RE
+from .textform.sections import DIAGRAM, split_sections
+
+WORD_RE = re.compile(r"[\w$#@.~']+")
+_SHORT_OPEN_RE = re.compile(r"\+[- ]*\+")
+
+
+@dataclass(frozen=True)
+class Hit:
+    rung: int  # index in program.rungs
+    element: Element | None
+    field: str | None  # the operand under the position, if any
+    part: str  # "operand", "glyph" (the instruction), "number" (rung number field), "rung"
+
+
+def word_at(text: str, col: int) -> tuple[int, int, str] | None:
+    """The name-like word touching column `col` (its start, end, text)."""
+    for match in WORD_RE.finditer(text):
+        if match.start() <= col <= match.end():
+            return match.start(), match.end(), match.group()
+        if match.start() > col:
+            break
+    return None
+
+
+def contains(span: Span, line: int, col: int, end_inclusive: bool = False) -> bool:
+    """Stream containment: from (line, col) of the start to the end."""
+    if (line, col) < (span.line, span.col):
+        return False
+    end = (span.end_line, span.end_col)
+    return (line, col) <= end if end_inclusive else (line, col) < end
+
+
+def in_box(span: Span, line: int, col: int, end_inclusive: bool = False) -> bool:
+    """Rectangle containment: a drawn element spans its name and symbol lines
+    in the same columns."""
+    if not span.line <= line <= span.end_line:
+        return False
+    return span.col <= col <= span.end_col if end_inclusive else span.col <= col < span.end_col
+
+
+class Locator:
+    def __init__(self, program: Program, lines: list[str], kind: str = "ladder"):
+        self.program = program
+        self.lines = lines
+        self.kind = kind
+        starts, extents = [], []
+        for index, rung in enumerate(program.rungs):
+            first, last = self._extent(rung)
+            if first is None:
+                continue
+            starts.append(first)
+            extents.append((first, last, index))
+        self._starts = starts
+        self._extents = extents
+
+    @staticmethod
+    def _extent(rung) -> tuple[int | None, int | None]:
+        first = rung.span.line if rung.span else None
+        last = rung.span.end_line if rung.span else None
+        for element in rung.elements():
+            if element.span is None:
+                continue
+            first = element.span.line if first is None else min(first, element.span.line)
+            last = element.span.end_line if last is None else max(last, element.span.end_line)
+        return first, last
+
+    # --- rungs -------------------------------------------------------------------
+
+    def rung_at(self, line: int) -> int | None:
+        """The index of the rung drawn on this line (or, in a .ld file, whose
+        RUNG block holds it)."""
+        position = bisect.bisect_right(self._starts, line) - 1
+        if position < 0:
+            return None
+        first, last, index = self._extents[position]
+        if first <= line <= last:
+            return index
+        if self.kind == "ld" and line <= last + 1:
+            return index  # the END line of the RUNG block
+        return None
+
+    def rung_lines(self, index: int) -> tuple[int, int] | None:
+        """First and last source line of a rung (None for a rung not drawn)."""
+        for first, last, found in self._extents:
+            if found == index:
+                return first, last
+        return None
+
+    def rung_extents(self) -> list[tuple[int, int, int]]:
+        """(first line, last line, rung index) of every drawn rung, in order."""
+        return list(self._extents)
+
+    # --- elements ------------------------------------------------------------------
+
+    def hit(self, line: int, col: int, end_inclusive: bool = False) -> Hit | None:
+        """What the position points at: an operand, an instruction, the rung
+        number, or just a rung."""
+        index = self.rung_at(line)
+        if index is None:
+            return None
+        rung = self.program.rungs[index]
+        elements = list(rung.elements())
+        for element in elements:
+            for field, span in element.arg_spans.items():
+                if span.line == line and (span.col <= col < span.end_col
+                                          or (end_inclusive and col == span.end_col)):
+                    return Hit(index, element, field, "operand")
+        for element in elements:
+            span = element.span
+            if span is None:
+                continue
+            if self.kind == "ld":
+                if contains(span, line, col, end_inclusive) or (span.line == line and col >= span.col):
+                    return Hit(index, element, None, "glyph")
+                continue
+            if in_box(span, line, col, end_inclusive):
+                return Hit(index, element, None, "glyph")
+            glyph = self.glyph_span(element)
+            if glyph.line == line and glyph.col <= col < glyph.end_col:
+                return Hit(index, element, None, "glyph")
+        text = self.lines[line] if 0 <= line < len(self.lines) else ""
+        if self.kind != "ld":
+            rail = _rail(text)
+            if rail > 0 and col < rail and text[:rail].strip():
+                return Hit(index, None, None, "number")
+        elif text.strip().startswith("RUNG"):
+            return Hit(index, None, None, "number")
+        return Hit(index, None, None, "rung")
+
+    def glyph_span(self, element: Element) -> Span:
+        """Where the element's glyph is drawn on its symbol line (in a .ld
+        file: its whole line)."""
+        span = element.span
+        if span is None:
+            return Span(0, 0, 0, 0)
+        if self.kind == "ld" or span.end_line >= len(self.lines):
+            return span
+        text = self.lines[span.end_line]
+        if element.kind in ("SHORT", "OPEN"):
+            pattern = _SHORT_OPEN_RE
+        elif element.kind == "PLACEHOLDER":
+            return Span(span.end_line, span.col, span.end_line, span.end_col)
+        else:
+            pattern = GLYPH_RE
+        for match in pattern.finditer(text, span.col if span.line == span.end_line else 0):
+            if match.end() == span.end_col:
+                return Span(span.end_line, match.start(), span.end_line, match.end())
+            if match.start() >= span.end_col:
+                break
+        return Span(span.end_line, span.col, span.end_line, span.end_col)
+
+    def element_key(self, element: Element) -> tuple[int, int] | None:
+        """(rung index, index among the rung's elements in evaluation order):
+        the simulator's ElementKey."""
+        if element.span is None:
+            return None
+        index = self.rung_at(element.span.end_line)
+        if index is None:
+            return None
+        for position, other in enumerate(self.program.rungs[index].elements()):
+            if other is element:
+                return index, position
+        return None
+
+    # --- sections of a text file ------------------------------------------------------
+
+    @cached_property
+    def sections(self) -> list[tuple[str, int, int]]:
+        """(title, first line, last line) of every section of a text file;
+        the header's title is "header"."""
+        if self.kind == "ld":
+            return []
+        found = []
+        parts = split_sections(self.lines)
+        for position, section in enumerate(parts):
+            first = section.title_line if section.title_line >= 0 else 0
+            if position + 1 < len(parts):
+                last = parts[position + 1].title_line - 1
+            else:
+                last = len(self.lines) - 1
+            found.append((section.title, first, max(first, last)))
+        return found
+
+    def section_at(self, line: int) -> str | None:
+        for title, first, last in self.sections:
+            if first <= line <= last:
+                return title
+        return None
+
+    def section_range(self, title: str) -> tuple[int, int] | None:
+        for found, first, last in self.sections:
+            if found == title:
+                return first, last
+        return None
+
+    def diagram_end(self) -> int | None:
+        """The line of the END rung."""
+        bounds = self.section_range(DIAGRAM)
+        if bounds is None:
+            return None
+        for number in range(bounds[0], bounds[1] + 1):
+            if "[END]" in self.lines[number]:
+                return number
+        return None
+
+
+def _rail(text: str) -> int:
+    """Column of the left rail `||` or `|+` (-1: none)."""
+    left = text.find("|")
+    while left >= 0 and text[left + 1:left + 2] not in ("|", "+"):
+        left = text.find("|", left + 1)
+    return left
+
+
+def rail_column(text: str) -> int:
+    return _rail(text)

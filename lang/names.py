@@ -1,0 +1,222 @@
+"""What a name is and where it is used: its role from its first letter, its
+pin assignment on the selected part, the places that write and read it, and
+the names an operand may take. Hover, completion and the quick fixes of the
+language server ask here; nothing in this module knows about LSP.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .checks.common import GENERATED, describe
+from .checks.index import ProgramIndex, Use
+from .instructions import INSTRUCTIONS, Field
+from .model import Program
+from .values import is_literal
+
+# First letter of a name -> (short role, what it means); ldmicro-formats.md §4.2
+ROLES: dict[str, tuple[str, str]] = {
+    "X": ("digital input", "a digital input pin (1 bit); it needs a pin to be compiled"),
+    "Y": ("digital output", "a digital output pin (1 bit); it needs a pin to be compiled"),
+    "R": ("internal relay", "an internal relay: a bit in memory"),
+    "M": ("Modbus coil", "a Modbus coil (a bit)"),
+    "I": ("Modbus discrete input", "a Modbus discrete input (a bit)"),
+    "P": ("PWM output", "a PWM output pin"),
+    "T": ("timer", "a timer accumulator: an integer counting PLC cycles"),
+    "C": ("counter", "a counter accumulator (an integer)"),
+    "A": ("A/D input", "an A/D converter reading (an integer) bound to an analog pin"),
+    "H": ("Modbus holding register", "a Modbus holding register (an integer)"),
+    "#": ("hardware register", "a hardware register (#PORTx, #PINx, #TRISx, #<address>, #<var> indirect)"),
+    "$": ("compiler-internal name", "a name the compiler reserves for itself"),
+}
+GENERAL = ("integer variable", "a general-purpose signed integer variable (1 to 4 bytes, 2 by default)")
+BIT_PREFIXES = "XYRMIP"
+PIN_PREFIXES = "XYAP"  # names that take a pin of the part
+
+
+def role(name: str) -> tuple[str, str]:
+    """(short role, sentence) for a name, from its first letter."""
+    return ROLES.get(name[:1], GENERAL)
+
+
+def is_name(text: str) -> bool:
+    """An operand that names a variable, not a constant."""
+    return bool(text) and not is_literal(text) and text != "(none)"
+
+
+@dataclass(frozen=True)
+class PinInfo:
+    pin: int | str  # as assigned: package pin number or port bit
+    number: int | None  # package pin number, when the part's data knows it
+    port: str  # port bit such as "PD2" ("" when unknown)
+    label: str  # the datasheet's pin name ("PD2 PCINT18/INT0")
+    part: str  # the part's title ("" without pin data)
+
+
+def pin_of(program: Program, name: str) -> PinInfo | None:
+    """The pin assigned to a name, resolved on the selected part if it has data."""
+    assignment = program.pins.get(name)
+    if assignment is None:
+        return None
+    device = None
+    if program.settings.mcu:
+        from .devices import find_device
+
+        device = find_device(program.settings.mcu)
+    pin = device.pin(assignment.pin) if device else None
+    if pin is None:
+        return PinInfo(assignment.pin, assignment.pin if isinstance(assignment.pin, int) else None, "", "",
+                       f"{device.title} {device.package}" if device else "")
+    return PinInfo(assignment.pin, pin.number, pin.name if pin.is_io else "", pin.label or pin.name,
+                   f"{device.title} {device.package}")
+
+
+@dataclass(frozen=True)
+class NameUses:
+    name: str
+    writes: tuple[Use, ...]
+    reads: tuple[Use, ...]
+    uses: tuple[Use, ...]  # every use in evaluation order
+
+
+def uses_of(index: ProgramIndex, name: str) -> NameUses:
+    uses = tuple(index.uses.get(name, ()))
+    return NameUses(name, tuple(u for u in uses if u.writes),
+                    tuple(u for u in uses if u.reads), uses)
+
+
+def describe_use(use: Use) -> str:
+    """"rung 3 (TON 'Tdly')"."""
+    return f"rung {use.rung + 1} ({describe(use.element)})"
+
+
+def summary(program: Program, index: ProgramIndex, name: str) -> list[str]:
+    """Lines describing a name: role, pin, where written and read."""
+    short, sentence = role(name)
+    lines = [f"`{name}`: {sentence}."]
+    if name in GENERATED:
+        lines.append("The compiler writes this name itself.")
+    pin = pin_of(program, name)
+    if pin is not None:
+        where = f"pin {pin.number}" if pin.number is not None else f"pin {pin.pin}"
+        if pin.port:
+            where += f" ({pin.label})" if pin.label and pin.label != pin.port else f" ({pin.port})"
+        if pin.part:
+            where += f" of the {pin.part}"
+        lines.append(f"Assigned to {where}.")
+    elif name[:1] in PIN_PREFIXES and len(name) > 1:
+        lines.append("No pin assigned." if program.settings.mcu else "No pin assigned (no part selected).")
+    found = uses_of(index, name)
+    if found.writes:
+        lines.append("Written in " + _places(found.writes) + ".")
+    elif found.uses:
+        lines.append("Never written by the program.")
+    if found.reads:
+        lines.append("Read in " + _places(found.reads) + ".")
+    size = program.var_sizes.get(name)
+    if size:
+        lines.append(f"{size} bytes (VAR LIST).")
+    return lines
+
+
+def _places(uses: tuple[Use, ...], limit: int = 8) -> str:
+    shown = [describe_use(u) for u in uses[:limit]]
+    if len(uses) > limit:
+        shown.append(f"{len(uses) - limit} more")
+    return ", ".join(shown)
+
+
+# --- what an operand may be --------------------------------------------------------
+
+def field_of(kind: str, field_name: str) -> Field | None:
+    instruction = INSTRUCTIONS.get(kind)
+    if instruction is None:
+        return None
+    for f in instruction.fields:
+        if f.name == field_name:
+            return f
+    return None
+
+
+def allowed_prefixes(kind: str, field_name: str) -> str:
+    """First letters a name in this operand may start with ("" = any)."""
+    f = field_of(kind, field_name)
+    return f.prefixes if f is not None else ""
+
+
+def takes_name(kind: str, field_name: str) -> bool:
+    f = field_of(kind, field_name)
+    return f is not None and f.kind in ("bit", "var", "operand", "delay", "label")
+
+
+def candidates(program: Program, index: ProgramIndex, kind: str | None, field_name: str | None,
+               typed: str = "") -> list[str]:
+    """Names already used in the program that fit an operand, filtered by the
+    prefixes the operand allows and by what is typed; labels for label fields."""
+    prefixes = allowed_prefixes(kind, field_name) if kind and field_name else ""
+    f = field_of(kind, field_name) if kind and field_name else None
+    if f is not None and f.kind == "label":
+        found = {str(e.args.get("label")) for _, e in index.elements
+                 if e.kind in ("LABEL", "SUBPROG") and e.args.get("label")}
+    else:
+        found = set(index.uses)
+        found.update(program.pins)
+        found.update(program.var_sizes)
+        if f is not None and f.kind == "bit":
+            found = {n for n in found if n[:1] in BIT_PREFIXES}
+    names = [n for n in found if is_name(n) and not n.startswith("$")
+             and (not prefixes or n[:1] in prefixes) and n.startswith(typed)]
+    return sorted(names)
+
+
+# --- what the header and the I/O table may hold ---------------------------------------
+
+def part_candidates() -> list[tuple[str, str]]:
+    """(LDmicro part name, description) for every part with pin data."""
+    from .devices import all_devices
+
+    return [(d.ldmicro_name, f"{d.title} {d.package}, {len(d.io_pins())} I/O pins")
+            for d in all_devices() if d.ldmicro_name]
+
+
+def pin_candidates(program: Program, name: str = "") -> list[tuple[int, str, str]]:
+    """(package pin number, port bit or pin name, datasheet label) of the pins
+    of the selected part that fit a name: A/D pins for A names, PWM pins for P
+    names, I/O pins otherwise; pins already assigned to another name last."""
+    if not program.settings.mcu:
+        return []
+    from .devices import find_device
+
+    device = find_device(program.settings.mcu)
+    if device is None:
+        return []
+    if name[:1] == "A":
+        pins = [p for p in device.pins.values() if device.adc_channel(p) is not None]
+    elif name[:1] == "P":
+        pins = [p for p in device.io_pins() if device.pwm_unit(p) is not None]
+    else:
+        pins = device.io_pins()
+    taken = set()
+    for other, assignment in program.pins.items():
+        if other != name:
+            pin = device.pin(assignment.pin)
+            if pin is not None:
+                taken.add(pin.number)
+    pins = sorted(pins, key=lambda p: (p.number in taken, p.number))
+    return [(p.number, p.name, p.label or p.name) for p in pins]
+
+
+def unassigned_io_names(program: Program, index: ProgramIndex) -> list[str]:
+    """X, Y, A and P names the program uses that have no I/O row yet."""
+    return sorted(n for n in index.uses if n[:1] in PIN_PREFIXES and len(n) > 1 and n not in program.pins)
+
+
+def similar_parts(name: str, limit: int = 3) -> list[str]:
+    """Known part names closest to a misspelt one."""
+    import difflib
+
+    from .devices import part_names
+
+    known = [n for n, _ in part_candidates()] + part_names()
+    lowered = {k.lower(): k for k in known}
+    return [lowered[m] for m in difflib.get_close_matches(name.lower(), list(lowered), n=limit, cutoff=0.5)]

@@ -1,0 +1,133 @@
+"""The `ladder.convert` and `ladder.build` commands (docs/lsp-protocol.md),
+and `ladder.compileOnSave`: convert the document between the text form and
+LDmicro's `.ld`, writing the file beside the source; compile it with the
+compiler (`ladder build`), the HEX file beside the source. The compiler's
+errors and warnings join the document's diagnostics until its next change."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from urllib.parse import urlparse
+
+
+from lsprotocol import types
+
+from lang.loader import load_file
+from lang.values import encode_text
+
+from .documents import path_of
+from .server import UserError
+
+
+def _uri_argument(args) -> str:
+    if not args or not isinstance(args[0], str):
+        raise UserError("the first argument must be the document's URI")
+    return args[0]
+
+
+def convert(ls, uri: str, target: str) -> dict:
+    if target not in ("ladder", "ld"):
+        raise UserError(f"target must be \"ladder\" or \"ld\", not {target!r}")
+    if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:
+        raise UserError("save the document to a file first: the converted file is written beside it")
+    source = Path(path_of(uri))
+    analysis = ls.documents.analysis(uri)
+    if analysis is not None:
+        program, problems = analysis.program, analysis.problems
+    else:
+        try:
+            loaded = load_file(source, ls.settings.encoding if source.suffix.lower() != ".ladder" else None)
+        except OSError as problem:
+            raise UserError(f"cannot read {source}: {problem.strerror or problem}") from problem
+        program, problems = loaded.program, loaded.diagnostics
+    if any(p.severity == "error" for p in problems):
+        raise UserError(f"{source.name} has errors; fix them before converting")
+    if target == "ld":
+        from lang.ldfile import write_ld
+
+        out = source.with_suffix(".ld")
+        data = encode_text(write_ld(program).replace("\n", "\r\n"), ls.settings.encoding)
+    else:
+        from lang.textform.writer import render_program
+
+        out = source.with_suffix(".ladder")
+        data = encode_text(render_program(program), "utf-8")
+    if out == source:
+        raise UserError(f"{source.name} is already a {'.ld' if target == 'ld' else '.ladder'} file")
+    try:
+        out.write_bytes(data)
+    except OSError as problem:
+        raise UserError(f"cannot write {out}: {problem.strerror or problem}") from problem
+    return {"path": str(out)}
+
+
+def register(server) -> None:
+    @server.on_command("ladder.convert")
+    def convert_command(ls, *args):
+        uri = _uri_argument(args)
+        target = args[1] if len(args) > 1 else None
+        if isinstance(target, dict):  # {"target": "ld"} is accepted too
+            target = target.get("target")
+        return convert(ls, uri, target)
+
+    @server.on_command("ladder.build")
+    def build_command(ls, *args):
+        return build(ls, _uri_argument(args))
+
+    def saved(ls, uri):
+        if not ls.settings.compile_on_save:
+            return
+        analysis = ls.documents.analysis(uri)
+        if analysis is None or analysis.has_errors or not analysis.program.settings.mcu:
+            return
+        if not _compilable(analysis.program.settings.mcu):
+            return
+        result = build(ls, uri)
+        kind = types.MessageType.Info if result["ok"] else types.MessageType.Warning
+        ls.log(f"compile on save: {result['summary']}" + (f" -> {result['hex']}" if result["hex"] else ""), kind)
+
+    server.subscribe("saved", saved)
+
+
+def _compilable(mcu: str) -> bool:
+    try:
+        import compiler
+    except ImportError:
+        return False
+    from lang.devices import find_device
+
+    device = find_device(mcu)
+    return device is not None and device.part in getattr(compiler, "SUPPORTED", ())
+
+
+def build(ls, uri: str) -> dict:
+    """Compile the document's program to a HEX file beside it (`ladder build`)."""
+    analysis = ls.documents.analysis(uri)
+    if analysis is None:
+        raise UserError("not a ladder document")
+    if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:
+        raise UserError("save the document to a file first: the HEX file is written beside it")
+    publisher = ls.extensions.get("diagnostics")
+    if analysis.has_errors:
+        return {"ok": False, "summary": "the program has errors; fix them before building", "hex": None}
+    try:
+        import compiler
+        from compiler.errors import CompileError
+    except ImportError:
+        return {"ok": False, "summary": "no compiler in this installation of textladder", "hex": None}
+    try:
+        result = compiler.build(analysis.program)
+    except CompileError as problem:
+        if publisher is not None:
+            publisher.set_extra(uri, problem.diagnostics)
+        shown = "; ".join(d.message for d in problem.diagnostics[:3])
+        more = len(problem.diagnostics) - 3
+        return {"ok": False, "summary": shown + (f" (and {more} more)" if more > 0 else ""), "hex": None}
+    out = Path(path_of(uri)).with_suffix(".hex")
+    try:
+        result.write(out)
+    except OSError as problem:
+        raise UserError(f"cannot write {out}: {problem.strerror or problem}") from problem
+    if publisher is not None:
+        publisher.set_extra(uri, result.warnings)
+    return {"ok": True, "summary": result.summary(), "hex": str(out)}

@@ -1,0 +1,117 @@
+"""Diagnostics as you type: the reader's and the checks' problems, with the
+codes `ladder check` gives, a link to each code's documentation and the
+related places a check names. Published at once when a document opens and
+`ladder.diagnosticsDelayMs` after the last change while typing (0: at once)."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+from lsprotocol import types
+
+from lang.codes import CODES
+from lang.diagnostics import ERROR, Diagnostic
+
+SOURCE = "ladder"
+
+
+class Publisher:
+    def __init__(self, server):
+        self.server = server
+        self.pending: dict[str, asyncio.TimerHandle] = {}
+        self.published: dict[str, int | None] = {}
+        self.last_duration_ms = 0.0  # analysis + publication of the last run (for the log)
+        self.extra: dict[str, list[Diagnostic]] = {}  # the compiler's, until the next change
+
+    def set_extra(self, uri: str, found: list[Diagnostic]) -> None:
+        self.extra[uri] = list(found)
+        self.publish(uri)
+
+    def schedule(self, uri: str) -> None:
+        delay = self.server.settings.diagnostics_delay_ms
+        self.cancel(uri)
+        if delay <= 0:
+            self.publish(uri)
+            return
+        loop = asyncio.get_event_loop()
+        self.pending[uri] = loop.call_later(delay / 1000, self._run, uri)
+
+    def _run(self, uri: str) -> None:
+        self.pending.pop(uri, None)
+        try:
+            self.publish(uri)
+        except Exception as problem:
+            self.server._failure("publishDiagnostics", problem)
+
+    def cancel(self, uri: str) -> None:
+        handle = self.pending.pop(uri, None)
+        if handle is not None:
+            handle.cancel()
+
+    def publish(self, uri: str) -> None:
+        start = time.perf_counter()
+        analysis = self.server.documents.analysis(uri, include_too_large=True)
+        if analysis is None:
+            if uri in self.published:
+                self.clear(uri)
+            return
+        items = [to_lsp(self.server, analysis, d) for d in analysis.diagnostics + self.extra.get(uri, [])]
+        self.server.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=uri, diagnostics=items, version=analysis.version))
+        self.published[uri] = analysis.version
+        self.last_duration_ms = (time.perf_counter() - start) * 1000
+
+    def clear(self, uri: str) -> None:
+        self.cancel(uri)
+        self.published.pop(uri, None)
+        self.server.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
+
+
+def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
+    positions = analysis.positions
+    code = CODES.get(diagnostic.code)
+    description = None
+    if code is not None and server.client_supports("text_document", "publish_diagnostics",
+                                                   "code_description_support"):
+        description = types.CodeDescription(href=code.url)
+    related = None
+    if diagnostic.related and server.client_supports("text_document", "publish_diagnostics",
+                                                     "related_information"):
+        related = [types.DiagnosticRelatedInformation(
+            location=types.Location(uri=analysis.uri, range=positions.range(r.span)), message=r.message)
+            for r in diagnostic.related if r.span is not None]
+    return types.Diagnostic(
+        range=positions.range(diagnostic.span),
+        message=diagnostic.message,
+        severity=types.DiagnosticSeverity.Error if diagnostic.severity == ERROR else types.DiagnosticSeverity.Warning,
+        code=diagnostic.code,
+        code_description=description,
+        source=SOURCE,
+        related_information=related or None,
+    )
+
+
+def register(server) -> None:
+    publisher = server.extensions["diagnostics"] = Publisher(server)
+
+    def opened(ls, uri):
+        publisher.cancel(uri)
+        publisher.publish(uri)
+
+    def changed(ls, uri):
+        publisher.extra.pop(uri, None)
+        publisher.schedule(uri)
+
+    def closed(ls, uri):
+        publisher.extra.pop(uri, None)
+        publisher.clear(uri)
+
+    def configured(ls, _):
+        for uri in list(publisher.published):
+            publisher.schedule(uri)
+
+    server.subscribe("opened", opened)
+    server.subscribe("changed", changed)
+    server.subscribe("closed", closed)
+    server.subscribe("configured", configured)

@@ -1,0 +1,227 @@
+"""Open documents and their analysis: which language a document is, its
+program, the reader's and the checks' diagnostics, and the lazily built
+helpers the features share (locator, name index, position conversion).
+
+An analysis belongs to one exact text: features ask `Documents.analysis(uri)`,
+which re-reads only when the text changed since the last request. The text
+reader caches rungs by their lines, so after a one-character edit only the
+touched rung is read again (`lang.incremental` keeps the rest of the program).
+"""
+
+from __future__ import annotations
+
+import logging
+from functools import cached_property
+from pathlib import PurePath
+from urllib.parse import unquote, urlparse
+
+from lang import codes
+from lang.checks import check_program
+from lang.checks.index import ProgramIndex
+from lang.diagnostics import ERROR, WARNING, Diagnostic
+from lang.incremental import IncrementalReader
+from lang.locate import Locator
+from lang.model import Program, Span
+
+from .positions import Positions
+
+log = logging.getLogger(__name__)
+
+LADDER = "ladder"  # the text form: .ladder, LDmicro export .txt
+LD = "ld"  # LDmicro .ld files
+LANGUAGE_IDS = {"ladder": LADDER, "ldmicro": LD}
+# LDmicro programs are far below this (999 rungs at most); a bigger document is
+# not analysed, so that the server stays responsive whatever it is sent
+MAX_CHARS = 5_000_000
+TOO_LARGE = "lsp-too-large"
+
+
+def path_of(uri: str) -> str:
+    parsed = urlparse(uri)
+    return unquote(parsed.path or "")
+
+
+def language_of(uri: str, text: str, language_id: str | None = None) -> str | None:
+    """docs/lsp-protocol.md: `*.ladder`, `*.txt` starting `LDmicro export
+    text`, `*.ld` starting `LDmicro`; other documents only when the client says
+    they are ours (an untitled buffer)."""
+    suffix = PurePath(path_of(uri)).suffix.lower()
+    head = text[:64].lstrip("\ufeff")
+    if suffix == ".ladder":
+        return LADDER
+    if suffix == ".txt":
+        return LADDER if head.startswith("LDmicro export text") else None
+    if suffix == ".ld":
+        return LD if head.startswith("LDmicro") else None
+    return LANGUAGE_IDS.get(language_id or "")
+
+
+class Analysis:
+    """Everything known about one version of one document."""
+
+    def __init__(self, uri: str, version: int | None, kind: str, text: str, program: Program,
+                 problems: list[Diagnostic], codec):
+        self.uri = uri
+        self.version = version
+        self.kind = kind
+        self.text = text
+        self.program = program
+        self.problems = problems  # the reader's
+        self._codec = codec
+        self.too_large = False
+        # per-rung results of the features (semantic tokens, symbols, folding):
+        # (feature, id(rung)) -> (rung, value), carried over to the next analysis
+        # for the rungs it kept (same object: same text at the same place)
+        self.memo: dict[tuple[str, int], tuple[object, object]] = {}
+        self.results: dict[str, object] = {}  # whole-document results for this exact text
+
+    def per_rung(self, feature: str, index: int, compute):
+        rung = self.program.rungs[index]
+        key = (feature, id(rung))
+        found = self.memo.get(key)
+        if found is not None and found[0] is rung:
+            return found[1]
+        value = compute(index)
+        self.memo[key] = (rung, value)
+        return value
+
+    def once(self, feature: str, compute):
+        """A whole-document result, computed once per text."""
+        if feature not in self.results:
+            self.results[feature] = compute()
+        return self.results[feature]
+
+    @cached_property
+    def lines(self) -> list[str]:
+        return self.text.splitlines()
+
+    @property
+    def has_errors(self) -> bool:
+        return any(p.severity == ERROR for p in self.problems)
+
+    @cached_property
+    def checks(self) -> list[Diagnostic]:
+        """The checks' diagnostics, as `ladder check` gives them: only for a
+        program that was read without errors."""
+        if self.too_large or self.has_errors or any(p.code == codes.UNREADABLE for p in self.problems):
+            return []
+        return check_program(self.program)
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return self.problems + self.checks
+
+    @cached_property
+    def index(self) -> ProgramIndex:
+        return ProgramIndex(self.program)
+
+    @cached_property
+    def locator(self) -> Locator:
+        return Locator(self.program, self.lines, self.kind)
+
+    @cached_property
+    def positions(self) -> Positions:
+        return Positions(self.lines, self._codec, self.text.isascii())
+
+    def line(self, number: int) -> str:
+        lines = self.lines
+        return lines[number] if 0 <= number < len(lines) else ""
+
+
+class Documents:
+    def __init__(self, server):
+        self.server = server
+        self._analyses: dict[str, Analysis] = {}
+        self._readers: dict[str, IncrementalReader] = {}
+        # feature -> fn(value, lines moved): how a per-rung result follows its rung
+        self.shifters: dict[str, object] = {}
+
+    def _document(self, uri: str):
+        try:
+            return self.server.workspace.get_text_document(uri)
+        except Exception:  # no workspace yet, or a bad URI
+            return None
+
+    def text(self, uri: str) -> str | None:
+        document = self._document(uri)
+        if document is None:
+            return None
+        try:
+            return document.source
+        except (OSError, UnicodeDecodeError, ValueError):
+            return None
+
+    def language(self, uri: str) -> str | None:
+        document = self._document(uri)
+        text = self.text(uri)
+        if document is None or text is None:
+            return None
+        return language_of(uri, text, getattr(document, "language_id", None))
+
+    def analysis(self, uri: str, include_too_large: bool = False) -> Analysis | None:
+        """The analysis of the document's current text (None: not ours, or
+        too large to analyse unless `include_too_large`: diagnostics say so)."""
+        found = self._analysis(uri)
+        if found is not None and found.too_large and not include_too_large:
+            return None
+        return found
+
+    def _analysis(self, uri: str) -> Analysis | None:
+        document = self._document(uri)
+        if document is None:
+            return None
+        text = self.text(uri)
+        if text is None:
+            return None
+        cached = self._analyses.get(uri)
+        if cached is not None and (cached.text is text or cached.text == text):
+            cached.text = text
+            cached.version = document.version  # an edit that changed nothing still has a new version
+            return cached
+        kind = language_of(uri, text, getattr(document, "language_id", None))
+        if kind is None:
+            self._analyses.pop(uri, None)
+            return None
+        if len(text) > MAX_CHARS:
+            self._readers.pop(uri, None)
+            problem = Diagnostic(TOO_LARGE, WARNING, f"this file is too large for the language server "
+                                 f"({len(text) / 1e6:.1f} MB; it reads files up to {MAX_CHARS / 1e6:g} MB): "
+                                 "not analysed", Span.at(0, 0))
+            analysis = Analysis(uri, document.version, kind, text, Program(), [problem],
+                                self.server.workspace.position_codec)
+            analysis.too_large = True
+            self._analyses[uri] = analysis
+            return analysis
+        reader = self._readers.get(uri)
+        if reader is None or reader.kind != kind:
+            reader = self._readers[uri] = IncrementalReader(kind)
+        program, problems = reader.read(text)
+        analysis = Analysis(uri, document.version, kind, text, program, problems,
+                            self.server.workspace.position_codec)
+        if cached is not None and cached.memo:
+            analysis.memo = self._carry(cached.memo, program, reader.moved)
+        self._analyses[uri] = analysis
+        return analysis
+
+    def _carry(self, memo: dict, program: Program, moved: dict) -> dict:
+        """The per-rung results that still hold: rungs kept as they were, and
+        rungs moved up or down (their results moved with them)."""
+        live = {id(rung): rung for rung in program.rungs}
+        carried = {key: value for key, value in memo.items() if live.get(key[1]) is value[0]}
+        if moved:
+            by_old = {}
+            for (feature, old_id), (old_rung, value) in memo.items():
+                by_old.setdefault(old_id, []).append((feature, old_rung, value))
+            for new_id, (old_rung, delta) in moved.items():
+                for feature, rung, value in by_old.get(id(old_rung), ()):
+                    shift = self.shifters.get(feature)
+                    if rung is old_rung and shift is not None and new_id in live:
+                        carried[(feature, new_id)] = (live[new_id], shift(value, delta))
+        return carried
+
+    def forget(self, uri: str) -> None:
+        self._analyses.pop(uri, None)
+        self._readers.pop(uri, None)
+
+    def uris(self) -> list[str]:
+        return list(self._analyses)

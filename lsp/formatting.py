@@ -1,0 +1,57 @@
+"""Formatting: `ladder fmt` on the open text (lang.textform.formatter's
+layout, on the program the server already read: lang.incremental.format_read), sent
+as the few line edits that turn the text into the formatted one, so the
+cursor and undo history stay where they are. A text with errors is never
+reformatted; `.ld` files are LDmicro's own format and are left as they are."""
+
+from __future__ import annotations
+
+import difflib
+
+from lsprotocol import types
+
+from lang.incremental import format_read
+
+from .documents import LADDER
+
+
+def register(server) -> None:
+    @server.on(types.TEXT_DOCUMENT_FORMATTING)
+    def formatting(ls, params: types.DocumentFormattingParams):
+        analysis = ls.documents.analysis(params.text_document.uri)
+        if analysis is None or analysis.kind != LADDER:
+            return None
+        formatted = format_read(analysis.text, analysis.program, analysis.problems)
+        if formatted is None:
+            ls.log("not formatted: the file has errors", types.MessageType.Info)
+            return []
+        return line_edits(analysis.text, formatted)
+
+
+def line_edits(old: str, new: str) -> list[types.TextEdit]:
+    """Edits replacing whole lines, from a line diff of the two texts (the
+    common head and tail are skipped first: a formatter run changes a few rungs)."""
+    if old == new:
+        return []
+    a = old.splitlines(keepends=True)
+    b = new.splitlines(keepends=True)
+    head = 0
+    while head < len(a) and head < len(b) and a[head] == b[head]:
+        head += 1
+    tail = 0
+    while tail < len(a) - head and tail < len(b) - head and a[-1 - tail] == b[-1 - tail]:
+        tail += 1
+    a_mid, b_mid = a[head:len(a) - tail], b[head:len(b) - tail]
+    edits = []
+    if len(a_mid) * len(b_mid) > 4_000_000:
+        opcodes = [("replace", 0, len(a_mid), 0, len(b_mid))]
+    else:
+        opcodes = difflib.SequenceMatcher(None, a_mid, b_mid, autojunk=False).get_opcodes()
+    for tag, i1, i2, j1, j2 in opcodes:
+        if tag == "equal":
+            continue
+        edits.append(types.TextEdit(
+            range=types.Range(start=types.Position(line=head + i1, character=0),
+                              end=types.Position(line=head + i2, character=0)),
+            new_text="".join(b_mid[j1:j2])))
+    return edits

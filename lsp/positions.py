@@ -1,0 +1,59 @@
+"""Between the core's positions (0-based lines, character columns) and LSP's
+(lines, columns in the negotiated encoding: UTF-16 unless the client asks
+otherwise). An ASCII document needs no conversion, which is the common case."""
+
+from __future__ import annotations
+
+from lsprotocol import types
+
+from lang.model import Span
+
+
+class Positions:
+    def __init__(self, lines: list[str], codec, ascii_text: bool):
+        self.lines = lines
+        self.codec = codec
+        self.ascii = ascii_text or codec is None or codec.encoding == types.PositionEncodingKind.Utf32
+
+    def _line(self, line: int) -> str:
+        return self.lines[line] if 0 <= line < len(self.lines) else ""
+
+    def to_client(self, line: int, col: int) -> types.Position:
+        line = max(0, line)
+        col = max(0, col)
+        if self.ascii:
+            return types.Position(line=line, character=col)
+        text = self._line(line)
+        if text.isascii():
+            return types.Position(line=line, character=col)
+        return types.Position(line=line, character=self.codec.client_num_units(text[:col]))
+
+    def from_client(self, position: types.Position) -> tuple[int, int]:
+        """(line, column) in characters; a position past the end of its line or
+        of the document is clamped, never an error."""
+        line = max(0, position.line)
+        col = max(0, position.character)
+        if line >= len(self.lines):
+            return max(0, len(self.lines) - 1) if self.lines else 0, col
+        if self.ascii:
+            return line, col
+        text = self.lines[line]
+        if text.isascii():
+            return line, col
+        units = 0
+        for index, ch in enumerate(text):
+            if units >= col:
+                return line, index
+            units += self.codec.impl.code_units_for_char(ch)
+        return line, len(text)
+
+    def range(self, span: Span | None) -> types.Range:
+        if span is None:
+            start = types.Position(line=0, character=0)
+            return types.Range(start=start, end=start)
+        return types.Range(start=self.to_client(span.line, span.col), end=self.to_client(span.end_line, span.end_col))
+
+    def line_range(self, first: int, last_exclusive: int) -> types.Range:
+        """Whole lines [first, last_exclusive)."""
+        return types.Range(start=types.Position(line=first, character=0),
+                           end=types.Position(line=last_exclusive, character=0))

@@ -1,0 +1,208 @@
+"""The language server: pygls wiring only. Every feature lives in its own
+module (diagnostics, hover, completion, ...) and registers itself through
+`LadderServer.on` / `LadderServer.on_command`, which keep the server alive
+whatever a feature does: an exception is logged (stderr and
+`window/logMessage`) and answered with an LSP error, and the next request is
+served as usual."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import os
+import traceback
+
+from lsprotocol import types
+from pygls.exceptions import JsonRpcException, JsonRpcInternalError
+from pygls.lsp.server import LanguageServer
+
+from .documents import Documents
+from .settings import Settings
+
+log = logging.getLogger("ladder.lsp")
+
+VERSION = "0.1.0"
+# For the robustness tests: LSP methods or command names listed here (comma
+# separated) raise inside the feature, as a bug would.
+FAULTS_ENV = "LADDER_LSP_FAULTS"
+
+
+class InjectedFault(RuntimeError):
+    pass
+
+
+class UserError(JsonRpcException):
+    """An error meant for the user (a command that cannot run): answered as an
+    LSP error with this message, not logged as a bug."""
+
+    code = -32803  # RequestFailed
+
+    def __init__(self, message: str):
+        super().__init__(message=message, code=self.code)
+
+
+class Raw:
+    """A result already in JSON form (dicts, lists, numbers, strings): sent as
+    it is, without the converter walking thousands of objects again (document
+    symbols and folding of a 2,000-rung program)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value):
+        self.value = value
+
+
+class LadderServer(LanguageServer):
+    def __init__(self):
+        super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
+        self.settings = Settings()
+        self.documents = Documents(self)
+        self.protocol._converter.register_unstructure_hook(Raw, lambda raw: raw.value)
+        self.faults = {name.strip() for name in os.environ.get(FAULTS_ENV, "").split(",") if name.strip()}
+        self.extensions: dict[str, object] = {}  # per-feature state (simulations, debounce timers...)
+        self._listeners: dict[str, list] = {}
+        from .idle import IdleCollector
+
+        self.idle = IdleCollector()
+
+    # --- document events, shared by the features --------------------------------------
+
+    def subscribe(self, event: str, fn) -> None:
+        """Call `fn(server, uri)` on "opened", "changed", "saved", "closed";
+        `fn(server, None)` on "configured"."""
+        self._listeners.setdefault(event, []).append(fn)
+
+    def emit(self, event: str, uri: str | None) -> None:
+        self.idle.touch()
+        for fn in self._listeners.get(event, ()):
+            try:
+                fn(self, uri)
+            except Exception as problem:  # one feature's bug must not stop the others
+                self._failure(f"{event} handler {getattr(fn, '__name__', fn)}", problem)
+
+    # --- registering features ----------------------------------------------------
+
+    def on(self, method: str, options=None):
+        """Register a feature handler `fn(server, params)`, sync or async."""
+
+        def decorator(fn):
+            if asyncio.iscoroutinefunction(fn):
+                async def handler(params):
+                    self.idle.touch()
+                    self._maybe_fail(method)
+                    try:
+                        return await fn(self, params)
+                    except (JsonRpcException, asyncio.CancelledError):
+                        raise
+                    except Exception as problem:
+                        raise self._failure(method, problem) from problem
+            else:
+                def handler(params):
+                    self.idle.touch()
+                    try:
+                        self._maybe_fail(method)
+                        return fn(self, params)
+                    except JsonRpcException:
+                        raise
+                    except Exception as problem:
+                        raise self._failure(method, problem) from problem
+            # no functools.wraps: pygls reads the signature to decide what to pass
+            handler.__name__ = fn.__name__
+            self.feature(method, options)(handler)
+            return fn
+
+        return decorator
+
+    def on_command(self, name: str):
+        """Register a `workspace/executeCommand` command `fn(server, *arguments)`."""
+
+        def decorator(fn):
+            if asyncio.iscoroutinefunction(fn):
+                async def handler(*args):
+                    self._maybe_fail(name)
+                    try:
+                        return await fn(self, *args)
+                    except (JsonRpcException, asyncio.CancelledError):
+                        raise
+                    except Exception as problem:
+                        raise self._failure(name, problem) from problem
+            else:
+                def handler(*args):
+                    try:
+                        self._maybe_fail(name)
+                        return fn(self, *args)
+                    except JsonRpcException:
+                        raise
+                    except Exception as problem:
+                        raise self._failure(name, problem) from problem
+            handler.__name__ = fn.__name__
+            self.command(name)(handler)
+            return fn
+
+        return decorator
+
+    def _maybe_fail(self, method: str) -> None:
+        if method in self.faults:
+            raise InjectedFault(f"injected fault in {method}")
+
+    def _failure(self, method: str, problem: Exception) -> JsonRpcInternalError:
+        text = "".join(traceback.format_exception(problem))
+        log.error("%s failed:\n%s", method, text)
+        self.log(f"{method} failed: {problem!r}\n{text}", types.MessageType.Error)
+        return JsonRpcInternalError(message=f"{method} failed: {problem}")
+
+    # --- talking to the client ------------------------------------------------------
+
+    def log(self, message: str, kind: types.MessageType = types.MessageType.Log) -> None:
+        try:
+            self.window_log_message(types.LogMessageParams(type=kind, message=message))
+        except Exception:  # no client yet, or the pipe is gone
+            log.debug("could not send a log message", exc_info=True)
+
+    def notify(self, method: str, params) -> None:
+        self.protocol.notify(method, params)
+
+    def report_server_error(self, error: Exception, source) -> None:
+        """pygls calls this for a failed notification handler or a message it
+        could not read: log it, never pop up a dialog for each keystroke."""
+        from pygls.exceptions import FeatureRequestError
+
+        if source is FeatureRequestError:
+            return  # already answered with an error (and logged by the feature wrapper)
+        log.error("server error (%s): %s", getattr(source, "__name__", source), error)
+        self.log(f"ladder-lsp: {error}", types.MessageType.Error)
+
+    def client_supports(self, *path: str) -> bool:
+        """Whether the client declared a capability, e.g.
+        client_supports("text_document", "hover", "content_format")."""
+        node = getattr(self.protocol, "client_capabilities", None)
+        for name in path:
+            if node is None:
+                return False
+            node = getattr(node, name, None)
+        return bool(node)
+
+
+def create_server() -> LadderServer:
+    from . import (actions, completion, convert, diagnostics, formatting, hover, lifecycle, navigation,
+                   semantic, simulation, symbols)
+
+    server = LadderServer()
+    for module in (lifecycle, diagnostics, hover, formatting, completion, navigation, symbols, semantic,
+                   actions, convert, simulation):
+        module.register(server)
+    return server
+
+
+def main(log_file: str | None = None, verbose: bool = False) -> int:
+    level = logging.DEBUG if verbose else logging.WARNING
+    if log_file:
+        logging.basicConfig(filename=log_file, level=level, format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    else:
+        logging.basicConfig(level=level, format="%(name)s %(levelname)s %(message)s")
+    if not verbose:
+        # pygls logs every message it sends at INFO: keep that out of stderr
+        logging.getLogger("pygls").setLevel(logging.WARNING)
+    server = create_server()
+    server.start_io()
+    return 0

@@ -1,0 +1,56 @@
+"""`ladder build`: the summary line, the HEX and listing it writes, the
+target option, and located errors with exit 1."""
+
+from __future__ import annotations
+
+import re
+import shutil
+
+from intelhex import IntelHex
+from test_compiler_harness import CORPUS
+
+from ladder.cli import main
+
+SUMMARY = re.compile(r"^(ATmega\w+): flash (\d+)/(\d+) bytes \((\d+\.\d)%\), RAM (\d+)/(\d+) bytes \((\d+\.\d)%\)$")
+
+
+def test_build_writes_the_hex_and_listing_beside_the_program(tmp_path, capsys):
+    source = tmp_path / "traffic.ld"
+    shutil.copy(CORPUS / "sample" / "traffic.ld", source)
+    assert main(["build", str(source)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 1
+    m = SUMMARY.match(lines[0])
+    assert m and m.group(1) == "ATmega128" and m.group(3) == "131072" and m.group(6) == "4096"
+    image = IntelHex(str(tmp_path / "traffic.hex"))
+    assert len(image) == int(m.group(2))
+    assert (tmp_path / "traffic.lst").read_text().startswith("; ATmega128")
+
+
+def test_output_path_and_target(tmp_path, capsys):
+    source = tmp_path / "hello.ld"
+    shutil.copy(CORPUS / "sample" / "hello.ld", source)
+    out = tmp_path / "out" / "firmware.hex"
+    out.parent.mkdir()
+    assert main(["build", str(source), "-o", str(out), "--target", "atmega328p"]) == 0
+    assert SUMMARY.match(capsys.readouterr().out.strip()).group(1) == "ATmega328P"
+    assert out.exists() and out.with_suffix(".lst").exists()
+
+
+def test_errors_are_located_and_exit_1(tmp_path, capsys):
+    source = tmp_path / "traffic.ld"
+    shutil.copy(CORPUS / "sample" / "traffic.ld", source)
+    assert main(["build", str(source), "--target", "atmega328p"]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out and all(re.match(rf"^{re.escape(str(source))}:\d+:\d+: error LD\d{{3}} ", line) for line in out)
+    assert out[0].startswith(f"{source}:8:1: error LD402 'Xbutton1' is assigned to pin 46")
+    assert not (tmp_path / "traffic.hex").exists()
+
+
+def test_no_part_is_an_error_and_a_missing_file_exits_2(tmp_path, capsys):
+    source = tmp_path / "nopart.ld"
+    source.write_text("LDmicro0.1\nCYCLE=10000\nCRYSTAL=4000000\n\nPROGRAM\nRUNG\n    CONTACTS Xa 0\n"
+                      "    COIL Ya 0 0 0\nEND\n")
+    assert main(["build", str(source)]) == 1
+    assert "error LD701" in capsys.readouterr().out
+    assert main(["build", str(tmp_path / "missing.ld")]) == 2

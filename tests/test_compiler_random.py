@@ -1,0 +1,377 @@
+"""Random compilable programs: built for a part simavr has a core for, run
+under a random stimulus, and compared with the simulator on every name after
+every scan (test_compiler_harness.py). benchmarks/compiler_fuzz.py runs the
+same generator for as long as it is given.
+
+The generator draws from every instruction the AVR back end compiles, on
+small pools of names so that elements read what others write. A program
+must pass the checks, and the simulator must run it through the stimulus
+without a fault (a division by zero, a table index out of range, a BCD
+digit above 9, a runaway jump): the MCU's result is undefined there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+from test_compiler_harness import Event, differential, needs_simavr
+
+from lang.checks import check_program
+from lang.diagnostics import ERROR
+from lang.instructions import INSTRUCTIONS
+from lang.model import (
+    Element,
+    Parallel,
+    PinAssignment,
+    Program,
+    Rung,
+    Series,
+    Settings,
+    rung_circuit,
+)
+from lang.sim import SimulationError, Simulator
+
+CYCLE_US = 2000
+CRYSTAL = 16_000_000
+
+
+@dataclass(frozen=True)
+class Board:
+    """Which port bits a part offers the generator."""
+
+    part: str
+    ldmicro: str
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+    adc: str | None
+    pwm: str | None
+    uart0: bool = True  # the harness feeds and watches USART0 only (the ATmega128 uses USART1)
+
+
+BOARDS = (
+    Board("atmega328p", "Atmel AVR ATmega328 28-PDIP", ("PD2", "PD3", "PD4", "PD7"),
+          ("PB0", "PB1", "PB2", "PB3", "PB4", "PB5"), "PC0", "PD6"),
+    Board("atmega16", "Atmel AVR ATmega16 40-PDIP", ("PD2", "PD3", "PD4", "PD5"),
+          ("PB0", "PB1", "PB2", "PC0", "PC1", "PC2"), "PA0", "PB3"),
+    Board("atmega128", "Atmel AVR ATmega128 64-TQFP", ("PE2", "PE3", "PA5", "PA6"),
+          ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7", uart0=False),
+    Board("atmega2560", "Atmel AVR ATmega2560 100-TQFP", ("PD2", "PD3", "PH0", "PH1"),
+          ("PB0", "PB1", "PK0", "PL1", "PC0", "PC1"), "PF0", "PB4"),
+    Board("atmega8", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
+          ("PB0", "PB4", "PB5", "PC0", "PC1", "PC2"), "PC3", "PB3"),
+)
+
+INPUTS = ("Xa", "Xb", "Xc", "Xd")
+OUTPUTS = ("Ya", "Yb", "Yc", "Yd")
+RELAYS = ("Ra", "Rb", "Rc", "Rd")
+INTS = ("va", "vb", "vc", "vd", "vr")
+COUNTERS = ("Ca", "Cb")
+
+
+def _e(_kind: str, **args) -> Element:
+    kind = _kind  # counters have an operand called "kind"
+    full = {f.name: f.default for f in INSTRUCTIONS[kind].fields}
+    full.update(args)
+    return Element(kind, full)
+
+
+def _literal(size: int = 2):
+    half = 1 << (8 * size - 1)
+    return st.integers(-half, half - 1).map(str)
+
+
+def _int_or_literal():
+    return st.one_of(st.sampled_from(INTS), st.integers(-300, 300).map(str))
+
+
+@st.composite
+def _element(draw, eol: bool, timers: list) -> Element:
+    kinds = [k for k in FACTORIES if INSTRUCTIONS[k].eol == eol]
+    kind = draw(st.sampled_from(kinds))
+    return draw(FACTORIES[kind](timers))
+
+
+def _simple(kind):
+    return lambda timers: st.just(_e(kind))
+
+
+def _contact(timers):
+    return st.builds(lambda n, neg: _e("CONTACTS", name=n, negated=neg),
+                     st.sampled_from(INPUTS + OUTPUTS + RELAYS + ("ROverflowFlagV",)), st.integers(0, 1))
+
+
+def _coil(timers):
+    return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(OUTPUTS + RELAYS),
+                     st.sampled_from(" /SRT"))
+
+
+@st.composite
+def _timer(draw, timers, kind):
+    name = f"T{len(timers)}"
+    timers.append(name)
+    delay = draw(st.one_of(st.integers(1, 25).map(lambda n: CYCLE_US * n), st.sampled_from(INTS)))
+    return _e(kind, name=name, delay=delay, adjust=0)
+
+
+def _timer_of(kind):
+    return lambda timers: _timer(timers, kind)
+
+
+def _counter(kind):
+    def make(timers):
+        return st.builds(lambda n, m, i, k: _e(kind, name=n, max=m, init=i, kind=k), st.sampled_from(COUNTERS),
+                         st.one_of(st.integers(-5, 12).map(str), st.sampled_from(INTS)),
+                         st.one_of(st.integers(-3, 5).map(str), st.sampled_from(INTS)), st.sampled_from("/\\-o"))
+    return make
+
+
+def _compare(kind):
+    return lambda timers: st.builds(lambda a, b: _e(kind, op1=a, op2=b), _int_or_literal(), _int_or_literal())
+
+
+def _math(kind):
+    # mostly a constant divisor: a variable one is often 0, which the simulator refuses
+    divisor = st.one_of(st.integers(1, 300).map(str), st.integers(-300, -1).map(str), st.sampled_from(INTS))
+    return lambda timers: st.builds(lambda d, a, b: _e(kind, dest=d, op1=a, op2=b), st.sampled_from(INTS),
+                                    _int_or_literal(), divisor if kind in ("DIV", "MOD") else _int_or_literal())
+
+
+def _shift(kind):
+    return lambda timers: st.builds(lambda d, a, n: _e(kind, dest=d, op1=a, op2=n), st.sampled_from(INTS),
+                                    st.sampled_from(INTS), st.one_of(st.integers(0, 8).map(str),
+                                                                     st.sampled_from(INTS)))
+
+
+def _unary(kind):
+    return lambda timers: st.builds(lambda d, a: _e(kind, dest=d, op1=a), st.sampled_from(INTS), _int_or_literal())
+
+
+def _bit_op(kind):
+    return lambda timers: st.builds(lambda v, b: _e(kind, var=v, bit=b), st.sampled_from(INTS),
+                                    st.one_of(st.integers(-1, 33).map(str), st.sampled_from(INTS)))
+
+
+def _convert(kind):
+    # BIN2BCD takes 0..9999 and BCD2BIN digits 0..9 (else the simulator stops): mostly constants
+    if kind == "BIN2BCD":
+        source = st.one_of(st.sampled_from(INTS), st.integers(0, 9999).map(str), st.integers(0, 9999).map(str))
+    elif kind == "BCD2BIN":
+        source = st.one_of(st.sampled_from(INTS), st.integers(0, 0x0909).filter(
+            lambda v: v & 0xF <= 9 and v >> 8 <= 9 and not v & 0xF0).map(str))
+    else:
+        source = st.sampled_from(INTS)
+    return lambda timers: st.builds(lambda d, s: _e(kind, dest=d, src=s), st.sampled_from(INTS), source)
+
+
+def _seven(timers):
+    return st.builds(lambda d, s, c: _e("7SEGMENTS", dest=d, src=s, common=c), st.sampled_from(INTS),
+                     st.one_of(st.sampled_from(INTS), st.integers(0, 200).map(str)), st.sampled_from("CA"))
+
+
+def _bus(timers):
+    return st.builds(lambda d, s, bits: _e("BUS", dest=d, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
+                     st.sampled_from(INTS), st.sampled_from(INTS), st.lists(st.integers(0, 7), min_size=8,
+                                                                            max_size=8))
+
+
+def _lut(timers):
+    return st.builds(lambda d, i, values: _e("LOOK_UP_TABLE", dest=d, index=i, values=tuple(values)),
+                     st.sampled_from(INTS), st.one_of(st.integers(0, 3).map(str), st.sampled_from(INTS),
+                                                      st.integers(0, 3).map(str)),
+                     st.lists(st.integers(-100, 100).map(str), min_size=4, max_size=8))
+
+
+@st.composite
+def _pwl(draw, timers):
+    xs = sorted(draw(st.sets(st.integers(-20, 40), min_size=2, max_size=5)))
+    points = tuple((str(x), str(draw(st.integers(-30, 30)))) for x in xs)
+    return _e("PIECEWISE_LINEAR", dest=draw(st.sampled_from(INTS)), index=draw(st.sampled_from(INTS)), points=points)
+
+
+def _shift_register(timers):
+    return st.builds(lambda n: _e("SHIFT_REGISTER", name="sr", stages=n), st.integers(2, 4))
+
+
+def _random(timers):
+    return st.builds(lambda d: _e("RANDOM", name=d), st.sampled_from(INTS))
+
+
+def _seed(timers):
+    return st.builds(lambda d, s: _e("SEED_RANDOM", name=d, seed=s), st.sampled_from(INTS), _int_or_literal())
+
+
+def _move(timers):
+    return st.builds(lambda d, s: _e("MOVE", dest=d, src=s), st.sampled_from(INTS + COUNTERS), _int_or_literal())
+
+
+def _reset(timers):
+    return st.builds(lambda n: _e("RES", name=n), st.sampled_from(COUNTERS))
+
+
+def _persist(timers):
+    return st.builds(lambda v: _e("PERSIST", var=v), st.sampled_from(INTS))
+
+
+def _adc(timers):
+    return st.just(_e("READ_ADC", name="Aa", refs=0))
+
+
+def _pwm(timers):
+    return st.builds(lambda d: _e("SET_PWM", duty=d, freq=CRYSTAL // (256 * 64), name="Pa", resolution="0-100%"),
+                     _int_or_literal())
+
+
+def _uart_send(timers):
+    return st.builds(lambda v, n: _e("UART_SEND", var=v, bytes=n, wait=0), st.sampled_from(INTS), st.integers(1, 3))
+
+
+def _uart_recv(timers):
+    # into a 4-byte variable, so that any byte count fits
+    return st.builds(lambda n: _e("UART_RECV", var="vr", bytes=n, wait=0), st.integers(1, 3))
+
+
+def _delay(timers):
+    return st.builds(lambda us: _e("DELAY", delay=str(us)), st.integers(1, 200))
+
+
+def _fstring(timers):
+    return st.builds(lambda v, t: _e("FORMATTED_STRING", var=v, text=t), st.sampled_from(INTS),
+                     st.sampled_from(("v=\\3\\r\\n", "\\-5 ok", "x\\1", "n: \\-2.")))
+
+
+def _t2cnt(timers):
+    return st.builds(lambda d, n: _e("TIME2COUNT", name=d, delay=CYCLE_US * n), st.sampled_from(INTS),
+                     st.integers(1, 50))
+
+
+FACTORIES = {
+    "CONTACTS": _contact, "COIL": _coil, "OSR": _simple("OSR"), "OSF": _simple("OSF"), "ODR": _simple("ODR"),
+    "ODF": _simple("ODF"), "OSC": _simple("OSC"), "SHORT": _simple("SHORT"), "OPEN": _simple("OPEN"),
+    **{k: _timer_of(k) for k in ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")},
+    **{k: _counter(k) for k in ("CTU", "CTD", "CTC", "CTR")},
+    **{k: _compare(k) for k in ("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ")},
+    **{k: _math(k) for k in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR")},
+    **{k: _shift(k) for k in ("SHL", "SHR", "SR0", "ROL", "ROR")},
+    **{k: _unary(k) for k in ("NEG", "NOT")},
+    **{k: _bit_op(k) for k in ("SET_BIT", "CLEAR_BIT", "IF_BIT_SET", "IF_BIT_CLEAR")},
+    **{k: _convert(k) for k in ("BIN2BCD", "BCD2BIN", "SWAP", "OPPOSITE")},
+    "7SEGMENTS": _seven, "BUS": _bus, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
+    "SHIFT_REGISTER": _shift_register, "RANDOM": _random, "SEED_RANDOM": _seed, "MOVE": _move, "RES": _reset,
+    "PERSIST": _persist, "READ_ADC": _adc, "SET_PWM": _pwm, "UART_SEND": _uart_send,
+    "UART_SEND_READY": _simple("UART_SEND_READY"), "UART_RECV_AVAIL": _simple("UART_RECV_AVAIL"),
+    "FORMATTED_STRING": _fstring, "TIME2COUNT": _t2cnt, "MASTER_RELAY": _simple("MASTER_RELAY"),
+    "UART_RECV": _uart_recv, "DELAY": _delay, "CLRWDT": _simple("CLRWDT"),
+}
+
+
+@st.composite
+def _series(draw, depth: int, ends: bool, timers: list):
+    items = draw(st.lists(_inline(depth, timers), min_size=0 if ends else 1, max_size=3))
+    if ends:
+        options = [_element(eol=True, timers=timers)]
+        if depth:
+            options.append(st.lists(_series(depth - 1, True, timers), min_size=2, max_size=3).map(Parallel))
+        items.append(draw(st.one_of(*options)))
+    return Series(items)
+
+
+def _inline(depth: int, timers: list):
+    options = [_element(eol=False, timers=timers)]
+    if depth:
+        options.append(st.lists(_series(depth - 1, False, timers), min_size=2, max_size=3).map(Parallel))
+    return st.one_of(*options)
+
+
+def _add_jumps(draw, rungs: list[Rung], timers: list) -> None:
+    """Maybe a forward GOTO to a LABEL, and a subroutine called from the
+    middle of a rung whose lower branch still needs its power bit after the
+    call (backward jumps could loop until the watchdog resets)."""
+    if len(rungs) >= 2 and draw(st.booleans()):
+        target = draw(st.integers(1, len(rungs) - 1))
+        rungs[target] = Rung(rung_circuit(Series([_e("LABEL", label="ahead")] + rungs[target].circuit.items)))
+        source = draw(st.integers(0, target))
+        rungs.insert(source, Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+                                          _e("GOTO", label="ahead")])))
+    if draw(st.booleans()):
+        call = Parallel([Series([_e("GOSUB", label="sub")]),
+                         Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(OUTPUTS)), type=" ")])])
+        caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0), call])))
+        rungs.insert(draw(st.integers(0, len(rungs))), caller)
+        body = [Rung(rung_circuit(draw(_series(1, True, timers)))) for _ in range(draw(st.integers(1, 2)))]
+        rungs += [Rung(Series([_e("SUBPROG", label="sub")])), *body, Rung(Series([_e("ENDSUB", label="sub")]))]
+
+
+@dataclass
+class Case:
+    program: Program
+    events: list[Event]
+    scans: int
+
+
+@st.composite
+def cases(draw) -> Case:
+    board = draw(st.sampled_from(BOARDS))
+    timers: list[str] = []
+    rungs = [Rung(rung_circuit(draw(_series(2, True, timers)))) for _ in range(draw(st.integers(1, 8)))]
+    _add_jumps(draw, rungs, timers)
+    program = Program(Settings(mcu=board.ldmicro, cycle_us=CYCLE_US, crystal_hz=CRYSTAL, baud=9600), rungs)
+    used = {str(v) for _, e in program.elements() for v in e.args.values()}
+    # every relay read is written somewhere, and a master relay zone is closed
+    for relay in sorted(r for r in RELAYS if r in used):
+        program.rungs.append(Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+                                          _e("COIL", name=relay, type=" ")])))
+    if sum(e.kind == "MASTER_RELAY" for _, e in program.elements()) % 2:
+        program.rungs.append(Rung(Series([_e("MASTER_RELAY")])))
+    used = {str(v) for _, e in program.elements() for v in e.args.values()}
+    for name, pin in zip(INPUTS + OUTPUTS, board.inputs + board.outputs):
+        if name in used:
+            program.pins[name] = PinAssignment(name, pin)
+    if "Aa" in used:
+        program.pins["Aa"] = PinAssignment("Aa", board.adc)
+    if "Pa" in used:
+        program.pins["Pa"] = PinAssignment("Pa", board.pwm)
+    for name in INTS + tuple(f"sr{i}" for i in range(4)):
+        program.var_sizes[name] = draw(st.integers(1, 4))
+    program.var_sizes["vr"] = 4
+    scans = draw(st.integers(40, 120))
+    events = [Event(0, x, draw(st.integers(0, 1))) for x in INPUTS if x in program.pins]
+    events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(INPUTS)), draw(st.integers(0, 1)))
+               for _ in range(draw(st.integers(0, 12)))]
+    events = [e for e in events if e.name in program.pins]
+    if "Aa" in program.pins:
+        events += [Event(draw(st.integers(0, scans - 1)), "Aa", draw(st.integers(0, 1023))) for _ in range(4)]
+    if board.uart0 and any(e.kind in ("UART_RECV", "UART_RECV_AVAIL") for _, e in program.elements()):
+        # at most one byte per scan: the UART holds few more
+        arrivals = draw(st.sets(st.integers(1, scans - 1), max_size=6))
+        events += [Event(scan, "uart", draw(st.integers(0, 255))) for scan in sorted(arrivals)]
+    assume(not any(d.severity == ERROR for d in check_program(program)))
+    assume(_simulates(program, events, scans))
+    return Case(program, events, scans)
+
+
+def _simulates(program: Program, events: list[Event], scans: int) -> bool:
+    try:
+        sim = Simulator(program)
+        for scan in range(scans):
+            for event in events:
+                if event.scan == scan:
+                    if event.name == "uart":
+                        sim.uart_receive(bytes([event.value]))
+                    else:
+                        sim.set(event.name, event.value)
+            sim.step()
+    except SimulationError:
+        return False
+    return True
+
+
+@needs_simavr
+@pytest.mark.slow
+@settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases())
+def test_random_programs_follow_the_simulator(case, tmp_path_factory):
+    problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("random"))
+    assert problems == [], "\n".join(problems)

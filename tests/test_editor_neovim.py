@@ -1,0 +1,181 @@
+"""A real Neovim (Debian's 0.7.2) as the LSP client of `ladder lsp`, with the plugin in
+editors/neovim: filetype rules, diagnostics, hover, a fix that clears the diagnostic, formatting,
+and the simulation shown as extmarks (tests/e2e/nvim_lsp.lua drives it).
+
+Slow: runs in the editor step of .ci/run (`pytest -m slow tests/test_editor_*.py`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent / "e2e"))
+import editor_env as env  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+LINKER_SCRIPT = "OUTPUT_FORMAT(\"elf32-avr\")\nSECTIONS\n{\n  .text : { *(.text) }\n}\n"
+
+
+@pytest.fixture(scope="module")
+def nvim_run(tmp_path_factory):
+    """Runs the whole Neovim session once; the tests below read its steps."""
+    nvim = env.which("nvim")
+    env.require(nvim is not None, "Neovim is not installed (apt-get install neovim)")
+    env.require_server()
+    tmp = tmp_path_factory.mktemp("nvim")
+    bad = tmp / "lamp.ladder"
+    bad.write_text(env.LAMP_BAD)
+    sim = tmp / "conveyor.ladder"
+    shutil.copy(env.REPO / "examples" / "conveyor.ladder", sim)
+    detect = {
+        str(tmp / "program.ld"): "ldmicro",
+        str(tmp / "linker.ld"): "ld",
+        str(tmp / "export.txt"): "ladder",
+        str(tmp / "notes.txt"): "text",
+        str(tmp / "lamp2.ladder"): "ladder",
+    }
+    (tmp / "program.ld").write_text("LDmicro0.2\nMICRO=Atmel AVR ATmega328 28-PDIP\n\nPROGRAM\nRUNG\n  CONTACTS Xa 0 0\n"
+                                    "  COIL Yb 0 0 0 0\nEND\n")
+    (tmp / "linker.ld").write_text(LINKER_SCRIPT)
+    (tmp / "export.txt").write_text(env.LAMP_BAD)
+    (tmp / "notes.txt").write_text("LDmicro is a ladder logic compiler.\n")
+    (tmp / "lamp2.ladder").write_text(env.lamp_fixed())
+    out = tmp / "result.json"
+    config = {
+        "rtp": str(env.NEOVIM_PLUGIN),
+        "cmd": [env.SERVER_PYTHON, "-m", "ladder", "lsp"],
+        "out": str(out),
+        "bad": str(bad),
+        "hover_name": "Xstart",
+        "fixed_lines": env.lamp_fixed().splitlines(),
+        "detect": detect,
+    }
+    if "simulation" not in env.missing_features():
+        config["sim"] = str(sim)
+    (tmp / "config.json").write_text(json.dumps(config))
+    run_env = {**os.environ, "LADDER_NVIM_CONFIG": str(tmp / "config.json"),
+               "XDG_CACHE_HOME": str(tmp / "cache"), "XDG_STATE_HOME": str(tmp / "state"),
+               "XDG_DATA_HOME": str(tmp / "data"), "XDG_CONFIG_HOME": str(tmp / "config")}
+    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c",
+                           f"luafile {env.E2E / 'nvim_lsp.lua'}"],
+                          capture_output=True, text=True, timeout=180, env=run_env, cwd=tmp)
+    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    result = json.loads(out.read_text())
+    result["_detect"] = detect
+    print(json.dumps({k: round(v["seconds"], 2) for k, v in result["steps"].items()}))
+    return result
+
+
+def _step(run, name):
+    s = run["steps"].get(name)
+    assert s is not None, f"step {name} did not run"
+    assert s["ok"], f"step {name} failed: {s['error']}"
+    return s["value"]
+
+
+def test_neovim_version(nvim_run):
+    v = nvim_run["version"]
+    assert (v["major"], v["minor"]) >= (0, 7)
+
+
+def test_filetype_rules(nvim_run):
+    """.ladder; .ld and .txt only by their first line (linker scripts stay `ld`)."""
+    assert _step(nvim_run, "filetypes") == nvim_run["_detect"]
+
+
+def test_diagnostic_on_the_right_line(nvim_run):
+    env.require_feature("diagnostics")
+    assert _step(nvim_run, "attach") == "ladder"
+    diags = _step(nvim_run, "diagnostics")
+    ld102 = [d for d in diags if d["code"] == "LD102"]
+    assert ld102, diags
+    assert ld102[0]["lnum"] == env.BAD_LINE
+    assert env.BAD_NAME in ld102[0]["message"]
+    assert ld102[0]["severity"] == 1  # error
+
+
+def test_hover(nvim_run):
+    env.require_feature("hover")
+    text = _step(nvim_run, "hover")
+    assert text and "Xstart" in text
+
+
+def test_fix_clears_the_diagnostic(nvim_run):
+    env.require_feature("diagnostics")
+    assert _step(nvim_run, "fix") is True
+
+
+def test_format(nvim_run):
+    env.require_feature("formatting")
+    value = _step(nvim_run, "format")
+    expected = subprocess.run([sys.executable, "-m", "ladder", "fmt", "-"], input=env.lamp_fixed(),
+                              capture_output=True, text=True, check=True).stdout
+    assert value["changed"]
+    assert "\n".join(value["lines"]) + "\n" == expected
+
+
+def test_simulation_virtual_text(nvim_run):
+    env.require_feature("simulation")
+    assert "scan" in _step(nvim_run, "sim_start")
+    value = _step(nvim_run, "sim_step")
+    texts = [m["text"] for m in value["energized"]]
+    assert any("[" in t for t in texts) and any("(" in t for t in texts), value["energized"]
+    virt = " ".join(v["text"] for v in value["virt_text"])
+    assert "scan" in virt and "Xstart=1" in virt, value["virt_text"]
+    assert _step(nvim_run, "sim_stop") is True
+
+
+def _docs_block(title: str) -> str:
+    text = (env.REPO / "docs" / "editors.md").read_text()
+    section = text.split(f"### {title}", 1)[1]
+    return section.split("```lua\n", 1)[1].split("```", 1)[0]
+
+
+def test_documented_setup_for_0_7(tmp_path):
+    """The by-hand `vim.lsp.start_client` set-up of docs/editors.md, as written there."""
+    nvim = env.which("nvim")
+    env.require(nvim is not None, "Neovim is not installed (apt-get install neovim)")
+    env.require_server()
+    env.require_feature("diagnostics")
+    setup = _docs_block("By hand, Neovim 0.7 to 0.10")
+    assert "{ 'ladder', 'lsp' }" in setup
+    cmd = "{ " + ", ".join(json.dumps(p) for p in [env.SERVER_PYTHON, "-m", "ladder", "lsp"]) + " }"
+    (tmp_path / "init.lua").write_text(
+        f"vim.opt.runtimepath:prepend({json.dumps(str(env.NEOVIM_PLUGIN))})\n"
+        + setup.replace("{ 'ladder', 'lsp' }", cmd))
+    (tmp_path / "lamp.ladder").write_text(env.LAMP_BAD)
+    (tmp_path / "program.ld").write_text("LDmicro0.2\nPROGRAM\nRUNG\n  CONTACTS Xa 0 0\n  COIL Yb 0 0 0 0\nEND\n")
+    (tmp_path / "linker.ld").write_text(LINKER_SCRIPT)
+    out = tmp_path / "out.json"
+    (tmp_path / "drive.lua").write_text(f"""
+vim.cmd('luafile {tmp_path / 'init.lua'}')
+vim.cmd('filetype on')
+local r = {{}}
+vim.cmd('edit {tmp_path / 'program.ld'}'); r.program = vim.bo.filetype
+vim.cmd('edit {tmp_path / 'linker.ld'}'); r.linker = vim.bo.filetype
+vim.cmd('edit {tmp_path / 'lamp.ladder'}'); r.lamp = vim.bo.filetype
+local buf = vim.api.nvim_get_current_buf()
+vim.wait(20000, function() return #vim.diagnostic.get(buf) > 0 end, 50)
+r.diagnostics = {{}}
+for _, d in ipairs(vim.diagnostic.get(buf)) do table.insert(r.diagnostics, {{ lnum = d.lnum, code = d.code }}) end
+r.commands = vim.fn.exists(':LadderSimStart')
+vim.fn.writefile({{ vim.fn.json_encode(r) }}, '{out}')
+vim.cmd('qa!')
+""")
+    run_env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "XDG_STATE_HOME": str(tmp_path / "state"),
+               "XDG_DATA_HOME": str(tmp_path / "data"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
+    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
+                          capture_output=True, text=True, timeout=120, env=run_env, cwd=tmp_path)
+    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    r = json.loads(out.read_text())
+    assert (r["program"], r["linker"], r["lamp"]) == ("ldmicro", "ld", "ladder")
+    assert {"lnum": env.BAD_LINE, "code": "LD102"} in r["diagnostics"]
+    assert r["commands"] == 2

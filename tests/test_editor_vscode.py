@@ -1,0 +1,143 @@
+"""The VS Code extension in a real VS Code: code-server 4.100.3 (VS Code 1.100.3) driven by
+Chromium through playwright-core (tests/e2e/vscode_e2e.js).
+
+Slow: runs in the editor step of .ci/run (`pytest -m slow tests/test_editor_*.py`), which installs
+the npm packages first. Leaves screenshots in build/editor-e2e/ (LADDER_E2E_OUT).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent / "e2e"))
+import editor_env as env  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+
+def _npm(*args: str, cwd: Path, timeout: int = 300) -> subprocess.CompletedProcess:
+    return subprocess.run(["npm", *args], cwd=cwd, capture_output=True, text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def vsix(tmp_path_factory) -> Path:
+    env.require(env.which("npm") is not None, "npm is not installed")
+    env.require((env.EXTENSION / "node_modules" / ".bin" / "vsce").exists(),
+                "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
+    out = _npm("run", "package", cwd=env.EXTENSION)
+    assert out.returncode == 0, out.stdout + out.stderr
+    path = env.EXTENSION / "textladder.vsix"
+    assert path.exists()
+    return path
+
+
+def test_grammar_tests_pass():
+    """vscode-tmgrammar-test over vscode-extension/test/grammar (also `npm test`)."""
+    env.require((env.EXTENSION / "node_modules" / ".bin" / "vscode-tmgrammar-test").exists(),
+                "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
+    out = _npm("test", cwd=env.EXTENSION)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "failed" not in out.stdout
+    assert out.stdout.count("run successfuly") >= 3, out.stdout
+
+
+def test_vsix_contents(vsix):
+    import zipfile
+
+    with zipfile.ZipFile(vsix) as z:
+        names = set(z.namelist())
+        manifest = json.loads(z.read("extension/package.json"))
+    assert {"extension/out/extension.js", "extension/syntaxes/ladder.tmLanguage.json",
+            "extension/syntaxes/ldmicro.tmLanguage.json", "extension/package.json"} <= names
+    assert not any(n.startswith("extension/node_modules/") for n in names), "the bundle needs no node_modules"
+    assert not any(n.startswith("extension/src/") for n in names)
+    # the engine must stay at or below the VS Code of code-server 4.100.3
+    engine = manifest["engines"]["vscode"].lstrip("^~>=")
+    major, minor = (int(p) for p in engine.split(".")[:2])
+    assert (major, minor) <= (1, 100)
+
+
+@pytest.fixture(scope="module")
+def code_server_run(vsix, tmp_path_factory):
+    """One code-server session (tests/e2e/vscode_e2e.js); the tests below read its results."""
+    env.require((env.E2E / "node_modules" / ".bin" / "code-server").exists(),
+                "tests/e2e/node_modules is missing (npm ci in tests/e2e/)")
+    env.require(Path("/usr/bin/chromium").exists() or env.which("chromium") is not None,
+                "Chromium is not installed (apt-get install chromium)")
+    env.require_server()
+    missing = env.missing_features()
+    if "diagnostics" in missing:
+        pytest.skip("waits on the server: no diagnostics yet")
+
+    ws = tmp_path_factory.mktemp("vscode") / "workspace"
+    ws.mkdir()
+    bad = ws / "lamp.ladder"
+    bad.write_text(env.LAMP_BAD)
+    sim = ws / "conveyor.ladder"
+    shutil.copy(env.REPO / "examples" / "conveyor.ladder", sim)
+    (ws / "program.ld").write_text("LDmicro0.2\nMICRO=Atmel AVR ATmega328 28-PDIP\n\nPROGRAM\nRUNG\n"
+                                   "  CONTACTS Xa 0 0\n  COIL Yb 0 0 0 0\nEND\n")
+    (ws / "linker.ld").write_text('OUTPUT_FORMAT("elf32-avr")\nSECTIONS\n{\n  .text : { *(.text) }\n}\n')
+    (ws / "export.txt").write_text(env.lamp_fixed())
+    (ws / "notes.txt").write_text("LDmicro is a ladder logic compiler.\n")
+    shutil.rmtree(env.OUT, ignore_errors=True)  # no screenshot of an earlier run
+    env.OUT.mkdir(parents=True, exist_ok=True)
+    cmd = ["node", str(env.E2E / "vscode_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws), "--bad", str(bad),
+           "--sim", str(sim), "--python", env.SERVER_PYTHON, "--out", str(env.OUT),
+           "--detect", "program.ld,linker.ld,export.txt,notes.txt"]
+    if "simulation" in missing:
+        cmd.append("--no-sim")
+    if "hover" in missing:
+        cmd.append("--no-hover")
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
+    sys.stderr.write(proc.stderr)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
+    assert lines, f"no result from vscode_e2e.js (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    result = json.loads(lines[-1])
+    print(json.dumps(result.get("timings")))
+    assert result["ok"], f"{result.get('error')}\nscreenshot: {result.get('screenshot')}\nlog: {proc.stderr[-3000:]}"
+    return result
+
+
+def test_problems_panel(code_server_run):
+    # the file is recognised as ladder
+    assert "Ladder" in code_server_run["languageId"]
+    # Problems panel: the LD102 diagnostic of lamp.ladder, on the line where Xlamp is drawn
+    problems = "\n".join(code_server_run["problems"])
+    assert "LD102" in problems and env.BAD_NAME in problems
+    assert f"Ln {env.BAD_LINE + 1}," in problems
+    assert Path(code_server_run["screenshot"]).exists()
+
+
+def test_languages_by_first_line(code_server_run):
+    langs = code_server_run["languages"]
+    assert langs["program.ld"] == "LDmicro program"
+    assert langs["export.txt"] == "Ladder (LDmicro text)"
+    assert "Ladder" not in langs["linker.ld"] and "LDmicro" not in langs["linker.ld"]
+    assert langs["notes.txt"] == "Plain Text"
+
+
+def test_hover(code_server_run):
+    env.require_feature("hover")
+    assert "Xstop" in code_server_run["hover"]
+
+
+def test_simulation(code_server_run):
+    env.require_feature("simulation")
+    # F10 ran a scan; the status bar shows it
+    assert "scan" in code_server_run["statusBar"]
+    # elements painted red after Xstart was toggled on with its code lens: a contact and a coil
+    energized = code_server_run["energized"]
+    assert any("[" in t for t in energized), energized
+    assert any("(" in t for t in energized), energized
+    # the watch view lists the inputs with their values
+    assert any(row.startswith("Xstart") for row in code_server_run["watch"]), code_server_run["watch"]
+    assert code_server_run["screenshot"].endswith("vscode-simulation.png")
+    if "hover" not in env.missing_features():
+        assert "Toggle Xstop" in code_server_run["hoverSim"]

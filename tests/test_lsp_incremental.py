@@ -1,0 +1,193 @@
+"""The language server's incremental reading (lang.incremental) gives exactly
+what a fresh `read_text` gives, spans included, after any sequence of edits;
+and an edit inside one rung reads only that rung."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from generators import programs
+from lang.incremental import IncrementalReader
+from lang.textform import reader
+from lang.textform.writer import render_program
+
+ROOT = Path(__file__).resolve().parents[1]
+EXPORTS = sorted((ROOT.parent / "shared" / "corpus" / "ldmicro-export").glob("*.txt"))
+EXAMPLE = (ROOT / "examples" / "conveyor.ladder").read_text(encoding="utf-8")
+
+
+def snapshot(value):
+    """Everything in a model value, positions included (model equality ignores them)."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return (type(value).__name__,) + tuple(
+            (f.name, snapshot(getattr(value, f.name))) for f in dataclasses.fields(value))
+    if isinstance(value, dict):
+        return tuple(sorted((str(k), snapshot(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return tuple(snapshot(v) for v in value)
+    return value
+
+
+def fresh(text: str):
+    reader._CACHE.clear()  # the reader's module cache keeps DETAILS from earlier texts
+    return reader.read_text(text)
+
+
+def same(incremental: IncrementalReader, text: str) -> None:
+    program, problems = incremental.read(text)
+    expected_program, expected_problems = fresh(text)
+    assert snapshot(problems) == snapshot(expected_problems)
+    assert snapshot(program) == snapshot(expected_program)
+
+
+def corpus_texts() -> list[str]:
+    texts = [EXAMPLE]
+    for path in EXPORTS[:12]:
+        texts.append(path.read_bytes().decode("cp1252", errors="replace"))
+    return texts
+
+
+@pytest.mark.parametrize("number", range(len(corpus_texts())))
+def test_full_read_matches_reader(number):
+    text = corpus_texts()[number]
+    same(IncrementalReader("ladder"), text)
+
+
+EDIT_CHARS = " -|+[]()/X0123456789;{}\n"
+
+
+@st.composite
+def edits(draw, text: str):
+    """A few edits: characters typed or deleted anywhere, lines duplicated or removed."""
+    steps = []
+    for _ in range(draw(st.integers(1, 6))):
+        kind = draw(st.sampled_from(["type", "delete", "line-dup", "line-del", "replace"]))
+        steps.append((kind, draw(st.integers(0, 10**6)), draw(st.integers(0, 10**6)),
+                      draw(st.sampled_from(EDIT_CHARS))))
+    return steps
+
+
+def apply(text: str, step) -> str:
+    kind, a, b, ch = step
+    lines = text.splitlines(keepends=True)
+    if not lines:
+        return ch
+    line = a % len(lines)
+    if kind == "line-dup":
+        return "".join(lines[:line + 1] + [lines[line]] + lines[line + 1:])
+    if kind == "line-del":
+        return "".join(lines[:line] + lines[line + 1:])
+    offset = sum(len(l) for l in lines[:line]) + b % max(1, len(lines[line]))
+    if kind == "type":
+        return text[:offset] + ch + text[offset:]
+    if kind == "delete":
+        return text[:offset] + text[offset + 1:]
+    return text[:offset] + ch + text[offset + 1:]
+
+
+@settings(max_examples=150, suppress_health_check=[HealthCheck.too_slow], deadline=None)
+@given(data=st.data())
+def test_edits_of_the_example(data):
+    incremental = IncrementalReader("ladder")
+    text = EXAMPLE + "\nDETAILS:\n  TON Twarn: adjust -1\n"
+    same(incremental, text)
+    for step in data.draw(edits(text)):
+        text = apply(text, step)
+        same(incremental, text)
+
+
+@settings(max_examples=60, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large], deadline=None)
+@given(program=programs(), data=st.data())
+def test_edits_of_generated_programs(program, data):
+    text = render_program(program)
+    incremental = IncrementalReader("ladder")
+    same(incremental, text)
+    for step in data.draw(edits(text)):
+        text = apply(text, step)
+        same(incremental, text)
+
+
+def big_text(rungs: int = 200) -> str:
+    lines = EXAMPLE.splitlines(keepends=True)
+    start = next(i for i, l in enumerate(lines) if l.startswith("LADDER DIAGRAM"))
+    end = next(i for i, l in enumerate(lines) if "[END]" in l)
+    body = lines[start + 1:end - 1]
+    return "".join(lines[:start + 1] + body * (rungs // 4) + lines[end - 1:])
+
+
+def test_an_edit_in_one_rung_reads_only_that_rung():
+    text = big_text()
+    incremental = IncrementalReader("ladder")
+    program, _ = incremental.read(text)
+    assert incremental.last_mode == "full"
+    lines = text.splitlines(keepends=True)
+    target = next(i for i, l in enumerate(lines) if l.startswith("0002|")) + 100 * 3
+    target = max(i for i in range(target) if "Xstart" in lines[i])
+    edited = "".join(lines[:target]) + lines[target].replace("Xstart", "Xstert") + "".join(lines[target + 1:])
+    unchanged = {id(r) for r in program.rungs}
+    program2, _ = incremental.read(edited)
+    assert incremental.last_mode == "window"
+    first, last = incremental.last_window
+    assert last - first < 20
+    kept = sum(1 for r in program2.rungs if id(r) in unchanged)
+    assert kept == len(program.rungs) - 1  # every rung but the edited one is the same object
+    same(IncrementalReader("ladder"), edited)
+
+
+def test_a_new_line_moves_the_rungs_below_without_reading_them():
+    text = big_text()
+    incremental = IncrementalReader("ladder")
+    incremental.read(text)
+    lines = text.splitlines(keepends=True)
+    target = len(lines) // 3
+    while not lines[target].startswith("    ||"):
+        target += 1
+    edited = "".join(lines[:target] + [lines[target]] + lines[target:])
+    program, problems = incremental.read(edited)
+    assert incremental.last_mode == "window"
+    expected = fresh(edited)
+    assert snapshot((program, problems)) == snapshot(expected)
+
+
+def test_details_follow_the_text():
+    incremental = IncrementalReader("ladder")
+    with_details = EXAMPLE + "\nDETAILS:\n  TON Twarn: adjust -1\n"
+    program, _ = incremental.read(with_details)
+    assert [e.args["adjust"] for _, e in program.elements() if e.kind == "TON"] == [-1]
+    program, _ = incremental.read(EXAMPLE)
+    assert [e.args["adjust"] for _, e in program.elements() if e.kind == "TON"] == [0]
+
+
+def test_random_edits_of_a_larger_text():
+    import random
+
+    rng = random.Random(7)
+    for _ in range(40):
+        text = big_text(24)
+        incremental = IncrementalReader("ladder")
+        same(incremental, text)
+        for _ in range(5):
+            step = (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]), rng.randrange(10**6),
+                    rng.randrange(10**6), rng.choice(EDIT_CHARS))
+            text = apply(text, step)
+            same(incremental, text)
+
+
+def test_format_read_matches_the_formatter():
+    from lang.incremental import format_read
+
+    for text in corpus_texts():
+        program, problems = IncrementalReader("ladder").read(text)
+        assert format_read(text, program, problems) == fresh_format(text)
+
+
+def fresh_format(text: str):
+    from lang.textform.formatter import format_text
+
+    reader._CACHE.clear()
+    return format_text(text)[0]

@@ -1,0 +1,104 @@
+"""End to end: document symbols, folding ranges, semantic tokens."""
+
+from __future__ import annotations
+
+import pytest
+from lsprotocol import types
+
+from test_lsp_support import Doc, example_text, lsp_fixture, new_uri, td
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+client = lsp_fixture()
+
+
+async def test_document_symbols(client):
+    doc = Doc(client, new_uri(), example_text())
+    symbols = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=td(doc.uri)))
+    names = [s.name for s in symbols]
+    assert "LADDER DIAGRAM" in names and "I/O ASSIGNMENT" in names
+    diagram = next(s for s in symbols if s.name == "LADDER DIAGRAM")
+    rungs = diagram.children
+    assert [r.name for r in rungs][:2] == ["Rung 1: ; Conveyor: start/stop with seal-in. The horn", "Rung 2"]
+    assert rungs[1].detail == "Rrun := (Xstart | Rrun) & !Xstop"
+    assert [c.name for c in rungs[2].children] == ["Twarn", "Ymotor", "Cruns"]
+    assert rungs[1].range.start.line == doc.find("Xstart").line
+
+
+async def test_folding_per_rung_and_section(client):
+    doc = Doc(client, new_uri(), example_text())
+    ranges = await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=td(doc.uri)))
+    starts = {(r.start_line, r.end_line) for r in ranges}
+    rung2 = doc.find("Xstart").line
+    assert (rung2, doc.find("    |+-------] [------+").line) in starts
+    comment = next(r for r in ranges if r.kind == types.FoldingRangeKind.Comment)
+    assert doc.lines[comment.start_line].strip().startswith("|| ;")
+
+
+def decode(data: list[int]) -> list[tuple[int, int, int, int, int]]:
+    out, line, col = [], 0, 0
+    for i in range(0, len(data), 5):
+        dl, dc, length, kind, mods = data[i:i + 5]
+        line += dl
+        col = dc if dl else col + dc
+        out.append((line, col, length, kind, mods))
+    return out
+
+
+async def test_semantic_tokens(client):
+    doc = Doc(client, new_uri(), example_text())
+    result = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(text_document=td(doc.uri)))
+    # the legend the server announced
+    legend = client.init_result.capabilities.semantic_tokens_provider.legend
+    tokens = decode(result.data)
+    text = {(doc.lines[l][c:c + n], legend.token_types[k]) for l, c, n, k, _ in tokens}
+    assert ("Xstart", "parameter") in text  # an input
+    assert ("Ymotor", "property") in text  # an output
+    assert ("Rrun", "variable") in text  # a relay
+    assert ("Twarn", "function") in text  # a timer
+    assert ("] [", "keyword") in text and ("( )", "keyword") in text
+    assert ("2 s", "number") in text and ("[TON", "keyword") in text
+    assert ("0002", "number") in text
+    assert ("LADDER DIAGRAM:", "namespace") in text
+    written = [(doc.lines[l][c:c + n], m) for l, c, n, k, m in tokens if doc.lines[l][c:c + n] == "Rrun"]
+    assert sorted(m for _, m in written)[-1] != 0  # the coil writes it: a modifier
+    # ordered, no overlaps
+    positions = [(l, c, c + n) for l, c, n, _, _ in tokens]
+    for a, b in zip(positions, positions[1:]):
+        assert (a[0], a[2]) <= (b[0], b[1])
+    ranged = await client.text_document_semantic_tokens_range_async(types.SemanticTokensRangeParams(
+        text_document=td(doc.uri), range=types.Range(start=types.Position(line=0, character=0),
+                                                      end=types.Position(line=12, character=0))))
+    assert 0 < len(ranged.data) < len(result.data)
+
+
+async def test_results_follow_edits(client):
+    """The per-rung results kept from one version to the next (rungs unchanged
+    or moved) equal those of the same text opened afresh."""
+    text = example_text()
+    doc = Doc(client, new_uri(), text)
+    await doc.diagnostics()
+
+    async def everything(uri):
+        ident = td(uri)
+        return (await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=ident)),
+                await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=ident)),
+                (await client.text_document_semantic_tokens_full_async(
+                    types.SemanticTokensParams(text_document=ident))).data)
+
+    await everything(doc.uri)
+    line = doc.find("0002|").line
+    edits = [
+        lambda: doc.change(line + 1, 0, line + 1, 0, "    ||                |" + " " * 51 + "||\n"),  # a line in rung 2
+        lambda: doc.change(line + 1, 0, line + 2, 0, ""),  # and away again
+        lambda: doc.change(2, 0, 2, 0, ""),  # nothing
+        lambda: doc.change(line - 3, 0, line - 3, 0, "    ||" + " " * 68 + "||\n" * 1),  # a blank line above
+        lambda: doc.change(doc.find("Cruns").line, 0, doc.find("Cruns").line, 0, ""),
+    ]
+    for edit in edits:
+        edit()
+        await doc.diagnostics()
+        fresh = Doc(client, new_uri(), doc.text)
+        await fresh.diagnostics()
+        assert await everything(doc.uri) == await everything(fresh.uri)
