@@ -21,13 +21,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     subparsers.required = True
     for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"ladder.commands.{name}")
-        except ModuleNotFoundError as missing:
-            if missing.name != f"ladder.commands.{name}":
-                raise
-            continue
-        module.register(subparsers)
+        importlib.import_module(f"ladder.commands.{name}").register(subparsers)
     return parser
 
 

@@ -90,14 +90,11 @@ def register(server) -> None:
 
 
 def _compilable(mcu: str) -> bool:
-    try:
-        import compiler
-    except ImportError:
-        return False
+    import compiler
     from lang.devices import find_device
 
     device = find_device(mcu)
-    return device is not None and device.part in getattr(compiler, "SUPPORTED", ())
+    return device is not None and device.part in compiler.SUPPORTED
 
 
 def build(ls, uri: str) -> dict:
@@ -110,11 +107,9 @@ def build(ls, uri: str) -> dict:
     publisher = ls.extensions.get("diagnostics")
     if analysis.has_errors:
         return {"ok": False, "summary": "the program has errors; fix them before building", "hex": None}
-    try:
-        import compiler
-        from compiler.errors import CompileError
-    except ImportError:
-        return {"ok": False, "summary": "no compiler in this installation of textladder", "hex": None}
+    import compiler
+    from compiler.errors import CompileError
+
     try:
         result = compiler.build(analysis.program)
     except CompileError as problem:

@@ -58,8 +58,7 @@ def nvim_run(tmp_path_factory):
         "fixed_lines": env.lamp_fixed().splitlines(),
         "detect": detect,
     }
-    if "simulation" not in env.missing_features():
-        config["sim"] = str(sim)
+    config["sim"] = str(sim)
     (tmp / "config.json").write_text(json.dumps(config))
     run_env = {**os.environ, "LADDER_NVIM_CONFIG": str(tmp / "config.json"),
                "XDG_CACHE_HOME": str(tmp / "cache"), "XDG_STATE_HOME": str(tmp / "state"),

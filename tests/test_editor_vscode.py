@@ -71,9 +71,7 @@ def code_server_run(vsix, tmp_path_factory):
     env.require(Path("/usr/bin/chromium").exists() or env.which("chromium") is not None,
                 "Chromium is not installed (apt-get install chromium)")
     env.require_server()
-    missing = env.missing_features()
-    if "diagnostics" in missing:
-        pytest.skip("waits on the server: no diagnostics yet")
+    env.require_feature("diagnostics")
 
     ws = tmp_path_factory.mktemp("vscode") / "workspace"
     ws.mkdir()
@@ -139,5 +137,4 @@ def test_simulation(code_server_run):
     # the watch view lists the inputs with their values
     assert any(row.startswith("Xstart") for row in code_server_run["watch"]), code_server_run["watch"]
     assert code_server_run["screenshot"].endswith("vscode-simulation.png")
-    if "hover" not in env.missing_features():
-        assert "Toggle Xstop" in code_server_run["hoverSim"]
+    assert "Toggle Xstop" in code_server_run["hoverSim"]

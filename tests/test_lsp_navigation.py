@@ -93,9 +93,7 @@ async def test_rename_refuses_bad_names(client):
 async def test_rename_in_an_ld_file(client):
     from pathlib import Path
 
-    source = Path("/work/shared/corpus/ldmicro-export/Tests_test-leds.ld")
-    if not source.exists():
-        pytest.skip("no corpus")
+    source = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "ldmicro-export" / "Tests_test-leds.ld"
     text = source.read_bytes().decode("cp1252")
     doc = Doc(client, new_uri(suffix=".ld"), text, language="ldmicro")
     position = at(doc, "Xbutton", 1)

@@ -74,11 +74,10 @@ def require(condition: bool, what: str) -> None:
 
 
 def require_server() -> None:
-    """`<python> -m ladder lsp` must exist. While the server is being written its absence skips
-    the editor tests (named in the skip reason), so that CI stays usable."""
-    caps = server_capabilities()
+    """`<python> -m ladder lsp` must start and answer `initialize`."""
+    caps, log = _initialize()
     if caps is None:
-        pytest.skip("waits on the server: `ladder lsp` does not start yet")
+        pytest.fail(f"`ladder lsp` did not answer initialize:\n{log}")
 
 
 @functools.lru_cache(maxsize=None)
@@ -143,7 +142,7 @@ def server_commands() -> set[str]:
 
 
 def missing_features() -> list[str]:
-    """The features the editor tests use that the server does not advertise (yet)."""
+    """The features the editor tests use that the server does not advertise."""
     caps = server_capabilities() or {}
     missing = [name for name, key in (("diagnostics", "textDocumentSync"), ("hover", "hoverProvider"),
                                       ("formatting", "documentFormattingProvider")) if not caps.get(key)]
@@ -155,7 +154,7 @@ def missing_features() -> list[str]:
 
 def require_feature(name: str) -> None:
     if name in missing_features():
-        pytest.skip(f"waits on the server: it does not advertise {name} yet")
+        pytest.fail(f"the server does not advertise {name}")
 
 
 def which(name: str) -> str | None:
