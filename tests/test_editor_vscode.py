@@ -89,10 +89,6 @@ def code_server_run(vsix, tmp_path_factory):
     cmd = ["node", str(env.E2E / "vscode_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws), "--bad", str(bad),
            "--sim", str(sim), "--python", env.SERVER_PYTHON, "--out", str(env.OUT),
            "--detect", "program.ld,linker.ld,export.txt,notes.txt"]
-    if "simulation" in missing:
-        cmd.append("--no-sim")
-    if "hover" in missing:
-        cmd.append("--no-hover")
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
     sys.stderr.write(proc.stderr)
     lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]

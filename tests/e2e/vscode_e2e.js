@@ -6,7 +6,7 @@
 // status bar and the watch view. Saves screenshots.
 //
 //   node vscode_e2e.js --vsix X.vsix --workspace DIR --bad FILE --sim FILE --python PY --out DIR
-//                      [--detect a.ld,b.txt] [--no-sim] [--no-hover]   (for a server that lacks these features yet)
+//                      [--detect a.ld,b.txt] [--no-sim] [--no-hover]   (to narrow a run down while debugging)
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
