@@ -1,11 +1,11 @@
 """Differential fuzzing of the AVR compiler, time-boxed, run on demand:
-`python benchmarks/compiler_fuzz.py [--seconds 600] [--workers 2] [--out DIR]`.
+`python benchmarks/compiler_fuzz.py [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
 
 Each worker draws random compilable programs (tests/test_compiler_random.py),
 runs each in simavr under its random stimulus and compares every name with
 the simulator after every scan. The report is how many programs were
 reached (goal: 1,000) and every mismatch, each saved as an .ld file with its
-stimulus for replay.
+stimulus for replay. A program too large for its part's flash is skipped.
 """
 
 from __future__ import annotations
@@ -33,8 +33,9 @@ def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
     seed_value, deadline, out = args
     from hypothesis import HealthCheck, Phase, given, seed, settings
     from test_compiler_harness import differential
-    from test_compiler_random import cases
+    from test_compiler_random import cases, too_large
 
+    from compiler.errors import CompileError
     from lang.ldfile import write_ld
 
     reached, failures = 0, []
@@ -50,6 +51,10 @@ def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
         with tempfile.TemporaryDirectory() as tmp:
             try:
                 problems = differential(case.program, case.events, case.scans, Path(tmp))
+            except CompileError as error:
+                if too_large(error):
+                    return
+                problems = [f"CompileError: {error}"]
             except Exception as error:  # noqa: BLE001  (a crash is a finding too)
                 problems = [f"{type(error).__name__}: {error}"]
         reached += 1
@@ -70,18 +75,20 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=600)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=int(time.time()) % 100_000,
+                        help="worker n draws from seed N+n (default: from the clock; printed to replay)")
     parser.add_argument("--out", default=tempfile.mkdtemp(prefix="compiler-fuzz-"))
     args = parser.parse_args()
     Path(args.out).mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
     deadline = started + args.seconds
     with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
-        results = pool.map(worker, [(n + 1, deadline, args.out) for n in range(args.workers)])
+        results = pool.map(worker, [(args.seed + n, deadline, args.out) for n in range(args.workers)])
     reached = sum(r for r, _ in results)
     failures = [f for _, fs in results for f in fs]
     elapsed = time.monotonic() - started
     print(f"{reached} programs compiled, run in simavr and compared scan for scan in {elapsed:.0f} s on "
-          f"{args.workers} workers (goal {GOAL}): {len(failures)} mismatches")
+          f"{args.workers} workers (goal {GOAL}, seed {args.seed}): {len(failures)} mismatches")
     for failure in failures:
         print("  " + failure)
     return 1 if failures else 0

@@ -53,7 +53,6 @@ Target = Var | Part
 # bit classes
 INPUT, OUTPUT, MEMORY, TEMP = "input", "output", "memory", "temp"
 
-RELATIONS = ("==", "!=", "<", "<=", ">", ">=")
 NEGATED = {"==": "!=", "!=": "==", "<": ">=", ">=": "<", ">": "<=", "<=": ">"}
 
 
@@ -270,11 +269,12 @@ class Table(Op):
 
 @dataclass
 class Permute(Op):
-    """dst = the byte whose bit 7-i is bit sources[i] of src (BUS)."""
+    """BUS: dst = the byte with bit d set for each (s, d) of `pairs` whose
+    source bit s is set in src (a bit past src's width is its sign bit)."""
 
     dst: Target
     src: Operand
-    sources: tuple[int, ...]
+    pairs: tuple[tuple[int, int], ...]
 
 
 # --- peripherals and the machine -------------------------------------------------------

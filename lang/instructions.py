@@ -485,7 +485,8 @@ define(
     # .ld order: the source bit for destination bit 7 first, bit 0 last
     (var("dest"), operand("src")) + tuple(integer(f"b{i}", i, drawn=False) for i in range(7, -1, -1)),
     box("{BUS ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
-    "While its input is 1, sets each bit i of the destination to bit b_i of the source.",
+    "While its input is 1, copies each bit j of the source to bit b_j of the destination "
+    "(the .ld line lists b7 first; the default 7 6 5 4 3 2 1 0 copies the byte).",
     "display",
 )
 

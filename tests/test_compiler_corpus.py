@@ -84,13 +84,6 @@ def _scan_counter(edges, duty: str | None, cycle_ms: float):
     return lambda t: sum(1 for s in starts if s <= t)
 
 
-# The simulator's BUS takes the i-th number of the .ld line as the source of
-# destination bit i (counting down from 7); LDmicro's compiled code takes it
-# as the destination of source bit 7-i. swatch2 drives PORTD through a BUS, so
-# its digits' segments differ until the simulator follows the compiled code
-# (the compiler follows the simulator, the reference).
-BUS_DIFFERS = pytest.mark.xfail(strict=True, reason="lang/sim's BUS bit order differs from LDmicro's compiled code")
-
 LDMICRO = {
     "sample/traffic.ld": ("sample_traffic.hex", TRAFFIC, 2200),
     "reg/tests/timers-counters.ld": ("reg_tests_timers-counters.hex", TIMERS, 1800),
@@ -102,8 +95,7 @@ LDMICRO = {
 
 @needs_simavr
 @pytest.mark.slow
-@pytest.mark.parametrize("path", [pytest.param(p, marks=BUS_DIFFERS) if p == "sample/swatch2.ld" else p
-                                  for p in sorted(LDMICRO)])
+@pytest.mark.parametrize("path", sorted(LDMICRO))
 def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
     reference, events, scans = LDMICRO[path]
     program = load(path)
@@ -131,3 +123,18 @@ def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
         for (t_ours, _), (t_theirs, _) in zip(a, b):
             assert abs(their_scan(t_theirs) - our_scan(t_ours)) <= 1, \
                 f"{pin}: our edge at {t_ours:.3f} ms, LDmicro's at {t_theirs:.3f} ms"
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_traffic_moved_to_the_atmega328p_by_port_name(tmp_path):
+    """`--target` semantics: the ATmega128 program's pins re-assigned by port
+    name in the test (its package pin numbers do not exist on the 28-pin
+    ATmega328P), then built for that part."""
+    from lang.model import PinAssignment
+
+    program = load("sample/traffic.ld")
+    ports = {"Xbutton1": "PD2", "Xbutton2": "PD3", "Yred": "PB0", "Yyellow": "PB1", "Ygreen": "PB2", "Ywait": "PB3"}
+    for name, port in ports.items():
+        program.pins[name] = PinAssignment(name, port)
+    assert differential(program, TRAFFIC, 2200, tmp_path, target="atmega328p") == []

@@ -37,25 +37,18 @@ def operands(op: isa.Opcode, rng: random.Random) -> tuple[int, ...]:
         "A": lambda: rng.randrange(64),
         "k": lambda: rng.randrange(0x10000),
     }
-    values = []
-    for field in syntax.split(","):
-        if field in pick:
-            values.append(pick[field]())
-        elif "+q" in field:
-            values.append(rng.randrange(64))
-    if op.encode.__name__ in ("_rd_k8", "_mul_upper"):
-        values = [16 + v % 16 if i < 2 and syntax.split(",")[i] in "dr" else v for i, v in enumerate(values)]
+    values = [pick[field]() for field in syntax.split(",") if field in pick]
+    if op.encode.__name__ == "_rd_k8":
+        values[0] = 16 + values[0] % 16
     if op.encode.__name__ == "_pair_k6":
         values = [rng.choice((24, 26, 28, 30)), values[1] % 64]
     if op.encode.__name__ == "_movw":
         values = [v & ~1 for v in values]
     if op.encode.__name__ == "_io_bit":
         values[0] %= 32
-    if syntax in ("d,X", "d,X+", "X,r", "X+,r"):
+    if syntax in ("d,X", "X,r", "X+,r"):
         values = [rng.choice([v for v in range(32) if v not in (26, 27)])]
-    if syntax in ("d,Y+", "Y+,r"):
-        values = [rng.choice([v for v in range(32) if v not in (28, 29)])]
-    if syntax in ("d,Z+", "Z+,r"):
+    if syntax == "d,Z+":
         values = [rng.choice([v for v in range(32) if v not in (30, 31)])]
     return tuple(values)
 

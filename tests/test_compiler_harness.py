@@ -1,12 +1,14 @@
 """Running a compiled program in simavr beside the simulator, scan for scan.
 
 A stimulus is a list of (scan, name, value): the simulator applies it before
-that scan; simavr drives the pin (or sets the A/D voltage) 0.3 cycle before
-the scan starts, and sends a UART byte 0.9 cycle before (a byte takes about
-1 ms to arrive at 9600 baud; so not for scan 0). After each scan, at 0.6 cycle,
-the harness reads the data space and the comparison takes every name both
-sides have: output latches, relays, variables, element memories' owners.
-The helpers are shared by the compiler's end-to-end tests and benchmarks.
+that scan; simavr drives the pin (or sets the A/D voltage) 0.05 cycle before
+the scan starts, and sends a UART byte 0.75 cycle before: simavr delivers a
+byte up to about 1.1 ms later at 9600 baud (its receiver ticks once a byte
+time), so it must come after the scan before it has ended and in time for its
+own (not for scan 0). After each scan, at 0.9 cycle when it is over, the
+harness reads the data space, and the comparison takes every name both sides
+have: output latches, relays, variables. The helpers are shared by the
+compiler's end-to-end tests and benchmarks.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ IN_CI = bool(os.environ.get("CI"))
 needs_simavr = pytest.mark.skipif(not sa.available() and not IN_CI, reason="gcc + libsimavr-dev not installed")
 
 ADC_REFERENCE_MV = 5000  # the harness's AREF and AVCC
-SAMPLE_AT, DRIVE_BEFORE, SEND_BEFORE = 0.6, 0.3, 0.9  # fractions of a cycle
+SAMPLE_AT, DRIVE_BEFORE, SEND_BEFORE = 0.9, 0.05, 0.75  # fractions of a cycle
 
 
 @dataclass(frozen=True)

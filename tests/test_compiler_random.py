@@ -19,6 +19,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from test_compiler_harness import Event, differential, needs_simavr
 
+from compiler.errors import FLASH_FULL, CompileError
 from lang.checks import check_program
 from lang.diagnostics import ERROR
 from lang.instructions import INSTRUCTIONS
@@ -34,7 +35,7 @@ from lang.model import (
 )
 from lang.sim import SimulationError, Simulator
 
-CYCLE_US = 2000
+CYCLE_US = 4000  # room in the cycle for a long scan and a UART byte's arrival
 CRYSTAL = 16_000_000
 
 
@@ -62,6 +63,10 @@ BOARDS = (
           ("PB0", "PB1", "PK0", "PL1", "PC0", "PC1"), "PF0", "PB4"),
     Board("atmega8", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
           ("PB0", "PB4", "PB5", "PC0", "PC1", "PC2"), "PC3", "PB3"),
+    Board("atmega32", "Atmel AVR ATmega32 40-PDIP", ("PD2", "PD3", "PC6", "PC7"),
+          ("PB0", "PB1", "PB2", "PA1", "PA2", "PD6"), "PA0", "PD7"),
+    Board("atmega1284p", "Atmel AVR ATmega1284 40-PDIP", ("PD2", "PD3", "PB5", "PB6"),
+          ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7"),
 )
 
 INPUTS = ("Xa", "Xb", "Xc", "Xd")
@@ -234,7 +239,7 @@ def _uart_recv(timers):
 
 
 def _delay(timers):
-    return st.builds(lambda us: _e("DELAY", delay=str(us)), st.integers(1, 200))
+    return st.builds(lambda us: _e("DELAY", delay=str(us)), st.integers(1, 50))
 
 
 def _fstring(timers):
@@ -373,5 +378,14 @@ def _simulates(program: Program, events: list[Event], scans: int) -> bool:
 @settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
 @given(case=cases())
 def test_random_programs_follow_the_simulator(case, tmp_path_factory):
-    problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("random"))
+    try:
+        problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("random"))
+    except CompileError as problem:
+        assume(not too_large(problem))
+        raise
     assert problems == [], "\n".join(problems)
+
+
+def too_large(problem: CompileError) -> bool:
+    """A random program may not fit the ATmega8's 8 KB: not a finding."""
+    return all(d.code == FLASH_FULL for d in problem.diagnostics)

@@ -198,7 +198,10 @@ def test_seven_segments():
 
 
 def test_bus_permutes_bits():
-    reverse = {f"b{i}": i for i in range(8)}  # destination bit 7-i <- source bit i
+    # as LDmicro's compiled code reads `BUS d s 7 6 5 4 3 2 1 0`: source bit j goes to bit b<j>
+    identity = compute(el("BUS", dest="d", src="s"), values={"s": 0b00000011})
+    assert identity.value("d") == 0b00000011
+    reverse = {f"b{j}": 7 - j for j in range(8)}
     sim = compute(el("BUS", dest="d", src="s", **reverse), values={"s": 0b00000011})
     assert sim.value("d") == 0b11000000
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 from . import asm as a
 from . import isa
 from .memory import HOME_REGISTERS, TEMP_REGISTERS
+from .part import IO_END
 
 ZERO = 2
 A = (18, 19, 20, 21)
@@ -28,14 +29,12 @@ PRESERVED = frozenset((ZERO, *HOME_REGISTERS, *TEMP_REGISTERS))
 
 # registers an instruction writes, by mnemonic: "d" its first operand,
 # "dd" the pair starting there, "mul" r1:r0
-_WRITES = {op: "d" for op in ("ldi", "mov", "lds", "in_", "ld_x", "ld_xp", "ld_zp", "ld_yp", "ldd_y", "ldd_z",
-                              "lpm", "lpm_p", "elpm_p", "pop", "add", "adc", "sub", "sbc", "and_", "or_",
-                              "eor", "subi", "sbci", "ori", "andi", "com", "neg", "swap", "inc", "dec",
-                              "asr", "lsr", "ror", "bld", "lsl", "rol", "clr")}
-_WRITES.update(adiw="dd", sbiw="dd", movw="dd", mul="mul", muls="mul", lpm0="r0")
+_WRITES = {op: "d" for op in ("ldi", "mov", "lds", "in_", "ld_x", "lpm_p", "pop", "add", "adc", "sub", "sbc",
+                              "and_", "or_", "eor", "subi", "sbci", "ori", "andi", "com", "neg", "swap", "inc",
+                              "dec", "asr", "lsr", "ror", "bld", "lsl", "rol", "clr")}
+_WRITES.update(sbiw="dd", movw="dd", mul="mul")
 # pointer registers moved by post-increment addressing
-_POINTER = {"ld_xp": (26, 27), "st_xp": (26, 27), "ld_yp": (28, 29), "st_yp": (28, 29), "ld_zp": (30, 31),
-            "st_zp": (30, 31), "lpm_p": (30, 31), "elpm_p": (30, 31)}
+_POINTER = {"st_xp": (26, 27), "lpm_p": (30, 31)}
 _SKIPS = set(isa.SKIP_INVERSE)
 
 
@@ -48,8 +47,6 @@ def _written(op: str, args: tuple) -> tuple[int, ...]:
         regs = (args[0], args[0] + 1)
     elif kind == "mul":
         regs = (0, 1)
-    elif kind == "r0":
-        regs = (0,)
     return regs + _POINTER.get(op, ())
 
 
@@ -183,7 +180,7 @@ class Emitter:
                 self.ins("mov", reg, held)
                 self.holds(reg, ("mem", address))
                 return
-        if address < 0x60:
+        if address < IO_END:
             self.ins("in_", reg, address - 0x20)
         else:
             self.ins("lds", reg, address)
@@ -191,7 +188,7 @@ class Emitter:
             self.holds(reg, ("mem", address))
 
     def store_byte(self, address: int, reg: int, ram: bool) -> None:
-        if address < 0x60:
+        if address < IO_END:
             self.ins("out", address - 0x20, reg)
         else:
             self.ins("sts", address, reg)

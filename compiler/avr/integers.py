@@ -483,8 +483,10 @@ def permute(cx, op: ir.Permute) -> None:
     e = cx.e
     w, n = size(cx, op.src), target_size(cx, op.dst)
     load(cx, op.src, B[:w])
-    for i, source in enumerate(op.sources):
-        e.ins("bst", B[source // 8], source % 8)
-        e.ins("bld", A[0], 7 - i)
+    e.ins("mov", A[0], ZERO)
+    for source, dest in op.pairs:
+        source = min(source, 8 * w - 1)  # past the width: the sign bit
+        e.ins("sbrc", B[source // 8], source % 8)
+        e.ins("ori", A[0], 1 << dest)
     extend(cx, A[:n], 1, signed=False)
     store(cx, op.dst, A[:n])

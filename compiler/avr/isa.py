@@ -99,7 +99,7 @@ def _addr16_rr(base, k, r):
 
 def _pair_k6(base, d, k):
     if d not in (24, 26, 28, 30):
-        raise EncodingError(f"ADIW/SBIW need r24, r26, r28 or r30, not r{d}")
+        raise EncodingError(f"SBIW needs r24, r26, r28 or r30, not r{d}")
     _check(k, 0, 63, "constant")
     return [base | (k & 0x30) << 2 | (d - 24) // 2 << 4 | (k & 0x0F)]
 
@@ -108,19 +108,6 @@ def _movw(base, d, r):
     if d % 2 or r % 2:
         raise EncodingError("MOVW needs even registers")
     return [base | _reg(d) // 2 << 4 | _reg(r) // 2]
-
-
-def _mul_upper(base, d, r):
-    return [base | _upper(d) << 4 | _upper(r)]
-
-
-def _disp(base, d, q):
-    _check(q, 0, 63, "displacement")
-    return [base | (q & 0x20) << 8 | (q & 0x18) << 7 | _reg(d) << 4 | (q & 0x07)]
-
-
-def _disp_store(base, q, r):
-    return _disp(base, r, q)
 
 
 @dataclass(frozen=True)
@@ -141,13 +128,12 @@ def _ops(pattern: Callable, syntax: str, **bases: int) -> dict[str, Opcode]:
 # mnemonic -> opcode; pointer forms of LD/ST are spelled as their own
 # mnemonics ("ld_x+" is `ld Rd, X+`) so that every entry has one pattern
 OPCODES: dict[str, Opcode] = {
-    **_ops(_none, "", nop=0x0000, ret=0x9508, reti=0x9518, sei=0x9478, cli=0x94F8, set=0x9468,
-           clt=0x94E8, sec=0x9408, clc=0x9488, sleep=0x9588, wdr=0x95A8, ijmp=0x9409, icall=0x9509,
-           lpm0=0x95C8),
+    **_ops(_none, "", nop=0x0000, ret=0x9508, cli=0x94F8, set=0x9468, clt=0x94E8, sleep=0x9588,
+           wdr=0x95A8),
     **_ops(_rd, "d", com=0x9400, neg=0x9401, swap=0x9402, inc=0x9403, asr=0x9405, lsr=0x9406,
            ror=0x9407, dec=0x940A, push=0x920F, pop=0x900F),
     **_ops(_rd_rr, "d,r", add=0x0C00, adc=0x1C00, sub=0x1800, sbc=0x0800, and_=0x2000, or_=0x2800,
-           eor=0x2400, mov=0x2C00, cp=0x1400, cpc=0x0400, cpse=0x1000, mul=0x9C00),
+           eor=0x2400, mov=0x2C00, cp=0x1400, cpc=0x0400, mul=0x9C00),
     **_ops(_rd_same, "d", lsl=0x0C00, rol=0x1C00, tst=0x2000, clr=0x2400),
     **_ops(_rd_k8, "d,K", ldi=0xE000, cpi=0x3000, subi=0x5000, sbci=0x4000, ori=0x6000, andi=0x7000),
     **_ops(_rd_bit, "d,b", sbrc=0xFC00, sbrs=0xFE00, bst=0xFA00, bld=0xF800),
@@ -161,30 +147,16 @@ OPCODES: dict[str, Opcode] = {
     **_ops(_abs22, "k", jmp=0x940C, call=0x940E),
     **_ops(_rd_addr16, "d,k", lds=0x9000),
     **_ops(_addr16_rr, "k,r", sts=0x9200),
-    **_ops(_pair_k6, "d,K", adiw=0x9600, sbiw=0x9700),
+    **_ops(_pair_k6, "d,K", sbiw=0x9700),
     **_ops(_movw, "d,r", movw=0x0100),
-    **_ops(_mul_upper, "d,r", muls=0x0200),
-    **_ops(_disp, "d,Y+q", ldd_y=0x8008),
-    **_ops(_disp, "d,Z+q", ldd_z=0x8000),
-    **_ops(_disp_store, "Y+q,r", std_y=0x8208),
-    **_ops(_disp_store, "Z+q,r", std_z=0x8200),
     **_ops(_rd, "d,X", ld_x=0x900C),
-    **_ops(_rd, "d,X+", ld_xp=0x900D),
-    **_ops(_rd, "d,Z+", ld_zp=0x9001),
-    **_ops(_rd, "d,Y+", ld_yp=0x9009),
     **_ops(_rd, "X,r", st_x=0x920C),
     **_ops(_rd, "X+,r", st_xp=0x920D),
-    **_ops(_rd, "Y+,r", st_yp=0x9209),
-    **_ops(_rd, "Z+,r", st_zp=0x9201),
-    **_ops(_rd, "d,Z", lpm=0x9004),
     **_ops(_rd, "d,Z+", lpm_p=0x9005),
-    **_ops(_rd, "d,Z+", elpm_p=0x9007),
 }
 
 # the mnemonic avr-as knows, where the table's key differs from it
-SPELLING = {"and_": "and", "or_": "or", "in_": "in", "lpm0": "lpm", "ldd_y": "ldd", "ldd_z": "ldd",
-            "std_y": "std", "std_z": "std", "ld_x": "ld", "ld_xp": "ld", "ld_zp": "ld", "ld_yp": "ld",
-            "st_x": "st", "st_xp": "st", "st_yp": "st", "st_zp": "st", "lpm_p": "lpm", "elpm_p": "elpm"}
+SPELLING = {"and_": "and", "or_": "or", "in_": "in", "ld_x": "ld", "st_x": "st", "st_xp": "st", "lpm_p": "lpm"}
 
 # the branch taken on the opposite condition
 INVERSE = {"breq": "brne", "brne": "breq", "brcs": "brcc", "brcc": "brcs", "brmi": "brpl",
@@ -205,19 +177,6 @@ def size(mnemonic: str) -> int:
     return OPCODES[mnemonic].words
 
 
-def cycles(mnemonic: str) -> int:
-    """CPU cycles when the instruction does not branch or skip (datasheet
-    instruction set summary, classic megaAVR core)."""
-    return _CYCLES.get(mnemonic, 1)
-
-
-_CYCLES = {"lds": 2, "sts": 2, "ld_x": 2, "ld_xp": 2, "ld_zp": 2, "ld_yp": 2, "ldd_y": 2, "ldd_z": 2,
-           "st_x": 2, "st_xp": 2, "st_yp": 2, "st_zp": 2, "std_y": 2, "std_z": 2, "sbi": 2, "cbi": 2,
-           "adiw": 2, "sbiw": 2, "mul": 2, "muls": 2, "rjmp": 2, "jmp": 3, "ijmp": 2, "rcall": 3,
-           "call": 4, "icall": 3, "ret": 4, "reti": 4, "lpm": 3, "lpm0": 3, "lpm_p": 3, "elpm_p": 3,
-           "push": 2, "pop": 2}
-
-
 def text(mnemonic: str, *operands: int) -> str:
     """The instruction in GNU avr-as syntax (jump operands are written by the
     assembler, which knows their labels)."""
@@ -234,8 +193,6 @@ def text(mnemonic: str, *operands: int) -> str:
             value = next(values)
             parts.append(f"0x{value & 0xFF:02x}" if field == "K" else f"0x{value:02x}" if field == "A"
                          else f"0x{value:04x}" if field == "k" else str(value))
-        elif "+q" in field:
-            parts.append(f"{field[0]}+{next(values)}")
         else:
             parts.append(field)  # X, X+, Y+, Z, Z+
     return f"{name} {', '.join(parts)}"

@@ -53,7 +53,6 @@ class Layout:
     vars: dict[str, Storage]
     ram_used: int  # bytes from the start of RAM
     homes: tuple[int, ...]  # registers holding memory bits
-    stack_reserve: int
 
 
 _REGISTER_NAME = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-L])$", re.IGNORECASE)
@@ -152,4 +151,4 @@ def allocate(code: ir.Code, part: Part, program: Program) -> Layout:
     if used + reserve > size:
         raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {reserve}; "
                              f"the {part.title} has {size}")
-    return Layout(bits, variables, used, homes, reserve)
+    return Layout(bits, variables, used, homes)

@@ -61,10 +61,6 @@ class Part:
         return self.avr["ram"]["start"] + self.avr["ram"]["size"] - 1
 
     @property
-    def eeprom(self) -> int:
-        return self.avr["eeprom"]
-
-    @property
     def long_jumps(self) -> bool:
         return self.avr["long_jumps"]
 

@@ -177,12 +177,13 @@ def seven_segments(b: Builder, el, p: ir.Bit) -> None:
 @lowers("BUS")
 def bus(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
-    sources = tuple(int(el.args.get(f"b{i}", 7 - i)) for i in range(8))
+    # as the simulator (and LDmicro's compiled code): source bit j goes to bit b<j>
+    pairs = tuple((j, int(el.args[f"b{j}"])) for j in range(8))
     src = b.operand(el.args["src"])
     if isinstance(src, ir.Const):
-        value = sum(((src.value >> s) & 1) << (7 - i) for i, s in enumerate(sources))
+        value = 0
+        for source, dest in pairs:
+            value |= ((src.value >> source) & 1) << dest
         _when(b, p, ir.Move(d, ir.Const(value)))
         return
-    # a source bit past the variable's width is its sign bit
-    sources = tuple(min(s, 8 * src.size - 1) for s in sources)
-    _when(b, p, ir.Permute(d, src, sources))
+    _when(b, p, ir.Permute(d, src, pairs))

@@ -207,6 +207,7 @@ def seven_segments(gen: Gen, el, p: str) -> None:
 def bus(gen: Gen, el, p: str) -> None:
     d, name = gen.dest()
     src = gen.operand(el.args["src"])
-    # field b<i> is the i-th number of the .ld line: the source bit for destination bit 7-i
-    terms = [f"(({src} >> {int(el.args.get(f'b{i}', 7 - i))}) & 1) << {7 - i}" for i in range(8)]
+    # LDmicro's compiled code: field b<j> (the .ld line lists b7 first) is the
+    # destination bit of source bit j; a destination bit no source names is 0
+    terms = [f"(({src} >> {j}) & 1) << {int(el.args[f'b{j}'])}" for j in range(8)]
     gen.emit(f"if {p}: {d} = {gen.wrap(' | '.join(terms), name)}")
