@@ -14,12 +14,12 @@ from pathlib import Path
 
 import pytest
 
+from lang import ldfile
 from lang.checks import check_program
 
-ldfile = pytest.importorskip("lang.ldfile")
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus"
-FILES = sorted(CORPUS.rglob("*.ld")) if CORPUS.is_dir() else []
+FILES = sorted(CORPUS.rglob("*.ld"))
 
 
 # name and structure rules: LD010, LD1xx, LD2xx

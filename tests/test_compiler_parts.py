@@ -125,7 +125,6 @@ def test_atmega162_and_64_run_as_sibling_builds(tmp_path):
     assert differential(program, events, 100, tmp_path, target="atmega16") == []
 
 
-def test_the_avr_gcc_tools_are_installed_in_ci():
-    if shutil.which("avr-gcc") is None:
-        pytest.skip("gcc-avr not installed")
-    assert shutil.which("avr-objcopy")
+def test_the_avr_gcc_tools_are_installed():
+    """.ci/run installs gcc-avr: the listing checks must never pass by not running."""
+    assert shutil.which("avr-gcc") and shutil.which("avr-objcopy")

@@ -131,8 +131,7 @@ def _export_rows():
 
 
 def test_exports_match_pin_data():
-    if not EXPORTS.is_dir():
-        pytest.skip(f"no LDmicro exports at {EXPORTS}")
+    assert EXPORTS.is_dir(), f"no LDmicro exports at {EXPORTS}"
     rows = _export_rows()
     checked = 0
     mcus_with_data = set()
