@@ -22,9 +22,12 @@ _HELPERS = {"common", "index", "varflags"}
 
 
 def _import_everything() -> None:
-    """Import every module of lang/ so that every code is registered."""
-    for module in pkgutil.walk_packages(lang.__path__, "lang."):
-        importlib.import_module(module.name)
+    """Import every module of lang/ and compiler/ so that every code is registered."""
+    import compiler
+
+    for package, prefix in ((lang, "lang."), (compiler, "compiler.")):
+        for module in pkgutil.walk_packages(package.__path__, prefix):
+            importlib.import_module(module.name)
 
 
 def test_every_rule_module_is_listed():

@@ -12,7 +12,7 @@ from __future__ import annotations
 from lang.checks.common import describe
 from lang.devices import Device
 from lang.model import Element, Program, Series
-from lang.sim.compile import DEFAULT_SEED, _counter_defs, _names
+from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
 from lang.sim.gen_timers import COUNTERS
 from lang.values import is_literal, literal_value
 
@@ -71,7 +71,7 @@ class TargetBuilder(Builder):
         self.device = device
         self.eeprom_size = device.memory.get("eeprom", 0)
         self.jumps = Jumps(program)
-        self.counter_defs = _counter_defs(program)
+        self.counter_defs = counter_defs(program)
 
     def _pin(self, name: str):
         assignment = self.program.pins.get(name)
@@ -146,7 +146,7 @@ def _classes(program: Program) -> dict[str, str]:
 
 
 def lower_program(program: Program, device: Device) -> ir.Code:
-    bits, sizes = _names(program)
+    bits, sizes = variable_names(program)
     b = TargetBuilder(program, device, bits, sizes, _classes(program))
     mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
     if mcr:

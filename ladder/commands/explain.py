@@ -19,6 +19,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     import lang.checks  # noqa: F401  (the checks and the simulator register their codes)
+    import compiler.errors  # noqa: F401
     import lang.sim.errors  # noqa: F401
 
     if args.code is None:

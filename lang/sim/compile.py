@@ -123,7 +123,7 @@ def _unsupported(program: Program) -> list:
     return problems
 
 
-def _names(program: Program) -> tuple[set[str], dict[str, int]]:
+def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
     """Bit names, and the sizes LDmicro gives integer variables: VAR LIST
     sizes, with timers and counters sized to their values."""
     bits = {"ROverflowFlagV"}
@@ -148,7 +148,7 @@ def _names(program: Program) -> tuple[set[str], dict[str, int]]:
     return bits, sizes
 
 
-def _counter_defs(program: Program) -> dict[str, Element]:
+def counter_defs(program: Program) -> dict[str, Element]:
     """For RES C...: the first counter of that name, searching CTU, CTD, CTC
     then CTR elements (LDmicro's order)."""
     found: dict[str, Element] = {}
@@ -213,7 +213,7 @@ DEFAULT_SEED = 1
 def _generate(program: Program, bits, sizes, traced: bool, gen: Gen | None = None) -> Gen:
     gen = gen or Gen(program, sizes, bits)
     gen.traced = traced
-    gen.counter_defs = _counter_defs(program)
+    gen.counter_defs = counter_defs(program)
     gen.eeprom_next = 0
     jumps = any(e.kind in _JUMPS for _, e in program.elements())
     gen.jumps = JumpTable(gen, program) if jumps else None
@@ -265,7 +265,7 @@ def compile_program(program: Program, peripherals) -> Compiled:
     problems = _unsupported(program)
     if problems:
         raise SimulationError(problems)
-    bits, sizes = _names(program)
+    bits, sizes = variable_names(program)
     plain = _generate(program, bits, sizes, traced=False)
     fast_body = plain.lines
     # the traced variant must allocate the same slots in the same order
