@@ -6,7 +6,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..instructions import INSTRUCTIONS
-from ..diagnostics import Related
+from ..diagnostics import Related, warning
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..values import format_delay, is_literal, literal_value
 
@@ -369,3 +369,19 @@ def read_never_written(index):
         else:
             if first_read is not None:
                 yield name, first_read
+
+
+def misnamed(index, code: str, kinds, letter: str, noun: str):
+    """Warnings for the elements of `kinds` whose name does not start with
+    `letter` (a timer not named T..., a counter not named C...)."""
+    found = []
+    for rung, element in index.of_kind(*kinds):
+        name = token(element.args.get("name"))
+        if name and not is_literal(name) and not name.startswith(letter):
+            found.append(warning(
+                code,
+                f"{element.kind} {noun} '{name}' in {rung_no(rung)}: {noun} names start with {letter} "
+                f"(e.g. '{letter}{name}')",
+                arg_span(element, "name"),
+            ))
+    return found

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 from ..codes import register
-from ..values import is_literal
-from ..diagnostics import warning
-from .common import COUNTERS, arg_span, rung_no, token
+from .common import COUNTERS, misnamed
 
 CODE = register(
     "LD105", "counter name does not start with C",
@@ -16,13 +14,4 @@ CODE = register(
 
 
 def check(program, index):
-    found = []
-    for rung, element in index.of_kind(*COUNTERS):
-        name = token(element.args.get("name"))
-        if name and not is_literal(name) and not name.startswith("C"):
-            found.append(warning(
-                CODE,
-                f"{element.kind} counter '{name}' in {rung_no(rung)}: counter names start with C (e.g. 'C{name}')",
-                arg_span(element, "name"),
-            ))
-    return found
+    return misnamed(index, CODE, COUNTERS, "C", "counter")

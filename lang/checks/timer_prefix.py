@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 from ..codes import register
-from ..values import is_literal
-from ..diagnostics import warning
-from .common import TIMERS, arg_span, rung_no, token
+from .common import TIMERS, misnamed
 
 CODE = register(
     "LD104", "timer name does not start with T",
@@ -16,13 +14,4 @@ CODE = register(
 
 
 def check(program, index):
-    found = []
-    for rung, element in index.of_kind(*TIMERS):
-        name = token(element.args.get("name"))
-        if name and not is_literal(name) and not name.startswith("T"):
-            found.append(warning(
-                CODE,
-                f"{element.kind} timer '{name}' in {rung_no(rung)}: timer names start with T (e.g. 'T{name}')",
-                arg_span(element, "name"),
-            ))
-    return found
+    return misnamed(index, CODE, TIMERS, "T", "timer")
