@@ -1,0 +1,87 @@
+"""The PIC16 back end: intermediate code to a program-memory image, the
+configuration word(s) and a gpasm listing."""
+
+from __future__ import annotations
+
+from .. import ir
+from ..errors import FLASH_FULL, fail
+from . import asm as a
+from .emit import Emitter, compress_skips
+from .memory import allocate
+from .part import Part
+from .peripherals import DELAY_LOOP_CYCLES
+from .routines import write_routines
+from .runtime import write_runtime
+from .select import Context, prepare
+
+
+def _ram_in_use(layout) -> frozenset[int]:
+    used = set(layout.scratch)
+    used.update(loc.addr for loc in layout.bits.values() if loc.ram)
+    for st in layout.vars.values():
+        if st.ram:
+            used.update(range(st.addr, st.addr + st.size))
+    return frozenset(used)
+
+
+def _write_tables(cx: Context) -> None:
+    """Each table: a routine that jumps to RETLW data[A1:A0] (PCLATH takes
+    the high byte of the entry's address: the table may cross 256-word
+    boundaries and pages)."""
+    e, s = cx.e, cx.layout.scratch
+    for data, name in cx.tables.items():
+        entries = f"{name}_data"
+        e.label(name, loop=True)
+        e.asm.address(entries, high=True)
+        e.ins("movwf", 0x0A)
+        e.ins("movf", s[1], 0)
+        e.ins("addwf", 0x0A, 1)
+        e.asm.address(entries, high=False)
+        e.forget_w()
+        e.ins("addwf", s[0], 0)
+        e.ins("btfsc", 0x03, 0)
+        e.ins("incf", 0x0A, 1)
+        e.ins("movwf", 0x02)
+        e.end_path()
+        e.asm.table(entries, data)
+
+
+class Pic16Backend:
+    family = "pic16"
+    delay_loop_cycles = DELAY_LOOP_CYCLES
+
+    def compile(self, code: ir.Code, machine):
+        from ..image import Image
+
+        part = Part.of(machine.device)
+        layout = allocate(code, part, machine)
+        assembler = a.Assembler(part.flash_words, part.page_words)
+        cx = Context(Emitter(assembler, part, _ram_in_use(layout)), part, layout, machine)
+        prepare(cx, code)
+        write_runtime(cx, code)
+        write_routines(cx.e, layout.scratch, cx.routines)
+        _write_tables(cx)
+        compress_skips(assembler.items)
+        config = part.config_words(machine.config_word)
+        header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
+                  f"; reassemble: gpasm -p {part.processor} FILE\n")
+        try:
+            assembled = assembler.assemble(processor=part.processor, config=config)
+        except a.ProgramTooLarge as error:
+            raise fail(FLASH_FULL, f"the program needs {error.words} words of program memory; the "
+                                   f"{part.title} has {part.flash_words}") from None
+        listing = header.format(words=len(assembled.words)) + assembled.listing
+        return Image(
+            part=part, words=assembled.words, listing=listing, listing_suffix=".asm",
+            segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
+            flash_used=len(assembled.words), flash_size=part.flash_words, flash_unit="words",
+            ram_bytes=layout.ram_used, ram_size=layout.ram_size, warnings=[],
+            symbols=_symbols(layout), labels=assembled.symbols)
+
+
+def _symbols(layout) -> dict:
+    from ..image import Symbol
+
+    found = {name: Symbol(loc.addr, 1, loc.bit) for name, loc in layout.bits.items()}
+    found.update((name, Symbol(st.addr, st.size)) for name, st in layout.vars.items())
+    return found

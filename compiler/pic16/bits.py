@@ -1,0 +1,58 @@
+"""Bit patterns: every bit is a bit of a file register, tested with
+BTFSC/BTFSS and written with BCF/BSF.
+
+A conditional write is a skip over a GOTO around the write; the emitter's
+`compress_skips` makes it a single skip over the write when the write needs
+no bank selection of its own. A copy to a bit sets it when the source is set
+and clears it when it is clear: a pin never glitches, and its latch is
+written only when it changes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from .emit import Emitter
+from .memory import FileBit
+
+
+def skip_if(e: Emitter, loc: FileBit, value: bool) -> None:
+    """Skip the next instruction when the bit equals `value`."""
+    e.ins("btfss" if value else "btfsc", loc.addr, loc.bit)
+
+
+def write(e: Emitter, loc: FileBit, value: bool) -> None:
+    e.ins("bsf" if value else "bcf", loc.addr, loc.bit)
+
+
+def when(e: Emitter, loc: FileBit, value: bool, body: Callable[[], None]) -> None:
+    """Run `body` only when the bit equals `value`."""
+    skip = e.new_label()
+    skip_if(e, loc, value)
+    e.goto(skip)
+    body()
+    e.label(skip)
+
+
+def jump_if(e: Emitter, loc: FileBit, value: bool, target: str) -> None:
+    skip_if(e, loc, not value)
+    e.goto(target)
+
+
+def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
+    if dst == src:
+        if invert:
+            e.load_constant(1 << dst.bit)
+            e.ins("xorwf", dst.addr, 1)
+        return
+    when(e, src, not invert, lambda: write(e, dst, True))
+    when(e, src, invert, lambda: write(e, dst, False))
+
+
+def and_(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
+    """dst = dst and (src, or not src when inverted)"""
+    when(e, src, invert, lambda: write(e, dst, False))
+
+
+def or_(e: Emitter, dst: FileBit, src: FileBit) -> None:
+    when(e, src, True, lambda: write(e, dst, True))

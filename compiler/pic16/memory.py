@@ -1,0 +1,176 @@
+"""Where every bit and variable lives on a PIC16.
+
+The file registers are split into banks of 128 addresses; an instruction
+names 7 bits of the address and STATUS.RP1:RP0 supply the bank. Some bytes
+are reachable from every bank: the core registers (STATUS, FSR, PCLATH,
+INTCON...) and, on most parts, a 16-byte common RAM. What is used most goes
+where no bank selection is needed:
+
+* the integer patterns' scratch bytes and the packed bits (relays, element
+  memories, the rungs' temporary power bits) in common RAM first, then
+  bank 0;
+* variables in bank 0 first, then the other banks; a variable never
+  straddles two banks.
+
+Input pins are bits of their PORT register (reading it reads the pins),
+outputs bits of their PORT latch. Temporaries whose uses do not overlap
+share a bit; a temporary still needed after a GOSUB gets a bit of its own
+(the called rungs use the same temporaries and there is no data stack).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .. import ir
+from ..analysis import live_intervals, use_counts
+from ..errors import NOT_COMPILED, RAM_FULL, fail
+from .part import Part
+
+SCRATCH_BYTES = 14  # the integer patterns' A, B, C (4 bytes each), a counter D and a spare E
+
+
+@dataclass(frozen=True)
+class FileBit:
+    addr: int
+    bit: int
+    ram: bool = True  # False: a port, which the hardware changes
+
+
+@dataclass(frozen=True)
+class Storage:
+    addr: int
+    size: int
+    ram: bool  # False for special function registers (#PORTB)
+
+
+@dataclass
+class Layout:
+    bits: dict[str, FileBit]
+    vars: dict[str, Storage]
+    scratch: tuple[int, ...]  # SCRATCH_BYTES addresses
+    ram_used: int
+    ram_size: int
+
+
+_REGISTER_NAME = re.compile(r"#(PORT|PIN|TRIS|DDR)([A-E])$", re.IGNORECASE)
+
+
+def register_of(name: str, part: Part) -> int | None:
+    """The file address a `#` name refers to (`#PORTB`, `#TRISA`, `#0x06`),
+    or None if it names none. PIN reads the port, DDR is TRIS, as on PIC
+    the port register reads the pins."""
+    m = _REGISTER_NAME.match(name)
+    if m:
+        kind = {"PIN": "PORT", "DDR": "TRIS"}.get(m.group(1).upper(), m.group(1).upper())
+        register = kind + m.group(2).upper()
+        if part.has(register):
+            return part.reg(register)
+        return None
+    try:
+        address = int(name[1:], 0)
+    except ValueError:
+        return None
+    return address if 0 <= address < 128 * part.banks else None
+
+
+class _Ram:
+    """Free RAM bytes: common RAM first, then bank by bank."""
+
+    def __init__(self, part: Part):
+        common = part.common
+        self.common = list(range(common[0], common[1] + 1)) if common else []
+        shared = set(self.common)
+        self.banked = [a for first, last in part.ram_ranges() for a in range(first, last + 1) if a not in shared]
+        self.size = len(self.common) + len(self.banked)
+        self.used = 0
+
+    def byte(self) -> int:
+        """One byte, reachable from every bank if possible."""
+        pool = self.common or self.banked
+        if not pool:
+            raise _Full()
+        self.used += 1
+        return pool.pop(0)
+
+    def block(self, size: int) -> int:
+        """`size` consecutive bytes in one bank (the lowest bank that has them)."""
+        for pool in (self.banked, self.common):
+            for i in range(len(pool) - size + 1):
+                run = pool[i:i + size]
+                if run[-1] - run[0] == size - 1 and run[0] >> 7 == run[-1] >> 7:
+                    del pool[i:i + size]
+                    self.used += size
+                    return run[0]
+        raise _Full()
+
+
+class _Full(Exception):
+    pass
+
+
+def port_register(part: Part, letter: str, kind: str = "PORT") -> int:
+    """PORTx or TRISx of a port letter; the 8-pin parts' one port is GPIO/TRISIO."""
+    if part.has(f"{kind}{letter}"):
+        return part.reg(f"{kind}{letter}")
+    return part.reg("GPIO" if kind == "PORT" else "TRISIO")
+
+
+def _pin_bit(part: Part, machine, name: str) -> FileBit:
+    pin = machine.pins[name]
+    return FileBit(port_register(part, pin.port), pin.bit, False)
+
+
+def allocate(code: ir.Code, part: Part, machine) -> Layout:
+    ram = _Ram(part)
+    bits: dict[str, FileBit] = {}
+    try:
+        scratch = tuple(ram.byte() for _ in range(SCRATCH_BYTES))
+        packed: list[str] = []
+        for name, kind in code.bits.items():
+            if kind in (ir.INPUT, ir.OUTPUT):
+                bits[name] = _pin_bit(part, machine, name)
+        memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
+        counts = use_counts(code.scan, set(memory))
+        packed += sorted(memory, key=lambda n: -counts[n])
+        temps = {n for n, k in code.bits.items() if k == ir.TEMP}
+        kept = {b.name for op in code.scan if isinstance(op, ir.Call) for b in op.keep}
+        packed += sorted(kept & temps)
+        # the other temporaries: interval allocation over the scan's ops
+        shared: list[int] = []  # slot index -> last op using it
+        slot_of: dict[str, int] = {}
+        for name, (start, end) in sorted(live_intervals(code.scan, temps - kept).items(), key=lambda kv: kv[1]):
+            slot = next((i for i, last in enumerate(shared) if last < start), None)
+            if slot is None:
+                slot = len(shared)
+                shared.append(end)
+            else:
+                shared[slot] = end
+            slot_of[name] = slot
+        slots = [f"$slot{i}" for i in range(len(shared))]
+        packed += slots
+        places: dict[str, FileBit] = {}
+        address = None
+        for i, name in enumerate(packed):
+            if i % 8 == 0:
+                address = ram.byte()
+            places[name] = FileBit(address, i % 8)
+        bits.update((n, places[n]) for n in packed if n not in slots)
+        bits.update((n, places[slots[s]]) for n, s in slot_of.items())
+        variables: dict[str, Storage] = {}
+        for name, size in code.vars.items():
+            if name.startswith("#"):
+                register = register_of(name, part)
+                if register is None:
+                    raise fail(NOT_COMPILED, f"'{name}' names no register of the {part.title}; indirect "
+                                             "register access is not compiled", machine.locate(name))
+                variables[name] = Storage(register, 1, False)
+                continue
+            variables[name] = Storage(ram.block(size), size, True)
+    except _Full:
+        needed = SCRATCH_BYTES + (len(code.bits) + 7) // 8 + sum(code.vars.values())
+        raise fail(RAM_FULL, f"the variables, bits and the compiler's {SCRATCH_BYTES} scratch bytes need about "
+                             f"{needed} bytes of RAM in banks of 128 addresses; the {part.title} has "
+                             f"{ram.size}") from None
+    return Layout(bits, variables, scratch, ram.used, ram.size)

@@ -1,0 +1,220 @@
+"""Subroutines written once when used, on the scratch bytes A, B, C (4 each),
+the counter D and the spare E; each is labelled by its name and its width.
+
+| routine    | does                                                               |
+|------------|--------------------------------------------------------------------|
+| mulN       | C = A * B modulo 2^(8N): add A for each 1 bit shifted out of B      |
+| udivmodN   | A = A / B, C = A % B, unsigned, restoring (8N steps)               |
+| divmodN    | the signed version: C division, the remainder has A's sign         |
+| bin2bcd    | A0:A1 (0..9999) to unpacked BCD digits A0 (ones) .. A3 (thousands) |
+| bcd2bin    | the inverse                                                        |
+
+Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
+"""
+
+from __future__ import annotations
+
+from .. import ir
+from . import integers as ints
+from .emit import C, F, STATUS, W, Z, Emitter
+from .integers import Byte
+
+
+class Scratch:
+    def __init__(self, addresses: tuple[int, ...]):
+        self.A, self.B, self.C = list(addresses[0:4]), list(addresses[4:8]), list(addresses[8:12])
+        self.D, self.E = addresses[12], addresses[13]
+
+
+def negate(e: Emitter, regs: list[int]) -> None:
+    for reg in regs:
+        e.ins("comf", reg, F)
+    ints.add_constant(e, regs, 1)
+
+
+def _shift_left(e: Emitter, regs: list[int], clear: bool = True) -> None:
+    if clear:
+        e.ins("bcf", STATUS, C)
+    for reg in regs:
+        e.ins("rlf", reg, F)
+
+
+def _shift_right(e: Emitter, regs: list[int]) -> None:
+    e.ins("bcf", STATUS, C)
+    for reg in reversed(regs):
+        e.ins("rrf", reg, F)
+
+
+def mul(e: Emitter, s: Scratch, n: int) -> None:
+    A, B, R = s.A[:n], s.B[:n], s.C[:n]
+    for reg in R:
+        e.ins("clrf", reg)
+    top, skip = e.new_label("mul"), e.new_label("mul")
+    e.label(top, loop=True)
+    e.ins("movf", B[0], W)
+    for reg in B[1:]:
+        e.ins("iorwf", reg, W)
+    e.ins("btfsc", STATUS, Z)
+    e.ins("return")
+    e.forget_w()
+    _shift_right(e, B)
+    e.ins("btfss", STATUS, C)
+    e.goto(skip)
+    ints.add_files(e, R, A)
+    e.label(skip)
+    _shift_left(e, A)
+    e.goto(top)
+
+
+def udivmod(e: Emitter, s: Scratch, n: int) -> None:
+    A, B, R = s.A[:n], s.B[:n], s.C[:n]
+    for reg in R:
+        e.ins("clrf", reg)
+    e.ins("movlw", 8 * n)
+    e.ins("movwf", s.D)
+    top, next_ = e.new_label("div"), e.new_label("div")
+    e.label(top, loop=True)
+    _shift_left(e, A)
+    _shift_left(e, R, clear=False)
+    ints.compare_files(e, R, B)  # C = R >= B
+    e.ins("btfss", STATUS, C)
+    e.goto(next_)
+    ints.sub_files(e, R, B)
+    e.ins("bsf", A[0], 0)
+    e.label(next_)
+    e.ins("decfsz", s.D, F)
+    e.goto(top)
+    e.ins("return")
+
+
+def divmod_(e: Emitter, s: Scratch, n: int) -> None:
+    A, B, R = s.A[:n], s.B[:n], s.C[:n]
+    e.ins("clrf", s.E)
+    for regs, flags in ((A, 0b11), (B, 0b10)):
+        positive = e.new_label("div")
+        e.ins("btfss", regs[-1], 7)
+        e.goto(positive)
+        negate(e, regs)
+        e.ins("movlw", flags)
+        e.ins("xorwf", s.E, F)
+        e.label(positive)
+    e.call(f"udivmod{n}")
+    for regs, bit in ((A, 1), (R, 0)):
+        done = e.new_label("div")
+        e.ins("btfss", s.E, bit)
+        e.goto(done)
+        negate(e, regs)
+        e.label(done)
+    e.ins("return")
+
+
+def bin2bcd(e: Emitter, s: Scratch) -> None:
+    """Counting subtractions of 1000, 100 and 10 from the value in C0:C1."""
+    A, R = s.A, s.C[:2]
+    e.ins("movf", A[0], W)
+    e.ins("movwf", R[0])
+    e.ins("movf", A[1], W)
+    e.ins("movwf", R[1])
+    for digit, step in ((A[3], 1000), (A[2], 100), (A[1], 10)):
+        e.ins("clrf", digit)
+        top, done = e.new_label("bcd"), e.new_label("bcd")
+        e.label(top, loop=True)
+        ints.compare_files(e, R, [Byte("const", step & 0xFF), Byte("const", step >> 8)])
+        e.ins("btfss", STATUS, C)
+        e.goto(done)
+        ints.add_constant(e, R, -step)
+        e.ins("incf", digit, F)
+        e.goto(top)
+        e.label(done)
+    e.ins("movf", R[0], W)
+    e.ins("movwf", A[0])
+    e.ins("return")
+
+
+def bcd2bin(e: Emitter, s: Scratch) -> None:
+    """((A3 * 10 + A2) * 10 + A1) * 10 + A0 on the low nibbles, in C0:C1."""
+    A, R = s.A, s.C[:2]
+    e.ins("clrf", R[1])
+    e.ins("movf", A[3], W)
+    e.ins("andlw", 0x0F)
+    e.ins("movwf", R[0])
+    for digit in (A[2], A[1], A[0]):
+        # R = R * 10 = R * 8 + R * 2, through B0:B1
+        _shift_left(e, R)
+        e.ins("movf", R[0], W)
+        e.ins("movwf", s.B[0])
+        e.ins("movf", R[1], W)
+        e.ins("movwf", s.B[1])
+        _shift_left(e, R)
+        _shift_left(e, R)
+        ints.add_files(e, R, s.B[:2])
+        e.ins("movf", digit, W)
+        e.ins("andlw", 0x0F)
+        e.ins("addwf", R[0], F)
+        e.ins("btfsc", STATUS, C)
+        e.ins("incf", R[1], F)
+    for i in range(2):
+        e.ins("movf", R[i], W)
+        e.ins("movwf", A[i])
+    e.ins("clrf", A[2])
+    e.ins("clrf", A[3])
+    e.ins("return")
+
+
+def _writer(name: str):
+    if name in ("bin2bcd", "bcd2bin"):
+        return (bin2bcd if name == "bin2bcd" else bcd2bin), None, ()
+    for prefix, fn in (("udivmod", udivmod), ("divmod", divmod_), ("mul", mul)):
+        if name.startswith(prefix):
+            n = int(name[len(prefix):])
+            return fn, n, (f"udivmod{n}",) if prefix == "divmod" else ()
+    raise KeyError(name)
+
+
+def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str]) -> None:
+    """Each routine asked for (and those it calls), labelled by its name."""
+    s = Scratch(scratch)
+    todo = set(wanted)
+    for name in list(todo):
+        todo.update(_writer(name)[2])
+    for name in sorted(todo):
+        fn, n, _ = _writer(name)
+        e.label(name, loop=True)
+        if n is None:
+            fn(e, s)
+        else:
+            fn(e, s, n)
+        e.end_path()
+
+
+def multiply(cx, op: ir.Arith) -> None:
+    n = ints.target_size(cx, op.dst)
+    s = Scratch(cx.layout.scratch)
+    ints.copy_in(cx, op.a, s.A[:n])
+    ints.copy_in(cx, op.b, s.B[:n])
+    cx.e.call(cx.routine(f"mul{n}"))
+    ints.copy_out(cx, s.C[:n], op.dst)
+
+
+def divide(cx, op: ir.Divide) -> None:
+    n = ints.target_size(cx, op.dst)
+    widest = max(n, ints.size(cx, op.a), ints.size(cx, op.b),
+                 ints.target_size(cx, op.remainder) if op.remainder else 1)
+    width = min(widest, 4)
+    s = Scratch(cx.layout.scratch)
+    ints.copy_in(cx, op.a, s.A[:width])
+    ints.copy_in(cx, op.b, s.B[:width])
+    cx.e.call(cx.routine(f"divmod{width}"))
+    if op.remainder is not None:
+        ints.copy_out(cx, s.C, op.remainder)
+    ints.copy_out(cx, s.A if op.op == "div" else s.C, op.dst)
+
+
+def convert_bcd(cx, op: ir.Convert) -> list[int]:
+    """The routine's result registers, for convert()."""
+    s = Scratch(cx.layout.scratch)
+    ints.copy_in(cx, op.src, s.A[:op.width])
+    for reg in s.A[op.width:]:
+        cx.e.ins("clrf", reg)
+    cx.e.call(cx.routine(op.op))
+    return s.A

@@ -1,0 +1,161 @@
+"""The runtime around the scan: start-up, the scan loop and its timing.
+
+    reset:  bank 0, RAM in use cleared, pins digital (A/D inputs and
+            comparators off), outputs low, PORTB (GPIO) pull-ups as the
+            PULL-UP LIST says, start values, the cycle timer started
+    scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
+    wait:   clear the watchdog until the cycle timer's flag, clear it, scan
+
+The cycle timer is Timer1 in compare mode with CCP1's special event trigger,
+which restarts Timer1 at the match and sets CCP1IF: the period is exact and
+no interrupt is used. The first scan runs at once after start-up and scan k
+starts k cycle times after it, as in the simulator (LDmicro's code waits a
+cycle before its first scan).
+"""
+
+from __future__ import annotations
+
+from .. import ir
+from ..errors import BAD_CYCLE, fail
+from . import bits
+from .emit import FSR, INDF, IRP, STATUS, W, Z
+from .memory import FileBit, port_register
+from .select import Context, select
+
+CYCLE_TOLERANCE = 0.001
+TIMER1_PRESCALERS = {1: 0, 2: 1, 4: 2, 8: 3}  # T1CKPS1:0
+CCP_SPECIAL_EVENT = 0x0B  # CCP1M3:0 = 1011: compare, trigger special event
+
+
+def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
+    """(T1CKPS, counts) for Timer1: the exact cycle when a prescaler makes it,
+    else the nearest within CYCLE_TOLERANCE."""
+    ticks = crystal_hz / 4 * cycle_us / 1_000_000
+    best = None
+    for prescaler, select_bits in TIMER1_PRESCALERS.items():
+        counts = round(ticks / prescaler)
+        if 1 <= counts <= 65536:
+            error = abs(counts * prescaler - ticks) / ticks
+            if best is None or error < best[0]:
+                best = (error, select_bits, counts)
+    if best is None or best[0] > CYCLE_TOLERANCE:
+        raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
+                              "crystal with Timer1 (16 bits, prescaler 1 to 8, Fosc/4)")
+    return best[1], best[2]
+
+
+def _write(cx: Context, register: str, value: int) -> None:
+    address = cx.part.reg(register)
+    if value == 0:
+        cx.e.ins("clrf", address)
+    else:
+        cx.e.load_constant(value)
+        cx.e.store(address)
+
+
+def _pins(cx: Context) -> dict[str, int]:
+    """Port letter -> output mask (every assigned Y or P name, the duty pin too)."""
+    ports: dict[str, int] = {}
+    for name, pin in cx.machine.pins.items():
+        if pin.is_io:
+            ports.setdefault(pin.port, 0)
+            if name[:1] in ("Y", "P"):
+                ports[pin.port] |= 1 << pin.bit
+    return ports
+
+
+def _pulled_up(cx: Context) -> int:
+    """The inputs of the port with weak pull-ups (PORTB, or GPIO) that want one."""
+    mask = 0
+    for name, pin in cx.machine.pins.items():
+        if name[:1] == "X" and pin.is_io and (pin.port == "B" or cx.part.has("GPIO")):
+            mask |= (cx.machine.pullups.get(pin.port, 0xFF) >> pin.bit & 1) << pin.bit
+    return mask
+
+
+def _clear(cx: Context, addresses: list[int]) -> None:
+    """Clear the RAM bytes in use: runs of them by FSR, a few with CLRF."""
+    e = cx.e
+    runs: list[list[int]] = []
+    for address in sorted(addresses):
+        if runs and address == runs[-1][-1] + 1 and address >> 7 == runs[-1][0] >> 7:
+            runs[-1].append(address)
+        else:
+            runs.append([address])
+    for run in runs:
+        if len(run) <= 4:
+            for address in run:
+                e.ins("clrf", address)
+            continue
+        e.ins("bsf" if run[0] >> 8 else "bcf", STATUS, IRP)
+        e.load_constant(run[0] & 0xFF)
+        e.store(FSR)
+        top = e.new_label("clear")
+        e.label(top, loop=True)
+        e.ins("clrf", INDF)
+        e.ins("incf", FSR, 1)
+        e.ins("movlw", (run[-1] + 1) & 0xFF)
+        e.ins("xorwf", FSR, W)
+        e.ins("btfss", STATUS, Z)
+        e.goto(top)
+
+
+def _start(cx: Context, code: ir.Code) -> None:
+    part = cx.part
+    _clear(cx, sorted(cx.e.ram))
+    if part.has("ANSEL"):
+        _write(cx, "ANSEL", 0)
+        if part.has("ANSELH"):
+            _write(cx, "ANSELH", 0)
+    elif part.has("ADCON1"):
+        _write(cx, "ADCON1", 0x07)  # PCFG: every pin digital
+    for comparator in ("CMCON", "CMCON0"):
+        if part.has(comparator):
+            _write(cx, comparator, 0x07)  # comparators off
+    outputs = _pins(cx)
+    for letter in sorted(outputs):
+        cx.e.ins("clrf", port_register(part, letter))
+    for letter, mask in sorted(outputs.items()):
+        cx.e.load_constant(~mask & 0xFF)
+        cx.e.store(port_register(part, letter, "TRIS"))
+    pulled = _pulled_up(cx)
+    if pulled:
+        for register in ("WPUB", "WPU"):
+            if part.has(register):
+                _write(cx, register, pulled)
+        cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
+    select(cx, code.init)
+
+
+def _scan_loop(cx: Context, code: ir.Code) -> None:
+    e, part = cx.e, cx.part
+    duty = _duty_pin(cx)
+    prescaler, counts = cycle_timer(cx.machine.crystal_hz, cx.machine.cycle_us)
+    _write(cx, "CCPR1L", (counts - 1) & 0xFF)
+    _write(cx, "CCPR1H", (counts - 1) >> 8)
+    _write(cx, "CCP1CON", CCP_SPECIAL_EVENT)
+    _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
+    e.label("scan", loop=True)
+    if duty:
+        bits.write(e, duty, True)
+    select(cx, code.scan)
+    if duty:
+        bits.write(e, duty, False)
+    e.label("wait", loop=True)
+    e.ins("clrwdt")
+    flag = FileBit(part.reg("PIR1"), part.bit("PIR1", "CCP1IF"), False)
+    bits.jump_if(e, flag, False, "wait")
+    e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
+    bits.write(e, flag, False)
+    e.goto("scan")
+
+
+def _duty_pin(cx: Context) -> FileBit | None:
+    """LDmicro's YPlcCycleDuty output: high while the scan runs."""
+    pin = cx.machine.duty_pin
+    return FileBit(port_register(cx.part, pin.port), pin.bit, False) if pin is not None and pin.is_io else None
+
+
+def write_runtime(cx: Context, code: ir.Code) -> None:
+    _start(cx, code)
+    _scan_loop(cx, code)

@@ -1,0 +1,105 @@
+"""Instruction selection: each intermediate op, by its class, to the pattern
+that writes its PIC16 code (bits.py, integers.py, routines.py and
+peripherals.py hold the patterns; the few that fit in a line are here)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .. import ir
+from ..analysis import loop_labels
+from . import bits, integers, peripherals, routines
+from .emit import Emitter
+from .memory import FileBit, Layout
+from .part import Part
+
+
+@dataclass
+class Context:
+    e: Emitter
+    part: Part
+    layout: Layout
+    machine: object  # compiler.target.Machine
+    loops: set[str] = field(default_factory=set)  # labels reached by backward jumps or calls
+    routines: set[str] = field(default_factory=set)
+    tables: dict[bytes, str] = field(default_factory=dict)
+
+    def bit(self, bit: ir.Bit) -> FileBit:
+        return self.layout.bits[bit.name]
+
+    def routine(self, name: str) -> str:
+        self.routines.add(name)
+        return name
+
+    def table(self, data: bytes) -> str:
+        """The label of a routine returning data[A1:A0] in W (one per distinct table)."""
+        return self.tables.setdefault(data, f"table{len(self.tables) + 1}")
+
+
+def _call(cx: Context, op: ir.Call) -> None:
+    cx.e.call(op.target)
+
+
+def _return(cx: Context, op: ir.Return) -> None:
+    cx.e.ins("return")
+    cx.e.end_path()
+
+
+def _halt(cx: Context, op: ir.Halt) -> None:
+    """An endless loop; LOCK never clears the watchdog, so an enabled
+    watchdog resets the MCU as it does on LDmicro's code."""
+    top = cx.e.new_label("lock")
+    cx.e.label(top, loop=True)
+    cx.e.goto(top)
+    cx.e.end_path()
+
+
+def _delay(cx: Context, op: ir.Delay) -> None:
+    peripherals.delay(cx, op)
+
+
+PATTERNS = {
+    ir.Label: lambda cx, op: cx.e.label(op.name, loop=op.name in cx.loops),
+    ir.Note: lambda cx, op: cx.e.comment(op.text),
+    ir.Jump: lambda cx, op: cx.e.goto(op.target),
+    ir.JumpIfBit: lambda cx, op: bits.jump_if(cx.e, cx.bit(op.bit), op.value, op.target),
+    ir.JumpIf: integers.compare_jump,
+    ir.JumpIfBitOf: integers.jump_if_bit_of,
+    ir.Call: _call,
+    ir.Return: _return,
+    ir.SetBit: lambda cx, op: bits.write(cx.e, cx.bit(op.dst), op.value),
+    ir.CopyBit: lambda cx, op: bits.copy(cx.e, cx.bit(op.dst), cx.bit(op.src), op.invert),
+    ir.AndBit: lambda cx, op: bits.and_(cx.e, cx.bit(op.dst), cx.bit(op.src), op.invert),
+    ir.OrBit: lambda cx, op: bits.or_(cx.e, cx.bit(op.dst), cx.bit(op.src)),
+    ir.Move: integers.move,
+    ir.Arith: integers.arith,
+    ir.ChangeBitOf: integers.change_bit,
+    ir.Divide: routines.divide,
+    ir.Unary: integers.unary,
+    ir.Shift: integers.shift,
+    ir.Convert: integers.convert,
+    ir.Table: integers.table,
+    ir.Permute: integers.permute,
+    ir.ReadAdc: peripherals.read_adc,
+    ir.SetPwm: peripherals.set_pwm,
+    ir.PwmOff: peripherals.pwm_off,
+    ir.UartSend: peripherals.uart_send,
+    ir.UartReady: peripherals.uart_ready,
+    ir.UartAvailable: peripherals.uart_available,
+    ir.UartTake: peripherals.uart_take,
+    ir.EepromLoad: peripherals.eeprom_load,
+    ir.EepromSave: peripherals.eeprom_save,
+    ir.Delay: _delay,
+    ir.ClearWatchdog: lambda cx, op: cx.e.ins("clrwdt"),
+    ir.Halt: _halt,
+    ir.Sleep: lambda cx, op: cx.e.ins("sleep"),
+}
+
+
+def select(cx: Context, ops: list[ir.Op]) -> None:
+    for op in ops:
+        PATTERNS[type(op)](cx, op)
+
+
+def prepare(cx: Context, code: ir.Code) -> None:
+    cx.loops = loop_labels(code.scan)
