@@ -22,10 +22,13 @@ EXPORTS = SHARED / "corpus" / "ldmicro-export"
 
 EXPECTED_PARTS = [
     "atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
-    "atmega328p", "atmega1284p", "atmega2560", "pic16f628a", "pic16f876",
-    "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
+    "atmega328p", "atmega1284p", "atmega2560", "pic16f628", "pic16f628a",
+    "pic16f72", "pic16f876", "pic16f876a", "pic16f877", "pic16f877a",
+    "pic16f88", "pic16f819", "pic16f886", "pic16f887", "pic12f675", "pic12f683",
 ]
-PORT_BIT = {"avr": re.compile(r"^P[A-L][0-7]$"), "pic16": re.compile(r"^R[A-E][0-7]$")}
+# LDmicro lists only the non-A parts: these have no LDmicro name
+NOT_IN_LDMICRO = {"pic16f628a", "pic16f876a", "pic16f877a"}
+PORT_BIT = {"avr": re.compile(r"^P[A-L][0-7]$"), "pic16": re.compile(r"^(R[A-E]|GP)[0-7]$")}
 
 
 def _doc(part: str) -> dict:
@@ -65,7 +68,7 @@ def test_part_file_is_consistent(part):
         assert len(io_names) == len(set(io_names)), f"port bit on two pins in {package['package']}"
         assert set(io_names) <= set(io), set(io_names) - set(io)
         used |= set(io_names)
-        assert package["ldmicro_names"], package["package"]
+        assert bool(package["ldmicro_names"]) == (part not in NOT_IN_LDMICRO), package["package"]
         assert set(package.get("labels", {})) <= set(io_names)
     # io lists exactly the port bits some package brings out
     assert set(io) == used
@@ -82,7 +85,7 @@ def test_part_file_is_consistent(part):
 
 @pytest.mark.parametrize("device", all_devices(), ids=lambda d: f"{d.part}:{d.package}")
 def test_device_loads(device: Device):
-    assert device.ldmicro_name
+    assert bool(device.ldmicro_name) == (device.part not in NOT_IN_LDMICRO)
     assert sorted(device.pins) == list(range(1, len(device.pins) + 1))
     io = device.data["io"]
     for pin in device.io_pins():
@@ -106,6 +109,16 @@ def test_ldmicro_names_of_parts_are_in_the_name_list():
         for package in _doc(part)["packages"]:
             for name in package["ldmicro_names"]:
                 assert is_known_ldmicro_name(name), name
+
+
+def test_every_short_name_finds_its_own_part():
+    """No alias is shared: an A part's names never answer for the non-A part."""
+    owners = {}
+    for part in EXPECTED_PARTS:
+        doc = _doc(part)
+        for name in [part, doc["title"].lower(), *doc["aliases"]]:
+            assert owners.setdefault(name, part) == part, f"{name} of {part} and {owners[name]}"
+            assert find_device(name).part == part, name
 
 
 # ------------------------------------------------------------------ LDmicro's exports
@@ -169,8 +182,11 @@ def test_exports_match_pin_data():
         ("Atmel AVR ATmega328 28-PDIP", "atmega328p", "28-PDIP"),
         ("atmel avr atmega328 32-pin packages", "atmega328p", "32-TQFP"),
         ("  Atmel AVR  ATmega128 64-TQFP ", "atmega128", "64-TQFP"),
-        ("Microchip PIC16F877 40-PDIP", "pic16f877a", "40-PDIP"),
-        ("Microchip PIC16F628 18-PDIP or 18-SOIC", "pic16f628a", "18-PDIP"),
+        ("Microchip PIC16F877 40-PDIP", "pic16f877", "40-PDIP"),
+        ("Microchip PIC16F628 18-PDIP or 18-SOIC", "pic16f628", "18-PDIP"),
+        ("Microchip PIC16F72 28-Pin PDIP, SOIC, SSOP", "pic16f72", "28-PDIP"),
+        ("Microchip PIC12F675 8-pin packages", "pic12f675", "8-PDIP"),
+        ("microchip pic12f683 8-PIN PACKAGES", "pic12f683", "8-PDIP"),
         ("Microchip PIC16F887 44-TQFP", "pic16f887", "44-TQFP"),
         ("Atmel AVR ATmega1284 40-PDIP", "atmega1284p", "40-PDIP"),
         ("atmega328p", "atmega328p", "28-PDIP"),
@@ -181,8 +197,14 @@ def test_exports_match_pin_data():
         ("ATMEGA328P:32-tqfp", "atmega328p", "32-TQFP"),
         ("atmega328p: 32-Pin packages", "atmega328p", "32-TQFP"),
         ("atmega32:44-tqfp", "atmega32", "44-TQFP"),
-        ("pic16f877", "pic16f877a", "40-PDIP"),
-        ("PIC16F628", "pic16f628a", "18-PDIP"),
+        ("pic16f877", "pic16f877", "40-PDIP"),
+        ("16f877", "pic16f877", "40-PDIP"),
+        ("pic16f877a", "pic16f877a", "40-PDIP"),
+        ("P16F877A", "pic16f877a", "40-PDIP"),
+        ("PIC16F628", "pic16f628", "18-PDIP"),
+        ("16f628a", "pic16f628a", "18-PDIP"),
+        ("pic16f876a:28-soic", "pic16f876a", "28-PDIP"),
+        ("12f675:8-soic", "pic12f675", "8-PDIP"),
         ("pic16f887:44-TQFP", "pic16f887", "44-TQFP"),
         ("pic16f876:28-soic", "pic16f876", "28-PDIP"),
     ],
@@ -203,7 +225,8 @@ def test_find_device_unknown():
 def test_ldmicro_name_of_device():
     assert find_device("atmega328p").ldmicro_name == "Atmel AVR ATmega328 28-PDIP"
     assert find_device("atmega328p:32-tqfp").ldmicro_name == "Atmel AVR ATmega328 32-Pin packages"
-    assert find_device("pic16f877a").ldmicro_name == "Microchip PIC16F877 40-PDIP"
+    assert find_device("pic16f877").ldmicro_name == "Microchip PIC16F877 40-PDIP"
+    assert find_device("pic16f877a").ldmicro_name == ""
 
 
 def test_known_ldmicro_names_without_data():
@@ -212,7 +235,7 @@ def test_known_ldmicro_names_without_data():
         "ESP8266",
         "PC LPT COM",
         "Atmel AVR ATtiny85 8-Pin packages",
-        "microchip pic16f72 28-pin pdip, soic, ssop",
+        "Microchip PIC16F1827 18-Pin PDIP, SOIC",
     ]:
         assert is_known_ldmicro_name(name), name
         assert find_device(name) is None
@@ -287,13 +310,35 @@ def test_atmega328p_32pin_analog_only_inputs():
     assert [d.pin(n).name for n in (30, 31, 32, 1, 2)] == ["PD0", "PD1", "PD2", "PD3", "PD4"]
 
 
-def test_pic16f877a_pinout():
-    d = find_device("pic16f877a")
+@pytest.mark.parametrize("part", ["pic16f877", "pic16f877a"])
+def test_pic16f877_pinout(part):
+    d = find_device(part)
     assert _names(d, range(33, 41)) == [f"RB{i}" for i in range(8)]
     assert _names(d, (8, 9, 10)) == ["RE0", "RE1", "RE2"]
     assert _names(d, (25, 26)) == ["RC6", "RC7"]
     assert d.pwm == {"RC1": "CCP2", "RC2": "CCP1"}
     assert d.adc_channel(d.pin("RE2")) == 7
+
+
+def test_pic16f72_pinout():
+    d = find_device("pic16f72")
+    assert _names(d, range(2, 8)) == [f"RA{i}" for i in range(6)]
+    assert _names(d, range(11, 19)) == [f"RC{i}" for i in range(8)]
+    assert _names(d, range(21, 29)) == [f"RB{i}" for i in range(8)]
+    assert d.pwm == {"RC2": "CCP1"} and d.uart == {}
+    assert d.adc_channel(d.pin("RA5")) == 4
+
+
+@pytest.mark.parametrize("part", ["pic12f675", "pic12f683"])
+def test_pic12f_gpio_pinout(part):
+    """GP0..GP5 on pins 7..2, port "P" (GPIO) as LDmicro numbers it."""
+    d = find_device(part)
+    assert _names(d, range(7, 1, -1)) == [f"GP{i}" for i in range(6)]
+    assert [(p.port, p.bit) for p in map(d.pin, range(7, 1, -1))] == [("P", i) for i in range(6)]
+    assert not d.pin(1).is_io and not d.pin(8).is_io
+    assert d.pin("gp3").label == "GP3 _MCLR (Input Only)"
+    assert [d.adc_channel(d.pin(f"GP{i}")) for i in range(6)] == [0, 1, 2, None, 3, None]
+    assert d.pwm == {} and d.uart == {}
 
 
 def test_pic16f887_44tqfp_uart_by_port_bit():

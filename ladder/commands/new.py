@@ -35,7 +35,7 @@ def starter_program(part: str) -> Program | None:
     contact = Element("CONTACTS", {"name": "Xbutton", "negated": 0, "set1": 0})
     coil = Element("COIL", {"name": "Ylamp", "type": " "})
     return Program(
-        settings=Settings(mcu=device.ldmicro_name, crystal_hz=16000000 if device.family == "avr" else 4000000),
+        settings=Settings(mcu=device.ldmicro_name or device.title, crystal_hz=16000000 if device.family == "avr" else 4000000),
         rungs=[Rung(Series([comment])), Rung(Series([contact, coil]))],
         pins={"Xbutton": PinAssignment("Xbutton", inputs.number), "Ylamp": PinAssignment("Ylamp", outputs.number)},
     )

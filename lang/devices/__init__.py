@@ -10,6 +10,12 @@ differently per package (ATmega328 28-PDIP "PB0 PCINT0/CLKO/ICP1" but 32-pin
 ``adc`` keys are pin names rather than strictly port bits: the 32-pin AVRs have
 analog-only pins ADC6/ADC7 with no port bit behind them.
 
+A Pin's ``port`` is one letter: "B" is PORTB/DDRB/PINB on an AVR, PORTB/TRISB
+on a PIC. The 8-pin PIC12F parts have one port, GPIO (direction TRISIO), whose
+pins are GP0..GP5: its letter is "P", as LDmicro numbers it (its 16th port).
+A part that LDmicro does not list (the PIC16F877A and other A variants) has
+empty ``ldmicro_names``; it is found by its short names only.
+
 Compilers may add their own top-level keys to the files; ``Device.data`` keeps
 the whole document for them.
 """
@@ -33,8 +39,8 @@ __all__ = [
 
 _DIR = Path(__file__).resolve().parent
 _NAMES_FILE = "ldmicro_names.json"
-# "PB0", "RA5", "PL7": port letter then bit number.
-_PORT_BIT = re.compile(r"^[PR]([A-L])([0-7])$")
+# "PB0", "RA5", "PL7": port letter then bit number; "GP3": the PIC12F's GPIO.
+_PORT_BIT = re.compile(r"^(?:[PR]([A-L])|G(P))([0-7])$")
 
 
 @dataclass(frozen=True)
@@ -106,8 +112,8 @@ def _build(doc: dict, package: dict) -> Device:
             pins[int(number)] = Pin(
                 number=int(number),
                 name=name,
-                port=m.group(1),
-                bit=int(m.group(2)),
+                port=m.group(1) or m.group(2),
+                bit=int(m.group(3)),
                 label=overrides.get(name, entry["label"]),
                 functions=tuple(entry.get("functions", ())),
             )

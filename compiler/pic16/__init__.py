@@ -1,0 +1,1 @@
+"""The PIC16 back end."""

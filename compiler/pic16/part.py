@@ -1,0 +1,179 @@
+"""A PIC16 part as the back end sees it: the `pic16` key of its device file
+(lang/devices/pic*.json), behind names. The facts come from gputils' processor
+header (p16f877a.inc) and linker script (16f877a_g.lkr) and from LDmicro's
+mcutable.h and pic16.cpp; tests/test_pic16_parts.py checks them against those
+and against gpsim.
+
+Addresses are data addresses: bank * 0x80 + the 7-bit file address an
+instruction carries (STATUS RP1:RP0 pick the bank, IRP:FSR the same 9 bits).
+
+The `pic16` key:
+
+processor, gpsim
+    gpasm's -p name ("p16f877a") and the gpsim processor its builds run in.
+    `gpsim_exact` is false when gpsim has no model of the part and runs a
+    sibling: the PIC16F72 runs as "p16f73", whose registers are a superset
+    but whose RAM is 192 bytes without the 16F72's mirrors.
+flash_words, page_words, eeprom
+    program words, words per page (CALL/GOTO reach one page; PCLATH<4:3>
+    picks it), data EEPROM bytes (0: none).
+banks, ram, common, mirrors
+    RAM banks; the general-purpose bytes as [[first, last], ...], each
+    physical byte once; [first, last] of the bytes every bank reaches, in
+    bank-0 addresses, or null; [[first, last, target], ...] the data
+    addresses that reach other bytes (first..last are target.. again).
+ports
+    a Pin's port letter -> [data register, direction register]; "P" is the
+    PIC12F's GPIO/TRISIO.
+registers
+    every SFR the header names -> its data address (a mirror of INDF, STATUS,
+    PCLATH... in another bank is not listed).
+bits
+    register -> {bit name: position}, the header's bit names of that
+    register (the same name means different bits in different registers).
+config
+    words: [{address, value}] as the HEX carries them; `ldmicro` true when
+    they are LDmicro's own words for the part, false when chosen here with
+    the same meaning (crystal or, on the PIC12F, internal oscillator; watchdog
+    off; power-up timer on; brown-out reset on; LVP off; no protection).
+    fields: name -> {word, mask, value, symbol}: every field of the words,
+    its bits, its value in the words and the header symbol meaning that value
+    (a listing writes __CONFIG as the AND of the symbols of a word).
+features
+    adc: {bits, result: [result registers, high byte first]}, absent without
+    an A/D converter. digital_io: {register: value} written at start-up to make
+    every analog pin digital (ADCON1's PCFG, or ANSEL/ANSELH). comparators_off:
+    {register: value} written at start-up where the comparators' reset state
+    is on (the pins read as analog until then). cycle_timers: the scan timers
+    the part offers, as LDmicro does: "timer0" (TMR0 and a software divisor),
+    "timer1" (TMR1 reset by CCP1's special event trigger, CCP1CON = 0b1011).
+    uart: the USART is there. eeprom: {data, address, control, unlock, flag}:
+    the data EEPROM's registers and the PIR register holding EEIF. osccal:
+    {address, register}: the factory calibration (a RETLW) in the last program
+    word: keep it, CALL it and store W in the register.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lang.devices import Device
+
+BANK_BYTES = 0x80
+
+
+@dataclass(frozen=True)
+class ConfigField:
+    name: str
+    word: int  # index into the configuration words
+    mask: int
+    value: int  # the field's bits in the words (value & ~mask == 0)
+    symbol: str  # the header's name of that value, e.g. "_WDTE_OFF"
+
+
+@dataclass(frozen=True)
+class Part:
+    device: Device
+    pic16: dict
+
+    @classmethod
+    def of(cls, device: Device) -> Part:
+        return cls(device, device.data["pic16"])
+
+    @property
+    def title(self) -> str:
+        return self.device.title
+
+    @property
+    def processor(self) -> str:
+        return self.pic16["processor"]
+
+    @property
+    def gpsim(self) -> str:
+        return self.pic16["gpsim"]
+
+    @property
+    def gpsim_exact(self) -> bool:
+        return self.pic16["gpsim_exact"]
+
+    @property
+    def flash_words(self) -> int:
+        return self.pic16["flash_words"]
+
+    @property
+    def page_words(self) -> int:
+        return self.pic16["page_words"]
+
+    @property
+    def pages(self) -> int:
+        return -(-self.flash_words // self.page_words)
+
+    @property
+    def eeprom(self) -> int:
+        return self.pic16["eeprom"]
+
+    @property
+    def banks(self) -> int:
+        return self.pic16["banks"]
+
+    def reg(self, name: str) -> int:
+        """A register's data address."""
+        return self.pic16["registers"][name]
+
+    def has(self, name: str) -> bool:
+        return name in self.pic16["registers"]
+
+    def bit(self, register: str, name: str) -> int:
+        """A bit's position in its register, by the header's names."""
+        return self.pic16["bits"][register][name]
+
+    @staticmethod
+    def bank(address: int) -> int:
+        return address // BANK_BYTES
+
+    def ram_ranges(self) -> list[range]:
+        """The general-purpose bytes, each physical byte once."""
+        return [range(first, last + 1) for first, last in self.pic16["ram"]]
+
+    @property
+    def common(self) -> range | None:
+        """The bytes every bank reaches, in bank-0 addresses."""
+        span = self.pic16["common"]
+        return range(span[0], span[1] + 1) if span else None
+
+    def physical(self, address: int) -> int:
+        """The byte a data address reaches: itself, or what it mirrors."""
+        for first, last, target in self.pic16["mirrors"]:
+            if first <= address <= last:
+                return target + address - first
+        return address
+
+    def port(self, letter: str) -> int:
+        """The data register of a Pin's port letter (PORTB, GPIO)."""
+        return self.reg(self.pic16["ports"][letter][0])
+
+    def tris(self, letter: str) -> int:
+        """The direction register of a Pin's port letter (TRISB, TRISIO)."""
+        return self.reg(self.pic16["ports"][letter][1])
+
+    @property
+    def config_words(self) -> tuple[tuple[int, int], ...]:
+        """(program address, value) of each configuration word."""
+        return tuple((w["address"], w["value"]) for w in self.pic16["config"]["words"])
+
+    @property
+    def ldmicro_config(self) -> bool:
+        """The configuration words are LDmicro's own for this part."""
+        return self.pic16["config"]["ldmicro"]
+
+    def config_field(self, name: str) -> ConfigField | None:
+        """A field of the configuration words ("FOSC", "WDTE", "MCLRE"...)."""
+        entry = self.pic16["config"]["fields"].get(name)
+        return ConfigField(name, **entry) if entry else None
+
+    def config_symbols(self, word: int = 0) -> list[str]:
+        """The header symbols whose AND is configuration word `word`."""
+        return [f["symbol"] for f in self.pic16["config"]["fields"].values() if f["word"] == word]
+
+    def feature(self, name: str, default=None):
+        return self.pic16["features"].get(name, default)
