@@ -96,7 +96,7 @@ def build(program: Program, target: str | None = None) -> Build:
     device = target_device(program, target)
     moved = _moved_pins(program, device)
     program = retarget(program, device)
-    problems = [d for d in check_program(program) if d.severity == ERROR]
+    problems = [d for d in check_program(program, for_build=True) if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
     code = optimise(lower_program(program, device))
