@@ -349,14 +349,11 @@ class EepromSave(Op):
     address: int
 
 
-# CPU cycles one count of a variable DELAY takes (T2DLY converts a time with it)
-DELAY_LOOP_CYCLES = 8
-
-
 @dataclass
 class Delay(Op):
     """Busy-wait: `amount` microseconds (a constant), or `amount` loops of
-    DELAY_LOOP_CYCLES cycles (a variable)."""
+    the back end's `delay_loop_cycles` CPU cycles (a variable; T2DLY
+    converted the time with that figure)."""
 
     amount: Operand
     loops: bool
