@@ -6,7 +6,9 @@ Program memory is a list of words, each stored little-endian at byte address
 2 x word address: AVR's 16-bit words, PIC's 14-bit ones (the HEX layout
 Microchip's tools and LDmicro use). A PIC image also carries segments beyond
 program memory at the byte addresses of that layout: the configuration
-word(s) at word 0x2007 (byte 0x400E), EEPROM data at byte 0x4200.
+word(s) at word 0x2007 (byte 0x400E), EEPROM data at word 0x2100 (byte
+0x4200, one EEPROM byte per word). A segment is raw bytes; its back end lays
+them out.
 """
 
 from __future__ import annotations

@@ -1,17 +1,12 @@
-"""The registry of the families `ladder build` compiles for (lang/targets.py),
-and the layering it allows: `lang` reads the registry, never the compiler."""
+"""The registry of the families `ladder build` compiles for (lang/targets.py)."""
 
 from __future__ import annotations
 
-import ast
 import dataclasses
-from pathlib import Path
 
 from lang.devices import all_devices, find_device, part_names
 from lang.instructions import LAYERS
 from lang.targets import FAMILIES, compiled, compiled_parts, family_of, parts_text
-
-LANG = Path(__file__).resolve().parents[1] / "lang"
 
 
 def test_families_are_the_instruction_tables_target_layers():
@@ -45,21 +40,3 @@ def test_parts_text_names_only_parts_with_a_device_file(monkeypatch):
     avr = FAMILIES["avr"]
     monkeypatch.setitem(FAMILIES, "avr", dataclasses.replace(avr, parts=avr.parts + ("atmega4809",)))
     assert parts_text() == text
-
-
-def _imported_modules(path: Path) -> set[str]:
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    found = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            found.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            found.add(node.module)
-    return found
-
-
-def test_no_module_of_lang_imports_the_compiler():
-    offenders = {str(path.relative_to(LANG.parent)): sorted(m for m in _imported_modules(path)
-                                                             if m == "compiler" or m.startswith("compiler."))
-                 for path in LANG.rglob("*.py")}
-    assert {path: mods for path, mods in offenders.items() if mods} == {}
