@@ -17,11 +17,7 @@ import pytest
 from test_compiler_harness import LDMICRO_HEX, Event, differential, load, needs_simavr
 
 import compiler
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
+from compiler.run import simavr as sa
 
 TRAFFIC = [Event(0, "Xbutton1", 1), Event(0, "Xbutton2", 1), Event(200, "Xbutton1", 0), Event(210, "Xbutton1", 1),
            Event(900, "Xbutton2", 0), Event(904, "Xbutton2", 1)]

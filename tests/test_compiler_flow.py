@@ -11,11 +11,7 @@ from test_compiler_peripherals import ld
 
 import compiler
 from compiler.avr.part import Part
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
+from compiler.run import simavr as sa
 
 HEADER = """LDmicro0.2
 MICRO=Atmel AVR ATmega328 28-PDIP

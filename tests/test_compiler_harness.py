@@ -20,14 +20,10 @@ from pathlib import Path
 import pytest
 
 import compiler
+from compiler.run import simavr as sa
 from lang.loader import load_path
 from lang.model import Program
 from lang.sim import Simulator
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 CORPUS = SHARED / "corpus" / "ldmicro"

@@ -9,13 +9,9 @@ from test_compiler_harness import Event, differential, load, needs_simavr
 
 import compiler
 from compiler.avr.part import Part
+from compiler.run import simavr as sa
 from lang.ldfile import read_ld
 from lang.sim import Simulator
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
 
 
 def ld(text: str):
