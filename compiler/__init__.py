@@ -25,25 +25,24 @@ from .errors import MOVED_PIN, NO_TARGET, CompileError, fail, note
 from .image import Build
 from .lower import lower_program
 from .optimise import optimise
-from .target import BACKENDS, Backend, machine_for
+from .target import BACKENDS, machine_for
 
 # Each registers its back end on import; the lead adds "compiler.pic16".
 _BACKEND_MODULES = ("compiler.avr",)
 
 
-def backend_for(device: Device) -> Backend | None:
-    family = family_of(device)
-    return BACKENDS.get(family.key) if family is not None and compiled(device) else None
-
-
 def target_device(program: Program, target: str | None) -> Device:
     """The part to compile for: `target`, else the program's; LD701 when no
-    back end compiles it."""
+    registered back end compiles it."""
     name = target or program.settings.mcu
     device = find_device(name) if name else None
-    if device is None or backend_for(device) is None:
+    if device is None or not compiled(device):
         what = f"'{name}'" if name else "no part"
         raise fail(NO_TARGET, f"cannot compile for {what}: ladder build compiles for {parts_text()}")
+    family = family_of(device)
+    if family.key not in BACKENDS:
+        raise fail(NO_TARGET, f"cannot compile for '{name}': the {family.title} back end is not installed "
+                              "(no module registered it)")
     return device
 
 
@@ -56,7 +55,7 @@ def retarget(program: Program, device: Device) -> Program:
 def build(program: Program, target: str | None = None) -> Build:
     """Compile; CompileError with located diagnostics when it cannot."""
     device = target_device(program, target)
-    backend = backend_for(device)
+    backend = BACKENDS[device.family]
     moved = _moved_pins(program, device)
     program = retarget(program, device)
     problems = [d for d in check_program(program, for_build=True) if d.severity == ERROR]

@@ -55,7 +55,8 @@ def test_a_part_no_back_end_compiles_has_no_target(monkeypatch):
     monkeypatch.setitem(FAMILIES, "avr", dataclasses.replace(avr, parts=tuple(p for p in avr.parts if p != "atmega16")))
     assert codes(basic(), "atmega16") == ["LD701"]
     monkeypatch.delitem(BACKENDS, "pic16", raising=False)
-    assert codes(part(basic(), "Microchip PIC16F877 40-PDIP")) == ["LD701"]
+    found = errors(part(basic(), "Microchip PIC16F877 40-PDIP"))
+    assert [d.code for d in found] == ["LD701"] and "the PIC16 back end is not installed" in found[0].message
 
 
 def test_instructions_without_the_avr_layer_are_located_errors():
