@@ -157,7 +157,7 @@ def ldmicro_idle_loop(listing: Path) -> tuple[int, int]:
 
 
 def stimulus(program, build, events) -> list[str]:
-    device = build.part.device
+    device = build.device
     settings = program.settings
     commands = []
     for event in sorted(events, key=lambda e: e.scan):
@@ -179,15 +179,15 @@ def measure() -> list[dict]:
             ours = Path(tmp) / "ours.hex"
             build.write(ours)
             theirs = LDMICRO_HEX / f"{reference}.hex"
-            row = {"program": path, "part": build.part.title, "flash": build.flash_bytes,
+            row = {"program": path, "part": build.device.title, "flash": build.image.flash_used,
                    "ldmicro_flash": len(IntelHex(str(theirs)))}
-            if build.part.mmcu not in NO_CORE:
+            if build.device.part not in NO_CORE:
                 settings = program.settings
                 cycles = SCANS * settings.cycle_us * settings.crystal_hz // 1_000_000
                 commands = stimulus(program, build, events)
-                row["cycles"] = scan_cycles(ours, build.part.mmcu, settings.crystal_hz,
-                                            (build.labels["wait"], build.labels["waited"] - 1), commands, cycles)
-                row["ldmicro_cycles"] = scan_cycles(theirs, build.part.mmcu, settings.crystal_hz,
+                row["cycles"] = scan_cycles(ours, build.device.part, settings.crystal_hz,
+                                            (build.image.labels["wait"], build.image.labels["waited"] - 1), commands, cycles)
+                row["ldmicro_cycles"] = scan_cycles(theirs, build.device.part, settings.crystal_hz,
                                                     ldmicro_idle_loop(theirs.with_suffix(".asm")), commands, cycles)
             rows.append(row)
     return rows

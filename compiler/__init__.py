@@ -1,80 +1,48 @@
-"""The native compiler: a ladder program to an Intel HEX image for an AVR.
+"""The native compiler: a ladder program to an Intel HEX image, for every
+family in `lang.targets.FAMILIES`.
 
-    Program --check--> lower (compiler.lower) --> intermediate code (compiler.ir)
-            --> optimise (compiler.optimise) --> AVR back end (compiler.avr)
-            --> words + listing --> Intel HEX (intelhex)
+    Program --checks--> lower (compiler.lower) --> intermediate code (compiler.ir)
+            --> optimise (compiler.optimise) --> the family's back end (compiler.target)
+            --> compiler.image.Image --> Intel HEX + listing
 
-`build(program, target)` runs the checks first and refuses a program with
-errors; every problem is a located diagnostic (codes LD7xx, compiler.errors).
-docs/compiler.md describes the decisions.
+`build(program, target)` selects the part, runs the checks as for a build and
+refuses a program with errors; every problem is a located diagnostic (codes
+LD7xx, compiler.errors). docs/compiler.md describes the decisions.
 """
 
 from __future__ import annotations
 
-import io
-from dataclasses import dataclass, replace
+import importlib
+from dataclasses import replace
 
-from intelhex import IntelHex
-
+from lang.checks import check_program
 from lang.devices import Device, find_device
 from lang.diagnostics import ERROR, Diagnostic
 from lang.model import Program
+from lang.targets import compiled, family_of, parts_text
 
 from .errors import MOVED_PIN, NO_TARGET, CompileError, fail, note
+from .image import Build
+from .lower import lower_program
+from .optimise import optimise
+from .target import BACKENDS, machine_for
 
-SUPPORTED = ("atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162", "atmega328p",
-             "atmega1284p", "atmega2560")
-
-
-@dataclass
-class Build:
-    program: Program  # as compiled (with the target part)
-    part: object  # compiler.avr.part.Part
-    words: list[int]
-    listing: str
-    ram_bytes: int
-    warnings: list[Diagnostic]
-    symbols: dict  # name -> compiler.avr.Symbol: where each bit and variable lives
-    labels: dict  # listing label -> word address in flash
-
-    @property
-    def flash_bytes(self) -> int:
-        return 2 * len(self.words)
-
-    def image(self) -> bytes:
-        return b"".join(w.to_bytes(2, "little") for w in self.words)
-
-    def write(self, hex_path) -> None:
-        """The HEX file, and the listing beside it (same stem, .lst)."""
-        from pathlib import Path
-
-        hex_path = Path(hex_path)
-        hex_path.write_text(self.hex())
-        hex_path.with_suffix(".lst").write_text(self.listing)
-
-    def hex(self) -> str:
-        data = IntelHex()
-        data.frombytes(self.image(), offset=0)
-        out = io.StringIO()
-        data.write_hex_file(out, byte_count=16)
-        return out.getvalue()
-
-    def summary(self) -> str:
-        """`PART: flash N/M bytes (P%), RAM N/M bytes (P%)`"""
-        part = self.part
-        ram = part.avr["ram"]["size"]
-        return (f"{part.title}: flash {self.flash_bytes}/{part.flash} bytes "
-                f"({100 * self.flash_bytes / part.flash:.1f}%), RAM {self.ram_bytes}/{ram} bytes "
-                f"({100 * self.ram_bytes / ram:.1f}%)")
+# Each registers its back end on import; the lead adds "compiler.pic16".
+_BACKEND_MODULES = ("compiler.avr",)
 
 
 def target_device(program: Program, target: str | None) -> Device:
+    """The part to compile for: `target`, else the program's; LD701 when no
+    registered back end compiles it."""
     name = target or program.settings.mcu
     device = find_device(name) if name else None
-    if device is None or device.part not in SUPPORTED:
+    if device is None or not compiled(device):
         what = f"'{name}'" if name else "no part"
-        raise fail(NO_TARGET, f"cannot compile for {what}: the AVR back end compiles for "
-                              "ATmega8, 16, 32, 64, 128, 162, 328P, 1284P and 2560")
+        raise fail(NO_TARGET, f"cannot compile for {what}: ladder build compiles for {parts_text()}")
+    family = family_of(device)
+    if family.key not in BACKENDS:
+        raise fail(NO_TARGET, f"cannot compile for '{name}': the {family.title} back end is not installed "
+                              "(no module registered it)")
     return device
 
 
@@ -86,23 +54,16 @@ def retarget(program: Program, device: Device) -> Program:
 
 def build(program: Program, target: str | None = None) -> Build:
     """Compile; CompileError with located diagnostics when it cannot."""
-    from lang.checks import check_program
-
-    from .avr import compile_avr
-    from .avr.part import Part
-    from .lower import lower_program
-    from .optimise import optimise
-
     device = target_device(program, target)
+    backend = BACKENDS[device.family]
     moved = _moved_pins(program, device)
     program = retarget(program, device)
-    problems = [d for d in check_program(program) if d.severity == ERROR]
+    problems = [d for d in check_program(program, for_build=True) if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
-    code = optimise(lower_program(program, device))
-    image = compile_avr(code, Part.of(device), program, _pwm_elements(program, device))
-    return Build(program, image.part, image.words, image.listing, image.ram_bytes, moved + image.warnings,
-                 image.symbols, image.labels)
+    code = optimise(lower_program(program, device, backend.delay_loop_cycles))
+    image = backend.compile(code, machine_for(program, device))
+    return Build(program, device, image, moved + image.warnings)
 
 
 def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:
@@ -122,13 +83,5 @@ def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:
     return found
 
 
-def _pwm_elements(program: Program, device: Device) -> dict:
-    """The first SET PWM of each PWM unit, to locate its diagnostics."""
-    found = {}
-    for _, element in program.elements():
-        if element.kind == "SET_PWM":
-            assignment = program.pins.get(str(element.args.get("name")))
-            pin = device.pin(assignment.pin) if assignment else None
-            if pin is not None and pin.name in device.pwm:
-                found.setdefault(device.pwm[pin.name], element)
-    return found
+for _module in _BACKEND_MODULES:
+    importlib.import_module(_module)

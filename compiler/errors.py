@@ -12,14 +12,14 @@ from lang.codes import register
 from lang.diagnostics import Diagnostic, error, warning
 
 NO_TARGET = register(
-    "LD701", "no AVR part to compile for",
-    "The program names no microcontroller, or one the AVR back end does not compile for. Select "
-    "one of ATmega8, 16, 32, 64, 128, 162, 328P, 1284P or 2560 (`ladder build --target PART`, or "
-    "the MICRO setting).")
+    "LD701", "no part to compile for",
+    "The program names no microcontroller, or one no back end compiles for. The message lists the "
+    "parts `ladder build` compiles, by family (`ladder parts` marks them too); select one with "
+    "`ladder build --target PART` or the MICRO setting.")
 NOT_COMPILED = register(
-    "LD702", "instruction or operand not compiled for AVR",
-    "The AVR back end has no code for this instruction, or for this form of it: an instruction "
-    "whose table entry lacks the avr layer, indirect register access (`#name` holding an "
+    "LD702", "instruction or operand not compiled for the part",
+    "The part's back end has no code for this instruction, or for this form of it: an instruction "
+    "whose table entry lacks the family's layer, indirect register access (`#name` holding an "
     "address), a register name the part does not have.")
 FLASH_FULL = register(
     "LD703", "program larger than flash",

@@ -4,7 +4,7 @@ back end translates op by op.
 Storage is named. A `Bit` is an input pin, an output latch, a relay or hidden
 element memory, or a temporary power bit of the rung being evaluated (its
 class is in `Code.bits`). A `Var` is a signed integer of 1 to 4 bytes; a
-`Part` is one unsigned byte of a variable. Integer results are truncated to
+`Byte` is one unsigned byte of a variable. Integer results are truncated to
 their destination; operands are read as the signed values they hold
 (docs/semantics.md, "Variable sizes"), so an op computes in the widest size
 its operands and destination need.
@@ -31,7 +31,7 @@ class Var:
 
 
 @dataclass(frozen=True)
-class Part:
+class Byte:
     """Byte `index` (0 = least significant) of a variable, read unsigned."""
 
     var: Var
@@ -47,8 +47,8 @@ class Const:
     value: int
 
 
-Operand = Var | Part | Const
-Target = Var | Part
+Operand = Var | Byte | Const
+Target = Var | Byte
 
 # bit classes
 INPUT, OUTPUT, MEMORY, TEMP = "input", "output", "memory", "temp"
@@ -349,14 +349,11 @@ class EepromSave(Op):
     address: int
 
 
-# CPU cycles one count of a variable DELAY takes (T2DLY converts a time with it)
-DELAY_LOOP_CYCLES = 8
-
-
 @dataclass
 class Delay(Op):
     """Busy-wait: `amount` microseconds (a constant), or `amount` loops of
-    DELAY_LOOP_CYCLES cycles (a variable)."""
+    the back end's `delay_loop_cycles` CPU cycles (a variable; T2DLY
+    converted the time with that figure)."""
 
     amount: Operand
     loops: bool

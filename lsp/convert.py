@@ -1,8 +1,10 @@
 """The `ladder.convert` and `ladder.build` commands (docs/lsp-protocol.md),
 and `ladder.compileOnSave`: convert the document between the text form and
 LDmicro's `.ld`, writing the file beside the source; compile it with the
-compiler (`ladder build`), the HEX file beside the source. The compiler's
-errors and warnings join the document's diagnostics until its next change."""
+compiler (`ladder build`), the HEX file beside the source: on request, or on
+save when `lang.targets` says a back end compiles the program's part. The
+compiler's errors and warnings (LD501 is an error there) join the document's
+diagnostics until its next change."""
 
 from __future__ import annotations
 
@@ -12,7 +14,9 @@ from urllib.parse import urlparse
 
 from lsprotocol import types
 
+from lang.devices import find_device
 from lang.loader import load_file
+from lang.targets import compiled
 from lang.values import encode_text
 
 from .documents import path_of
@@ -80,21 +84,14 @@ def register(server) -> None:
         analysis = ls.documents.analysis(uri)
         if analysis is None or analysis.has_errors or not analysis.program.settings.mcu:
             return
-        if not _compilable(analysis.program.settings.mcu):
+        device = find_device(analysis.program.settings.mcu)
+        if device is None or not compiled(device):
             return
         result = build(ls, uri)
         kind = types.MessageType.Info if result["ok"] else types.MessageType.Warning
         ls.log(f"compile on save: {result['summary']}" + (f" -> {result['hex']}" if result["hex"] else ""), kind)
 
     server.subscribe("saved", saved)
-
-
-def _compilable(mcu: str) -> bool:
-    import compiler
-    from lang.devices import find_device
-
-    device = find_device(mcu)
-    return device is not None and device.part in compiler.SUPPORTED
 
 
 def build(ls, uri: str) -> dict:

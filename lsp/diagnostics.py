@@ -56,7 +56,7 @@ class Publisher:
             if uri in self.published:
                 self.clear(uri)
             return
-        items = [to_lsp(self.server, analysis, d) for d in analysis.diagnostics + self.extra.get(uri, [])]
+        items = [to_lsp(self.server, analysis, d) for d in shown(analysis.diagnostics, self.extra.get(uri, []))]
         self.server.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=items, version=analysis.version))
         self.published[uri] = analysis.version
@@ -66,6 +66,14 @@ class Publisher:
         self.cancel(uri)
         self.published.pop(uri, None)
         self.server.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
+
+
+def shown(checked: list[Diagnostic], compiled: list[Diagnostic]) -> list[Diagnostic]:
+    """The document's diagnostics and the last build's; where the build
+    reports what the checks do (LD501: a warning while editing, an error
+    when compiling), only the build's."""
+    replaced = {(d.code, d.span) for d in compiled}
+    return [d for d in checked if (d.code, d.span) not in replaced] + compiled
 
 
 def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:

@@ -14,6 +14,7 @@ import pytest
 from builders import coil, contact, el, found, move, none, one, program, span_of
 
 import lang.devices
+from lang.checks import check_program
 from lang.devices import find_device
 
 M328 = "Atmel AVR ATmega328 28-PDIP"
@@ -162,9 +163,13 @@ def test_pin_on_an_unused_name():
 def test_instruction_the_family_cannot_compile():
     sleep = el("SLEEP")
     pic = "Microchip PIC16F877 40-PDIP"
-    d = one(program([contact("Xa"), sleep], mcu=pic, pins={"Xa": 2}), "LD501")
-    assert d.severity == "error" and d.span == span_of(sleep)
+    prog = program([contact("Xa"), sleep], mcu=pic, pins={"Xa": 2})
+    d = one(prog, "LD501")
+    assert d.severity == "warning" and d.span == span_of(sleep)
     assert "SLEEP" in d.message and "PIC16" in d.message
+    # the same rule, an error when the program is about to be compiled
+    built = [d for d in check_program(prog, for_build=True) if d.code == "LD501"]
+    assert [(b.severity, b.span, b.message) for b in built] == [("error", d.span, d.message)]
     none(program([contact("Xa"), el("SLEEP")], mcu=M328, pins={"Xa": 4}), "LD501")
     none(program([contact("Xa"), el("SLEEP")]), "LD501")  # no part: nothing to say
 

@@ -6,10 +6,12 @@ from __future__ import annotations
 import re
 import shutil
 
+import pytest
 from intelhex import IntelHex
 from test_compiler_harness import CORPUS
 
 from ladder.cli import main
+from lang.targets import parts_text
 
 SUMMARY = re.compile(r"^(ATmega\w+): flash (\d+)/(\d+) bytes \((\d+\.\d)%\), RAM (\d+)/(\d+) bytes \((\d+\.\d)%\)$")
 
@@ -54,3 +56,50 @@ def test_no_part_is_an_error_and_a_missing_file_exits_2(tmp_path, capsys):
     assert main(["build", str(source)]) == 1
     assert "error LD701" in capsys.readouterr().out
     assert main(["build", str(tmp_path / "missing.ld")]) == 2
+
+
+SEGMENTS = """LDmicro0.2
+MICRO=Atmel AVR ATmega328 28-PDIP
+CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CRYSTAL=16000000 Hz
+BAUD=9600 Hz
+
+IO LIST
+    Xa at 4 0 0
+END
+
+PROGRAM
+RUNG
+  CONTACTS Xa 0 0
+  9SEGMENTS d s C
+END
+"""
+
+
+def test_an_instruction_the_family_cannot_compile_warns_in_check_and_stops_build(tmp_path, capsys):
+    source = tmp_path / "segments.ld"
+    source.write_text(SEGMENTS)
+    assert main(["check", str(source)]) == 0
+    assert f"{source}:14:3: warning LD501 9SEGMENTS 'd' in rung 1 cannot be compiled for the ATmega328P: the " \
+           "AVR back end does not support it" in capsys.readouterr().out
+    assert main(["build", str(source)]) == 1
+    assert f"{source}:14:3: error LD501 9SEGMENTS 'd' in rung 1" in capsys.readouterr().out
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["segments.ld"]
+
+
+def test_help_and_parts_name_the_compiled_parts(capsys):
+    with pytest.raises(SystemExit):
+        main(["build", "--help"])
+    assert " ".join(parts_text().split()) in " ".join(capsys.readouterr().out.split())
+    assert main(["parts"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()]
+    assert rows[0][:4] == ["part", "package", "family", "build"]
+    built = {row[0]: row[3] for row in rows[1:]}
+    assert built["atmega328p"] == built["pic16f877a"] == "yes" and set(built.values()) == {"yes"}
+
+
+def test_a_build_leaves_only_the_hex_and_listing(tmp_path, capsys):
+    source = tmp_path / "hello.ld"
+    shutil.copy(CORPUS / "sample" / "hello.ld", source)
+    assert main(["build", str(source)]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hello.hex", "hello.ld", "hello.lst"]

@@ -17,11 +17,7 @@ import pytest
 from test_compiler_harness import LDMICRO_HEX, Event, differential, load, needs_simavr
 
 import compiler
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
+from compiler.run import simavr as sa
 
 TRAFFIC = [Event(0, "Xbutton1", 1), Event(0, "Xbutton2", 1), Event(200, "Xbutton1", 0), Event(210, "Xbutton1", 1),
            Event(900, "Xbutton2", 0), Event(904, "Xbutton2", 1)]
@@ -59,7 +55,7 @@ def test_swatch2_follows_the_simulator_with_its_ports(tmp_path):
     program = load("sample/swatch2.ld")
     build = compiler.build(program)
     overwritten = {n for n in program.pins if n[0] == "Y" and n != "Yp5"}
-    names = sorted(n for n in build.symbols if n[0] not in "X~$#" and n not in overwritten)
+    names = sorted(n for n in build.image.symbols if n[0] not in "X~$#" and n not in overwritten)
     names += ["#PORTC", "#PORTD"]
     assert differential(program, SWATCH, 3200, tmp_path, names=names) == []
 
@@ -102,7 +98,7 @@ def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
     build = compiler.build(program)
     ours = tmp_path / "ours.hex"
     build.write(ours)
-    device = build.part.device
+    device = build.device
     settings = program.settings
     cycle_ms = settings.cycle_us / 1000
     outputs = sorted(n for n in program.pins if n[0] == "Y" and n != "YPlcCycleDuty")
@@ -112,8 +108,8 @@ def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
     stimuli = [(max(0.0, (e.scan - 0.5) * cycle_ms), _pin(program, e.name, device), e.value) for e in events]
     until = scans * cycle_ms
     watched = pins + ([duty] if duty else [])
-    mine = _edges(ours, build.part.mmcu, settings.crystal_hz, stimuli, watched, until)
-    theirs = _edges(LDMICRO_HEX / reference, build.part.mmcu, settings.crystal_hz, stimuli, watched, until)
+    mine = _edges(ours, build.device.part, settings.crystal_hz, stimuli, watched, until)
+    theirs = _edges(LDMICRO_HEX / reference, build.device.part, settings.crystal_hz, stimuli, watched, until)
     our_scan, their_scan = _scan_counter(mine, duty, cycle_ms), _scan_counter(theirs, duty, cycle_ms)
     last = until - 3 * cycle_ms  # LDmicro runs one scan behind: its last edges may be cut off
     for pin in pins:

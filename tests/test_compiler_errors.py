@@ -5,11 +5,15 @@ programs, variables and PERSIST data larger than the part."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 from builders import coil, contact, el, move, program, span_of
 
 import compiler
 from compiler.errors import CompileError
+from compiler.target import BACKENDS
+from lang.targets import FAMILIES, parts_text
 from lang.model import PinAssignment
 
 M328 = "Atmel AVR ATmega328 28-PDIP"
@@ -39,12 +43,20 @@ def basic():
     return prog
 
 
-def test_a_program_without_part_or_with_a_pic_has_no_target():
-    prog = basic()
-    assert codes(prog) == ["LD701"]
-    assert codes(part(basic(), "Microchip PIC16F877 40-PDIP")) == ["LD701"]
-    assert compiler.build(part(basic())).part.mmcu == "atmega328p"
-    assert compiler.build(basic(), "atmega16").part.mmcu == "atmega16"
+def test_a_part_no_back_end_compiles_has_no_target(monkeypatch):
+    found = errors(basic())
+    assert [d.code for d in found] == ["LD701"]
+    assert found[0].message == f"cannot compile for no part: ladder build compiles for {parts_text()}"
+    assert codes(part(basic(), "Atmel AVR ATmega48 28-PDIP")) == ["LD701"]  # no pin data
+    assert compiler.build(part(basic())).device.part == "atmega328p"
+    assert compiler.build(basic(), "atmega16").device.part == "atmega16"
+    # the registry decides: a part its family does not list, a family without a back end
+    avr = FAMILIES["avr"]
+    monkeypatch.setitem(FAMILIES, "avr", dataclasses.replace(avr, parts=tuple(p for p in avr.parts if p != "atmega16")))
+    assert codes(basic(), "atmega16") == ["LD701"]
+    monkeypatch.delitem(BACKENDS, "pic16", raising=False)
+    found = errors(part(basic(), "Microchip PIC16F877 40-PDIP"))
+    assert [d.code for d in found] == ["LD701"] and "the PIC16 back end is not installed" in found[0].message
 
 
 def test_instructions_without_the_avr_layer_are_located_errors():
@@ -63,7 +75,7 @@ def test_indirect_register_access_is_not_compiled():
     assert found[0].span == prog.rungs[0].circuit.items[1].span
     prog = part(program([contact("Xa"), move("#PORTB", 5)]))
     prog.pins = {"Xa": PinAssignment("Xa", "PD2")}
-    assert compiler.build(prog).symbols["#PORTB"].address == 0x25
+    assert compiler.build(prog).image.symbols["#PORTB"].address == 0x25
 
 
 def test_a_cycle_time_timer1_cannot_make():

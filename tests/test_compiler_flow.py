@@ -10,11 +10,8 @@ from test_compiler_harness import Event, differential, needs_simavr
 from test_compiler_peripherals import ld
 
 import compiler
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
+from compiler.avr.part import Part
+from compiler.run import simavr as sa
 
 HEADER = """LDmicro0.2
 MICRO=Atmel AVR ATmega328 28-PDIP
@@ -85,7 +82,7 @@ END
 def test_lock_stops_the_scan_until_the_watchdog_restarts_the_program(tmp_path):
     build = compiler.build(ld(WATCHDOG.format(delay=500)))
     build.write(tmp_path / "lock.hex")
-    run = sa.simulate_avr(tmp_path / "lock.hex", build.part.mmcu, 16_000_000, until_ms=2500,
+    run = sa.simulate_avr(tmp_path / "lock.hex", build.device.part, 16_000_000, until_ms=2500,
                           inputs=[(0, "D2", 0), (95, "D2", 1), (1000, "D2", 0)], watch=["B0"])
     starts = [t for t, v in run.pin_edges_ms("B0") if v]
     # the first scan's one-shot, then again after the 2 s watchdog reset
@@ -102,7 +99,7 @@ def test_delay_busy_waits_the_time_asked(delay, element, tmp_path):
                                         "      COIL Ya 0 0 0 0\n    END\n  END\nEND\nRUNG 1\n  SHORT\n", 1)
     build = compiler.build(ld(text))
     build.write(tmp_path / "delay.hex")
-    run = sa.simulate_avr(tmp_path / "delay.hex", build.part.mmcu, 16_000_000, until_ms=50,
+    run = sa.simulate_avr(tmp_path / "delay.hex", build.device.part, 16_000_000, until_ms=50,
                           inputs=[(0, "D2", 0)], watch=["B1"])
     edges = run.pin_edges_ms("B1")
     widths = [fall - rise for (rise, _), (fall, _) in zip(edges[::2], edges[1::2])]
@@ -116,9 +113,10 @@ def test_sleep_enters_power_down():
     then SLEEP (the watchdog, still running, resets the MCU)."""
     text = HEADER + "RUNG 1\n  CONTACTS Xa 0 0\n  SLEEP\nEND\n"
     build = compiler.build(ld(text))
-    sleep = build.part.avr["sleep"]
-    listing = build.listing
-    address = build.part.reg(sleep["control"])
+    part = Part.of(build.device)
+    sleep = part.avr["sleep"]
+    listing = build.image.listing
+    address = part.reg(sleep["control"])
     store = rf"(out 0x{address - 0x20:02x}|sts 0x{address:04x}), r(\d+)"
     assert re.search(store, listing) and "\tsleep" in listing
     assert f"ldi r26, 0x{sleep['power_down']:02x}" in listing

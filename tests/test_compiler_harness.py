@@ -20,14 +20,10 @@ from pathlib import Path
 import pytest
 
 import compiler
+from compiler.run import simavr as sa
 from lang.loader import load_path
 from lang.model import Program
 from lang.sim import Simulator
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 CORPUS = SHARED / "corpus" / "ldmicro"
@@ -81,13 +77,13 @@ class HexRun:
 
 
 def _pin_of(build, name: str) -> str:
-    device = build.part.device
+    device = build.device
     pin = device.pin(build.program.pins[name].pin)
     return f"{pin.port}{pin.bit}"
 
 
 def _adc_channel(build, name: str) -> int:
-    device = build.part.device
+    device = build.device
     return device.adc[device.pin(build.program.pins[name].pin).name]
 
 
@@ -115,7 +111,7 @@ def run_hex(build, hex_path: Path, events: list[Event], scans: int, names: list[
             commands.append((at, 1, f"drive {port} {bit} {event.value}"))
         else:
             commands.append((at, 1, f"adc {_adc_channel(build, event.name)} {adc_millivolts(event.value)}"))
-    symbols = {n: build.symbols[n] for n in names}
+    symbols = {n: build.image.symbols[n] for n in names}
     spans = _spans(symbols)
     for scan in range(scans):
         at = cycle_at((scan + SAMPLE_AT) * cycle_ms)
@@ -126,7 +122,7 @@ def run_hex(build, hex_path: Path, events: list[Event], scans: int, names: list[
         if at:
             script.append(f"run_to {at}")
         script.append(command)
-    run = sa.run_avr(hex_path, build.part.mmcu, freq, script, timeout=300)
+    run = sa.run_avr(hex_path, build.device.part, freq, script, timeout=300)
     memory: list[dict[int, int]] = []
     for line in run.raw.splitlines():
         if line.startswith("@peek"):
@@ -163,7 +159,7 @@ def compared_names(program: Program, build) -> list[str]:
     variables in the simulator) and a YPlcCycleDuty the runtime drives."""
     sim = Simulator(program)
     skip = {"YPlcCycleDuty"} if program.settings.cycle_duty else set()
-    return sorted(n for n in sim.variables() if n in build.symbols and n[0] not in "X#" and n not in skip)
+    return sorted(n for n in sim.variables() if n in build.image.symbols and n[0] not in "X#" and n not in skip)
 
 
 def differential(program: Program, events: list[Event], scans: int, tmp_path: Path, target: str | None = None,
@@ -198,7 +194,7 @@ def test_a_simple_program_matches_scan_for_scan(tmp_path):
 
 
 def test_peek_spans_cover_every_address():
-    from compiler.avr import Symbol
+    from compiler.image import Symbol
 
     symbols = {"a": Symbol(3, 1, 0), "b": Symbol(0x100, 4), "c": Symbol(0x130, 2), "d": Symbol(5, 1, 2)}
     spans = _spans(symbols)

@@ -93,7 +93,7 @@ def test_listing_reassembles_to_the_same_bytes(part, tmp_path):
     for name, port in zip(sorted(program.pins), ("PB0", "PB1", "PB2", "PB3", "PB4")):
         program.pins[name] = PinAssignment(name, port)
     build = compiler.build(program, part)
-    assert reassemble(build.listing, part, tmp_path) == build.image()
+    assert reassemble(build.image.listing, part, tmp_path) == build.image.program_bytes()
 
 
 @needs_avr_gcc
@@ -104,7 +104,7 @@ def test_a_large_program_with_long_jumps_and_tables_reassembles(tmp_path):
         program.pins[name] = PinAssignment(name, device.pin(assignment.pin).name)
     for part in ("atmega2560", "atmega8"):
         build = compiler.build(program, part)
-        assert reassemble(build.listing, part, tmp_path) == build.image()
+        assert reassemble(build.image.listing, part, tmp_path) == build.image.program_bytes()
 
 
 @needs_simavr
@@ -115,10 +115,11 @@ def test_atmega162_and_64_run_as_sibling_builds(tmp_path):
     ATmega162's integers.ld runs built for the ATmega16 with the same port
     bits (Xa PB0, Yno PD6, Yok PA2, by port name)."""
     traffic = load("sample/traffic.ld")
-    assert compiler.build(traffic, "atmega64").image() == compiler.build(traffic, "atmega128").image()
+    sibling = compiler.build(traffic, "atmega128").image.program_bytes()
+    assert compiler.build(traffic, "atmega64").image.program_bytes() == sibling
     program = load("reg/tests/integers.ld")
     native = compiler.build(program)
-    assert native.part.mmcu == "atmega162"
+    assert native.device.part == "atmega162"
     for name, port in (("Xa", "PB0"), ("Yno", "PD6"), ("Yok", "PA2")):
         program.pins[name] = PinAssignment(name, port)
     events = [Event(0, "Xa", 0), Event(30, "Xa", 1), Event(60, "Xa", 0)]

@@ -8,13 +8,10 @@ import pytest
 from test_compiler_harness import Event, differential, load, needs_simavr
 
 import compiler
+from compiler.avr.part import Part
+from compiler.run import simavr as sa
 from lang.ldfile import read_ld
 from lang.sim import Simulator
-
-try:
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
 
 
 def ld(text: str):
@@ -75,7 +72,7 @@ def test_adc_channels_above_7_select_mux5(tmp_path):
     program = ld(ADC.format(micro="Atmel AVR ATmega2560 100-TQFP", pin="PK2", low="PB0", high="PB1"))
     build = compiler.build(program)
     build.write(tmp_path / "adc.hex")
-    part = build.part
+    part = Part.of(build.device)
     run = sa.run_avr(tmp_path / "adc.hex", part.mmcu, 16_000_000,
                      ["run_to 400000", f"peek {part.reg('ADCSRB')} 1", f"peek {part.reg('ADMUX')} 1"])
     registers = [int(line.split()[2], 16) for line in run.raw.splitlines() if line.startswith("@peek")]
@@ -148,14 +145,14 @@ def test_pwm_duty_and_frequency_on_the_pin(micro, pins, freq, full, duties, tmp_
     assert build.warnings == []
     hex_path = tmp_path / "pwm.hex"
     build.write(hex_path)
-    device = build.part.device
+    device = build.device
     names = ("Pout", "Xoff", "Xa", "Xb", "Xc")
     pin = {n: f"{device.pin(program.pins[n].pin).port}{device.pin(program.pins[n].pin).bit}" for n in names}
     # 100 ms per phase: the first duty, the second, 0, full, off
     phases = [(0, 0, 0, 0), (0, 1, 0, 0), (0, 1, 1, 0), (0, 1, 0, 1), (1, 1, 0, 1)]
     inputs = [(100 * i + (5 if i else 0), pin[name], level) for i, levels in enumerate(phases)
               for name, level in zip(("Xoff", "Xa", "Xb", "Xc"), levels)]
-    run = sa.simulate_avr(hex_path, build.part.mmcu, 16_000_000, until_ms=500, inputs=inputs, watch=[pin["Pout"]])
+    run = sa.simulate_avr(hex_path, build.device.part, 16_000_000, until_ms=500, inputs=inputs, watch=[pin["Pout"]])
     edges = run.pin_edges_ms(pin["Pout"])
     for i, duty in enumerate(duties):
         period, high = _duty(edges, 100 * i + 30, 100 * i + 95)
@@ -176,7 +173,7 @@ def test_formatted_strings_byte_for_byte(tmp_path):
     scans = 600
     sim = Simulator(program)
     sim.step(scans)
-    run = sa.simulate_avr(hex_path, build.part.mmcu, program.settings.crystal_hz, until_ms=scans * 10 - 5)
+    run = sa.simulate_avr(hex_path, build.device.part, program.settings.crystal_hz, until_ms=scans * 10 - 5)
     assert run.uart_bytes() == sim.uart_output()
     assert b"Hello, world:      3\r\n" in run.uart_bytes()
     # each byte goes out in the scan the simulator sends it
@@ -261,12 +258,12 @@ def test_persist_survives_a_reset(tmp_path):
     def at(ms):
         return f"run_to {round(ms * freq / 1000)}"
 
-    count, total = build.symbols["count"], build.symbols["total"]
+    count, total = build.image.symbols["count"], build.image.symbols["total"]
     peek = [f"peek {count.address} 2", f"peek {total.address} 4"]
     pulses = [f"{at(t)}\ndrive D 2 {v}" for t, v in ((55, 1), (75, 0), (95, 1), (115, 0), (135, 1), (155, 0))]
     commands = ["drive D 2 0"] + "\n".join(pulses).split("\n") + [at(300)] + peek + ["reset", at(350)] + peek
     commands += [at(365), "drive D 2 1", at(400)] + peek + [at(600), "eeprom_read 0 6"]
-    run = sa.run_avr(hex_path, build.part.mmcu, freq, commands)
+    run = sa.run_avr(hex_path, build.device.part, freq, commands)
     values = [line.split()[2:] for line in run.raw.splitlines() if line.startswith("@peek")]
     got = [int.from_bytes(bytes(int(b, 16) for b in v), "little", signed=True) for v in values]
     # the simulator: EEPROM erased (count -1, total -1), three pulses, a reset
@@ -331,6 +328,6 @@ def test_sending_and_receiving_several_bytes_waiting_for_the_uart(tmp_path):
     assert differential(program, events, 20, tmp_path) == []
     build = compiler.build(program)
     build.write(tmp_path / "w.hex")
-    run = sa.simulate_avr(tmp_path / "w.hex", build.part.mmcu, 16_000_000, until_ms=200,
+    run = sa.simulate_avr(tmp_path / "w.hex", build.device.part, 16_000_000, until_ms=200,
                           inputs=[(0, "D2", 0), (25, "D2", 1), (65, "D2", 0), (85, "D2", 1)])
     assert run.uart_bytes() == b"BABA"

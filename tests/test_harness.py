@@ -17,12 +17,8 @@ from pathlib import Path
 
 import pytest
 
-try:
-    from tests.harness import gpsim as gp
-    from tests.harness import simavr as sa
-except ImportError:  # tests/ itself on sys.path (pytest's default rootdir-less layout)
-    from harness import gpsim as gp  # type: ignore[no-redef]
-    from harness import simavr as sa  # type: ignore[no-redef]
+from compiler.run import gpsim as gp
+from compiler.run import simavr as sa
 
 REPO = Path(__file__).resolve().parents[1]
 HEX = REPO.parent / "shared" / "corpus" / "ldmicro-hex"
@@ -230,6 +226,35 @@ def test_avr_harness_errors(tmp_path):
         sa.run_avr(big, "atmega8", 1_000_000, [])
     assert sa.core_name("Atmel AVR ATmega328 32-Pin packages") == "atmega328"
     assert sa.parse_pin("PB5") == ("B", 5)
+
+
+def test_missing_simavr_names_the_debian_package(monkeypatch, tmp_path):
+    monkeypatch.setattr(sa, "SIMAVR_INCLUDE", tmp_path / "nowhere")
+    monkeypatch.setattr(sa, "_built", None)
+    monkeypatch.setattr(sa, "_build_error", None)
+    assert not sa.available()
+    with pytest.raises(sa.HarnessError, match="install the Debian package libsimavr-dev"):
+        sa.run_avr(hexfile("sample_hello.hex"), "atmega8", 16_000_000, ["run 100"])
+
+
+@needs_simavr
+def test_the_avr_harness_is_built_in_the_cache_not_the_package(monkeypatch, tmp_path):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setattr(sa, "_built", None)
+    monkeypatch.setattr(sa, "_build_error", None)
+    exe = sa.build_harness()
+    assert exe.parent == tmp_path / "textladder" and os.access(exe, os.X_OK)
+    assert [p.name for p in exe.parent.iterdir()] == [exe.name]  # no source or half-built file left
+    package = Path(sa.__file__).parent
+    assert sorted(p.name for p in package.iterdir() if p.suffix != ".pyc" and p.name != "__pycache__") == \
+        ["__init__.py", "avr_harness.c", "gpsim.py", "simavr.py"]
+
+
+def test_missing_gpsim_names_the_debian_package(monkeypatch, tmp_path):
+    monkeypatch.setenv("PATH", str(tmp_path))
+    assert not gp.available()
+    with pytest.raises(gp.GpsimError, match="install the Debian package gpsim"):
+        gp.run_pic(hexfile("sample_hello.hex"), "pic16f877", 4_000_000)
 
 
 # =========================================================================== PIC16 (gpsim)

@@ -163,7 +163,7 @@ async def test_build_writes_the_hex_beside_the_file(client, tmp_path):
 
 
 async def test_build_errors_and_compile_on_save(client, tmp_path):
-    text = example_text().replace("Atmel AVR ATmega328 28-PDIP", "Microchip PIC16F877 40-PDIP")
+    text = example_text().replace("Atmel AVR ATmega328 28-PDIP", "Atmel AVR ATmega48 28-PDIP")  # no pin data
     text = text.split("I/O ASSIGNMENT:")[0]
     source = tmp_path / "pic.ladder"
     source.write_text(text, encoding="utf-8")
@@ -185,3 +185,34 @@ async def test_build_errors_and_compile_on_save(client, tmp_path):
             break
         await asyncio.sleep(0.05)
     assert (tmp_path / "saved.hex").read_text().startswith(":")
+
+
+SIM_ONLY = """LDmicro0.2
+MICRO=Atmel AVR ATmega328 28-PDIP
+CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CRYSTAL=16000000 Hz
+BAUD=9600 Hz
+
+IO LIST
+    Xa at 4 0 0
+END
+
+PROGRAM
+RUNG
+  CONTACTS Xa 0 0
+  9SEGMENTS d s C
+END
+"""
+
+
+async def test_an_instruction_the_family_cannot_compile_is_an_error_once_built(client, tmp_path):
+    source = tmp_path / "segments.ld"
+    source.write_text(SIM_ONLY, encoding="utf-8")
+    doc = Doc(client, source.as_uri(), SIM_ONLY, language="ldmicro")
+    editing = [d for d in await doc.diagnostics() if d.code == "LD501"]
+    assert [d.severity for d in editing] == [types.DiagnosticSeverity.Warning]
+    result = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="ladder.build", arguments=[doc.uri]))
+    assert result["ok"] is False and "9SEGMENTS" in result["summary"] and not (tmp_path / "segments.hex").exists()
+    built = [d for d in await doc.diagnostics() if d.code == "LD501"]
+    assert [(d.severity, d.range) for d in built] == [(types.DiagnosticSeverity.Error, editing[0].range)]

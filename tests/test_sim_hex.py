@@ -16,16 +16,11 @@ from pathlib import Path
 
 import pytest
 
+from compiler.run import gpsim as gp
+from compiler.run import simavr as sa
 from lang.loader import load_path
 from lang.sim import Simulator
 from lang.sim.trace import Trace
-
-try:
-    from harness import gpsim as gp
-    from harness import simavr as sa
-except ImportError:
-    from tests.harness import gpsim as gp  # type: ignore[no-redef]
-    from tests.harness import simavr as sa  # type: ignore[no-redef]
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 CORPUS = SHARED / "corpus" / "ldmicro"

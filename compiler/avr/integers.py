@@ -26,7 +26,7 @@ REMAINDER = (26, 27, 28, 29)  # where the divide routines leave the remainder
 
 
 def storage(cx, operand):
-    var = operand.var if isinstance(operand, ir.Part) else operand
+    var = operand.var if isinstance(operand, ir.Byte) else operand
     return cx.layout.vars[var.name]
 
 
@@ -34,13 +34,13 @@ def size(cx, operand) -> int:
     """Bytes that hold the operand's value as a signed number."""
     if isinstance(operand, ir.Const):
         return byte_needed(operand.value)
-    if isinstance(operand, ir.Part):
+    if isinstance(operand, ir.Byte):
         return 2  # an unsigned byte
     return storage(cx, operand).size
 
 
 def target_size(cx, target) -> int:
-    return 1 if isinstance(target, ir.Part) else storage(cx, target).size
+    return 1 if isinstance(target, ir.Byte) else storage(cx, target).size
 
 
 def extend(cx, regs, n: int, signed: bool = True) -> None:
@@ -68,7 +68,7 @@ def load(cx, operand, regs) -> None:
             e.constant((operand.value >> 8 * i) & 0xFF, reg)
         return
     st = storage(cx, operand)
-    if isinstance(operand, ir.Part):
+    if isinstance(operand, ir.Byte):
         if operand.index < st.size:
             e.load_byte(st.addr + operand.index, regs[0], st.ram)
         else:  # past the variable: its sign byte
@@ -86,7 +86,7 @@ def load(cx, operand, regs) -> None:
 def store(cx, target, regs) -> None:
     """The low bytes of regs into the target (regs must be at least as wide)."""
     st = storage(cx, target)
-    if isinstance(target, ir.Part):
+    if isinstance(target, ir.Byte):
         cx.e.store_byte(st.addr + target.index, regs[0], st.ram)
         return
     for i in range(st.size):
@@ -97,7 +97,7 @@ def move(cx, op: ir.Move) -> None:
     n = target_size(cx, op.dst)
     if isinstance(op.src, ir.Const):
         st = storage(cx, op.dst)
-        base = st.addr + (op.dst.index if isinstance(op.dst, ir.Part) else 0)
+        base = st.addr + (op.dst.index if isinstance(op.dst, ir.Byte) else 0)
         for i in range(n):
             cx.e.store_byte(base + i, cx.e.constant_reg((op.src.value >> 8 * i) & 0xFF), st.ram)
         return
@@ -334,7 +334,7 @@ def change_bit(cx, op: ir.ChangeBitOf) -> None:
     e = cx.e
     st = storage(cx, op.dst)
     n = target_size(cx, op.dst)
-    base = st.addr + (op.dst.index if isinstance(op.dst, ir.Part) else 0)
+    base = st.addr + (op.dst.index if isinstance(op.dst, ir.Byte) else 0)
     if isinstance(op.index, ir.Const):
         k = op.index.value
         if 0 <= k < 8 * n:
@@ -392,9 +392,9 @@ def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
                 e.jump(op.target)
             return
         st = storage(cx, op.a)
-        width = 1 if isinstance(op.a, ir.Part) else st.size
+        width = 1 if isinstance(op.a, ir.Byte) else st.size
         k = min(k, 8 * width - 1)  # past the width: the sign bit
-        base = st.addr + (op.a.index if isinstance(op.a, ir.Part) else 0)
+        base = st.addr + (op.a.index if isinstance(op.a, ir.Byte) else 0)
         bits.jump_if(e, MemBit(base + k // 8, k % 8, st.ram), op.value, op.target)
         return
     zero, test, done = e.new_label(), e.new_label(), e.new_label()

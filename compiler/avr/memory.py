@@ -15,10 +15,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from lang.model import Program
-
 from .. import ir
+from ..analysis import live_intervals, use_counts
 from ..errors import NOT_COMPILED, RAM_FULL, fail
+from ..target import Machine
 from .part import Part
 
 HOME_REGISTERS = tuple(range(3, 16))
@@ -72,43 +72,17 @@ def _register_of(name: str, part: Part) -> int | None:
     return address if 0x20 <= address <= part.ram_end else None
 
 
-def _first_use(program: Program, name: str):
-    for _, element in program.elements():
-        if name in {str(v) for v in element.args.values()}:
-            return element
-    return None
-
-
-def _intervals(ops: list[ir.Op], names: set[str]) -> dict[str, tuple[int, int]]:
-    spans: dict[str, tuple[int, int]] = {}
-    for i, op in enumerate(ops):
-        for bit in op.reads() + op.writes():
-            if bit.name in names:
-                first, _ = spans.get(bit.name, (i, i))
-                spans[bit.name] = (first, i)
-    return spans
-
-
-def _use_counts(ops: list[ir.Op], names: set[str]) -> dict[str, int]:
-    counts = dict.fromkeys(names, 0)
-    for op in ops:
-        for bit in op.reads() + op.writes():
-            if bit.name in counts:
-                counts[bit.name] += 1
-    return counts
-
-
-def allocate(code: ir.Code, part: Part, program: Program) -> Layout:
+def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
     bits: dict[str, RegBit | MemBit] = {}
     ram_bits: list[str] = []
     # pins
     for name, kind in code.bits.items():
         if kind in (ir.INPUT, ir.OUTPUT):
-            pin = part.device.pin(program.pins[name].pin)
+            pin = machine.pins[name]
             bits[name] = MemBit(part.port("PIN" if kind == ir.INPUT else "PORT", pin.port), pin.bit, False)
     # memory bits: the most used in registers
     memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
-    counts = _use_counts(code.scan, set(memory))
+    counts = use_counts(code.scan, set(memory))
     ranked = sorted(memory, key=lambda n: -counts[n])
     slots = [RegBit(r, b) for r in HOME_REGISTERS for b in range(8)]
     for name, slot in zip(ranked, slots):
@@ -119,7 +93,7 @@ def allocate(code: ir.Code, part: Part, program: Program) -> Layout:
     temps = {n for n, k in code.bits.items() if k == ir.TEMP}
     free = [RegBit(r, b) for r in TEMP_REGISTERS for b in range(8)]
     active: list[tuple[int, str]] = []
-    for name, (start, end) in sorted(_intervals(code.scan, temps).items(), key=lambda kv: kv[1]):
+    for name, (start, end) in sorted(live_intervals(code.scan, temps).items(), key=lambda kv: kv[1]):
         for last, other in list(active):
             if last < start:
                 active.remove((last, other))
@@ -140,7 +114,7 @@ def allocate(code: ir.Code, part: Part, program: Program) -> Layout:
             register = _register_of(name, part)
             if register is None:
                 raise fail(NOT_COMPILED, f"'{name}' names no register of the {part.title}; indirect "
-                                         "register access is not compiled", _first_use(program, name))
+                                         "register access is not compiled", machine.locate(name))
             variables[name] = Storage(register, 1, False)
             continue
         variables[name] = Storage(address, size, True)

@@ -14,20 +14,19 @@ The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
 
 from __future__ import annotations
 
-from lang.model import Program
-
 from .. import ir
+from ..analysis import uses_uart
 from ..errors import BAD_CYCLE, fail
+from ..target import Machine
 from . import bits
 from .emit import ZERO
 from .memory import MemBit, RegBit
-from .part import CYCLE_PRESCALERS, WGM12, Part
+from .part import CYCLE_PRESCALERS, WGM12
 from .peripherals import uart_init
 from .select import Context, select
 
 CYCLE_TOLERANCE = 0.001
 WATCHDOG_2S = 0b111  # WDP2:0
-DUTY_PIN = "YPlcCycleDuty"
 
 
 def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
@@ -51,24 +50,23 @@ def _write(cx: Context, register: str, value: int) -> None:
     cx.e.store_byte(cx.part.reg(register), cx.e.constant_reg(value), False)
 
 
-def _pins(part: Part, program: Program) -> dict[str, tuple[int, int]]:
+def _pins(machine: Machine) -> dict[str, tuple[int, int]]:
     """Port letter -> (DDR, PORT) values: outputs low, inputs pulled up as
     the PULL-UP LIST says (all of them by default), PWM pins outputs."""
     ports: dict[str, list[int]] = {}
-    for name, assignment in program.pins.items():
-        pin = part.device.pin(assignment.pin)
-        if pin is None or not pin.is_io or name[:1] not in ("X", "Y", "P"):
+    for name, pin in machine.pins.items():
+        if not pin.is_io or name[:1] not in ("X", "Y", "P"):
             continue
         ddr, port = ports.setdefault(pin.port, [0, 0])
         if name[0] == "X":
-            pulled = program.pullups.get("P" + pin.port, 0xFF) >> pin.bit & 1
+            pulled = machine.pullups.get(pin.port, 0xFF) >> pin.bit & 1
             ports[pin.port] = [ddr, port | pulled << pin.bit]
         else:
             ports[pin.port] = [ddr | 1 << pin.bit, port]
     return {letter: (ddr, port) for letter, (ddr, port) in ports.items()}
 
 
-def _start(cx: Context, code: ir.Code, program: Program) -> None:
+def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part, layout = cx.e, cx.part, cx.layout
     e.ins("cli")
     e.ins("clr", ZERO)
@@ -92,20 +90,20 @@ def _start(cx: Context, code: ir.Code, program: Program) -> None:
         e.ins("st_xp", ZERO)
         e.ins("sbiw", 24, 1)
         e.branch("brne", top)
-    for letter, (ddr, port) in sorted(_pins(part, program).items()):
+    for letter, (ddr, port) in sorted(_pins(machine).items()):
         _write(cx, f"PORT{letter}", port)
         _write(cx, f"DDR{letter}", ddr)
-    if part.uart and any(isinstance(op, (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake))
-                         for op in code.scan):
+    if part.uart and uses_uart(code):
         uart_init(cx)
     select(cx, code.init)
     e.forget_scratch()
 
 
-def _scan_loop(cx: Context, code: ir.Code, program: Program) -> None:
+def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part = cx.e, cx.part
-    duty = _duty_pin(part, program)
-    select_bits, counts = cycle_timer(cx.crystal_hz, program.settings.cycle_us)
+    pin = machine.duty_pin  # LDmicro's YPlcCycleDuty: high while the scan runs
+    duty = MemBit(part.port("PORT", pin.port), pin.bit, False) if pin is not None else None
+    select_bits, counts = cycle_timer(cx.crystal_hz, machine.cycle_us)
     _write(cx, "TCCR1A", 0)
     _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
     _write(cx, "OCR1AL", (counts - 1) & 0xFF)
@@ -126,16 +124,7 @@ def _scan_loop(cx: Context, code: ir.Code, program: Program) -> None:
     e.jump("scan")
 
 
-def _duty_pin(part: Part, program: Program) -> MemBit | None:
-    """LDmicro's YPlcCycleDuty output: high while the scan runs."""
-    assignment = program.pins.get(DUTY_PIN)
-    if not program.settings.cycle_duty or assignment is None:
-        return None
-    pin = part.device.pin(assignment.pin)
-    return MemBit(part.port("PORT", pin.port), pin.bit, False) if pin is not None and pin.is_io else None
-
-
-def write_runtime(cx: Context, code: ir.Code, program: Program) -> None:
-    _start(cx, code, program)
-    _scan_loop(cx, code, program)
+def write_runtime(cx: Context, code: ir.Code, machine: Machine) -> None:
+    _start(cx, code, machine)
+    _scan_loop(cx, code, machine)
 

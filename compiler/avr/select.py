@@ -12,6 +12,7 @@ from .emit import SCRATCH, A, Emitter
 from .memory import Layout, RegBit
 from .part import Part
 
+DELAY_LOOP_CYCLES = 8  # the loop below: WDR, NOP, SUBI, 3 x SBCI, BRNE taken
 
 @dataclass
 class Context:
@@ -68,7 +69,7 @@ def _sleep(cx: Context, op: ir.Sleep) -> None:
 
 
 def _delay(cx: Context, op: ir.Delay) -> None:
-    """A loop of ir.DELAY_LOOP_CYCLES cycles per count, clearing the watchdog."""
+    """A loop of DELAY_LOOP_CYCLES cycles per count, clearing the watchdog."""
     e = cx.e
     done, top = e.new_label(), e.new_label()
     if op.loops:
@@ -76,7 +77,7 @@ def _delay(cx: Context, op: ir.Delay) -> None:
         e.ins("tst", A[3])
         e.branch("brmi", done)
     else:
-        count = round(op.amount.value * cx.crystal_hz / (1_000_000 * ir.DELAY_LOOP_CYCLES))
+        count = round(op.amount.value * cx.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
         if not count:
             return
         integers.load(cx, ir.Const(count), A)
@@ -136,14 +137,3 @@ def select(cx: Context, ops: list[ir.Op]) -> None:
     for op in ops:
         PATTERNS[type(op)](cx, op)
 
-
-def loop_labels(ops: list[ir.Op]) -> set[str]:
-    """Labels entered by a jump from later code or by a call."""
-    seen: set[str] = set()
-    loops: set[str] = set()
-    for op in ops:
-        if isinstance(op, ir.Label):
-            seen.add(op.name)
-        elif isinstance(op, ir.Call) or (getattr(op, "target", None) in seen):
-            loops.add(op.target)
-    return loops

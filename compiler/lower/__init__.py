@@ -14,12 +14,13 @@ from lang.devices import Device
 from lang.model import Element, Program, Series
 from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
 from lang.sim.gen_timers import COUNTERS
+from lang.targets import family_of
 from lang.values import is_literal, literal_value
 
 from .. import ir
 from ..errors import BAD_OPERAND, NOT_COMPILED, fail
 from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
-from .builder import Builder
+from .builder import LOWERINGS, Builder
 
 
 def rung_label(index: int) -> str:
@@ -63,15 +64,25 @@ class Jumps:
 
 
 class TargetBuilder(Builder):
-    """The builder with what lowering needs to know of the part: which
-    A/D channel and which PWM unit a name's pin is."""
+    """The builder with what lowering needs to know of the target: which
+    instructions its family compiles, which A/D channel and which PWM unit a
+    name's pin is, how long the back end's delay loop takes."""
 
-    def __init__(self, program: Program, device: Device, bits, sizes, classes):
+    def __init__(self, program: Program, device: Device, delay_loop_cycles: int, bits, sizes, classes):
         super().__init__(program, bits, sizes, classes)
         self.device = device
+        self.family = family_of(device)
+        self.delay_loop_cycles = delay_loop_cycles
         self.eeprom_size = device.memory.get("eeprom", 0)
         self.jumps = Jumps(program)
         self.counter_defs = counter_defs(program)
+
+    def lower(self, element: Element, power: ir.Bit) -> None:
+        self.element = element
+        self.position += 1
+        if not element.spec.supports(self.family.key) or element.kind not in LOWERINGS:
+            raise fail(NOT_COMPILED, f"{element.kind} cannot be compiled for {self.family.title}", element)
+        LOWERINGS[element.kind](self, element, power)
 
     def _pin(self, name: str):
         assignment = self.program.pins.get(name)
@@ -93,7 +104,7 @@ class TargetBuilder(Builder):
         return self.device.pwm[pin.name]
 
 
-def _circuit(b: Builder, node, p: ir.Bit, tail: bool) -> None:
+def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> None:
     if isinstance(node, Element):
         b.emit(ir.Note(describe(node)))
         b.lower(node, p)
@@ -145,9 +156,11 @@ def _classes(program: Program) -> dict[str, str]:
             for name in program.pins if name[:1] in ("X", "Y")}
 
 
-def lower_program(program: Program, device: Device) -> ir.Code:
+def lower_program(program: Program, device: Device, delay_loop_cycles: int) -> ir.Code:
+    """The program's intermediate code for a part of a compiled family, whose
+    back end's variable delay loop takes `delay_loop_cycles` per count."""
     bits, sizes = variable_names(program)
-    b = TargetBuilder(program, device, bits, sizes, _classes(program))
+    b = TargetBuilder(program, device, delay_loop_cycles, bits, sizes, _classes(program))
     mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
     if mcr:
         b.emit(ir.SetBit(b.bit("$mcr"), True))

@@ -19,7 +19,7 @@ from lang.sim.codegen import timer_period
 from lang.values import is_literal, literal_value
 
 from .. import ir
-from ..errors import BAD_OPERAND, NOT_COMPILED, fail
+from ..errors import BAD_OPERAND, fail
 
 DEFAULT_SIZE = 2
 
@@ -189,12 +189,3 @@ class Builder:
             return timer_period(self, delay, adjust, name)
         except SimCompileError as problem:
             raise fail(BAD_OPERAND, problem.message, self.element) from None
-
-    # --- elements ---------------------------------------------------------------------
-
-    def lower(self, element: Element, power: ir.Bit) -> None:
-        self.element = element
-        self.position += 1
-        if not element.spec.supports("avr") or element.kind not in LOWERINGS:
-            raise fail(NOT_COMPILED, f"{element.kind} cannot be compiled for AVR", element)
-        LOWERINGS[element.kind](self, element, power)

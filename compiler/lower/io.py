@@ -55,7 +55,7 @@ def persist(b: Builder, el, p: ir.Bit) -> None:
 def _byte(value: ir.Operand, index: int) -> ir.Operand:
     if isinstance(value, ir.Const):
         return ir.Const((value.value >> 8 * index) & 0xFF)
-    return ir.Part(value, index)
+    return ir.Byte(value, index)
 
 
 def _busy(b: Builder, p: ir.Bit) -> None:
@@ -88,7 +88,7 @@ def uart_send(b: Builder, el, p: ir.Bit) -> None:
             with b.if_(IsSet(ready)):
                 for i in range(count):
                     with b.if_(Holds(sent, "==", ir.Const(i))):
-                        b.emit(ir.UartSend(ir.Part(saved, i)))
+                        b.emit(ir.UartSend(ir.Byte(saved, i)))
                 with b.if_(Holds(sent, "<", ir.Const(count))):
                     b.emit(ir.Arith("add", sent, sent, ir.Const(1)))
             with b.if_(Holds(sent, ">=", ir.Const(count))):
@@ -120,7 +120,7 @@ def uart_recv(b: Builder, el, p: ir.Bit) -> None:
             with b.if_(IsSet(p)):
                 b.emit(ir.Move(received, ir.Const(0)))
                 for i in range(count):
-                    b.emit(ir.UartTake(ir.Part(received, i)))
+                    b.emit(ir.UartTake(ir.Byte(received, i)))
                 b.emit(ir.Move(d, received))
     else:
         saved, got = b.memory_var("saved"), b.memory_var("got", 1)
@@ -131,7 +131,7 @@ def uart_recv(b: Builder, el, p: ir.Bit) -> None:
                 with b.if_(Holds(got, "<", ir.Const(count))):
                     for i in range(count):
                         with b.if_(Holds(got, "==", ir.Const(i))):
-                            b.emit(ir.UartTake(ir.Part(saved, i)))
+                            b.emit(ir.UartTake(ir.Byte(saved, i)))
                     b.emit(ir.Arith("add", got, got, ir.Const(1)))
             with b.if_(Holds(got, ">=", ir.Const(count))) as branch:
                 b.emit(ir.Move(d, saved))

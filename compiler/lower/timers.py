@@ -119,7 +119,7 @@ def time_to_delay(b: Builder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
     if not isinstance(delay, int) or delay < 0:
         raise fail(BAD_OPERAND, "the T2DLY delay must be a time", el)
-    loops = round(delay * b.program.settings.crystal_hz / (1_000_000 * ir.DELAY_LOOP_CYCLES))
+    loops = round(delay * b.program.settings.crystal_hz / (1_000_000 * b.delay_loop_cycles))
     with b.if_(IsSet(p)):
         b.emit(ir.Move(b.var(el.args["name"]), ir.Const(loops)))
 

@@ -72,11 +72,11 @@ class Pic16Backend:
                                    f"{part.title} has {part.flash_words}") from None
         listing = header.format(words=len(assembled.words)) + assembled.listing
         return Image(
-            part=part, words=assembled.words, listing=listing, listing_suffix=".asm",
+            words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
+            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=_symbols(layout),
+            labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-            flash_used=len(assembled.words), flash_size=part.flash_words, flash_unit="words",
-            ram_bytes=layout.ram_used, ram_size=layout.ram_size, warnings=[],
-            symbols=_symbols(layout), labels=assembled.symbols)
+            listing_suffix=".asm")
 
 
 def _symbols(layout) -> dict:

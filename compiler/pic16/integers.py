@@ -191,14 +191,21 @@ def add_constant(e: Emitter, regs: list[int], k: int) -> None:
             e.ins("addwf", reg, F)
 
 
-def _near(cx, b: Byte, reg: int, spare: int) -> Byte:
-    """The byte as a constant or a file register reachable in `reg`'s bank:
-    a sign extension or a byte in another bank is copied to `spare` (which
-    is in the scratch bank)."""
-    if b.kind == "ext" or (b.kind == "mem" and not _same_bank(cx.e, b.value, reg)):
-        put(cx.e, b, spare)
-        return Byte("mem", spare)
-    return b
+def near(cx, b: list[Byte], regs: list[int]) -> list[Byte]:
+    """The bytes as constants or file registers an instruction on `regs`
+    reaches in the same bank: if a sign extension or a byte in another bank
+    is among them, the operand is copied to the scratch B first."""
+    e = cx.e
+    if all(bi.kind == "const" or (bi.kind == "mem" and _same_bank(e, bi.value, regs[0])) for bi in b):
+        return b
+    spare = _scratch(cx, "B", len(b))
+    out = []
+    for bi, reg in zip(b, spare):
+        if bi.kind != "const":
+            put(e, bi, reg)
+            bi = Byte("mem", reg)
+        out.append(bi)
+    return out
 
 
 def chain(e: Emitter, kind: str, regs: list[int], b: list[Byte]) -> None:
@@ -279,7 +286,6 @@ def arith(cx, op: ir.Arith) -> None:
         a, b = b, a  # commutative: work on the destination's own value
     place = _in_place(cx, ir.Arith(op.op, op.dst, a, b, op.overflow), width)
     regs = place if place is not None else _scratch(cx, "A", width)
-    spare = cx.layout.scratch[11]
     if op.overflow:
         # the signs before the operation, for the overflow test: C0 = a's, C1 = a's xor b's
         load_w(e, byte(cx, a, width - 1))
@@ -295,7 +301,7 @@ def arith(cx, op: ir.Arith) -> None:
     elif isinstance(b, ir.Const) and not op.overflow:
         add_constant(e, regs, b.value if op.op == "add" else -b.value)
     else:
-        chain(e, op.op, regs, [_near(cx, bi, reg, spare) for bi, reg in zip(b_bytes, regs)])
+        chain(e, op.op, regs, near(cx, b_bytes, regs))
     if op.overflow:
         _overflow(cx, op.op, regs, n, op.overflow)
     if place is None:
@@ -377,8 +383,7 @@ def compare_jump(cx, op: ir.JumpIf) -> None:
         e.ins("movlw", 0x80)
         e.ins("xorwf", flipped, F)
         b_bytes[-1] = Byte("mem", flipped)
-    spare = cx.layout.scratch[11]
-    chain(e, "cmp", regs, [_near(cx, bi, reg, spare) for bi, reg in zip(b_bytes, regs)])
+    chain(e, "cmp", regs, near(cx, b_bytes, regs))
     bits.jump_if(e, FileBit(STATUS, C), rel == ">=", op.target)
 
 

@@ -24,9 +24,11 @@ def load(path: str, encoding: str | None) -> Loaded | None:
         return None
 
 
-def report(path: str, diagnostics: list[Diagnostic], stream=sys.stdout) -> None:
+def report(path: str, diagnostics: list[Diagnostic], stream=None) -> None:
+    """Print the diagnostics in source order (to stdout by default: the
+    stream of the moment, not the one at import)."""
     for diagnostic in sorted(diagnostics, key=lambda d: (d.span is None, d.span or 0, d.code)):
-        print(diagnostic.format(path), file=stream)
+        print(diagnostic.format(path), file=stream or sys.stdout)
 
 
 def has_errors(diagnostics: list[Diagnostic]) -> bool:

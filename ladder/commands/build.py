@@ -1,9 +1,10 @@
-"""`ladder build FILE`: compile a program for an AVR part.
+"""`ladder build FILE`: compile a program for a part `lang.targets` lists.
 
-On success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` and writes
-the Intel HEX (default: beside FILE, same stem) and the assembly listing
-beside the HEX (.lst). Problems are `path:line:col: error CODE message`
-lines and exit 1; warnings go to stderr and do not stop the build.
+On success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` (flash in
+words for PIC) and writes the Intel HEX (default: beside FILE, same stem) and
+the assembly listing beside the HEX (the back end's suffix: .lst for AVR).
+Problems are `path:line:col: error CODE message` lines and exit 1; warnings
+go to stderr and do not stop the build.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import sys
 from pathlib import Path
 
 from lang import codes
+from lang.targets import parts_text
 
 from ._common import (
     EXIT_OK,
@@ -26,10 +28,9 @@ from ._common import (
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(
-        "build", help="compile a program to an Intel HEX file for an AVR",
-        description="Compile a ladder program for an AVR part (ATmega8, 16, 32, 64, 128, 162, 328P, 1284P, "
-                    "2560). Writes OUT.hex and the listing OUT.lst; exit 1 on errors, 2 when FILE cannot "
-                    "be read.")
+        "build", help="compile a program to an Intel HEX file",
+        description=f"Compile a ladder program for one of these parts: {parts_text()}. Writes OUT.hex and "
+                    "the listing beside it (OUT.lst for AVR); exit 1 on errors, 2 when FILE cannot be read.")
     parser.add_argument("file", metavar="FILE")
     parser.add_argument("-o", "--output", metavar="OUT.hex", help="the HEX file to write (default: FILE with .hex)")
     parser.add_argument("--target", metavar="PART",

@@ -164,9 +164,11 @@ def position(diagnostic: Diagnostic) -> tuple:
     return (span.line, span.col, diagnostic.code, diagnostic.message)
 
 
-def check_program(program: Program) -> list[Diagnostic]:
-    """Every rule's diagnostics for the program, sorted by position."""
-    index = ProgramIndex(program)
+def check_program(program: Program, for_build: bool = False) -> list[Diagnostic]:
+    """Every rule's diagnostics for the program, sorted by position;
+    `for_build` when it is about to be compiled (`ladder build`, compile on
+    save), where a rule may be stricter (LD501)."""
+    index = ProgramIndex(program, for_build)
     found: list[Diagnostic] = []
     for rule in RULES:
         found.extend(rule.check(program, index))

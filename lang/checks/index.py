@@ -114,8 +114,9 @@ class ProgramIndex:
     """Elements in order, by kind, every use of every name, every constant
     operand, and every series (for the rules about rung shapes)."""
 
-    def __init__(self, program: Program):
+    def __init__(self, program: Program, for_build: bool = False):
         self.program = program
+        self.for_build = for_build  # the checks run before compiling (LD501 is an error then)
         self.elements: list[tuple[int, Element]] = []
         self.by_kind: dict[str, list[tuple[int, Element]]] = {}
         self.uses: dict[str, list[Use]] = {}  # in order of first use

@@ -1,4 +1,5 @@
-"""Run a PIC16 Intel HEX image in gpsim, headless, under a timed stimulus.
+"""Run a PIC16 Intel HEX image in gpsim (Debian package gpsim), headless, under a timed
+stimulus: for the tests, the benchmarks and anyone checking a compiled image.
 
 gpsim runs a generated command script (``gpsim -i -I script.stc < /dev/null``) always under
 a timeout: a script error or a missing final ``quit`` leaves it at its prompt forever, and a
@@ -149,7 +150,7 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
     give every input a level at time 0.
     """
     if not available():
-        raise GpsimError("gpsim is not installed")
+        raise GpsimError("gpsim is not installed: install the Debian package gpsim")
     hex_path = Path(hex_path)
     if not hex_path.is_file():
         raise GpsimError(f"no HEX file {hex_path}")

@@ -1,10 +1,12 @@
-"""Run an AVR Intel HEX image in simavr (through libsimavr) for tests and benchmarks.
+"""Run an AVR Intel HEX image in simavr (through libsimavr): for the tests, the
+benchmarks and anyone checking a compiled image.
 
-The simulator is a small C program, ``avr_harness.c`` next to this file, linked against
-libsimavr. It is built once (per source version) into ``tests/harness/build/`` (ignored by
-git through the repository's ``build/`` rule), or into a temporary folder when that is not
-writable, and driven through a line script on stdin; see the comment at the top of
-``avr_harness.c`` for the command language.
+The simulator is a small C program, ``avr_harness.c`` in this package, linked against
+libsimavr. It is compiled on first use (once per source version) into the user's cache
+folder (``$XDG_CACHE_HOME/textladder``, else ``~/.cache/textladder``), or a temporary
+folder when that is not writable, and driven through a line script on stdin; see the
+comment at the top of ``avr_harness.c`` for the command language. It needs gcc and
+simavr's headers and library (Debian: gcc, libsimavr-dev).
 
 Two levels of API:
 
@@ -18,6 +20,7 @@ Pins are named by port letter and bit: ``"B5"`` (``"PB5"`` is accepted too).
 
 from __future__ import annotations
 
+import ctypes.util
 import hashlib
 import os
 import re
@@ -25,13 +28,13 @@ import shutil
 import subprocess
 import tempfile
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
 from typing import Iterable, Sequence
 
-HERE = Path(__file__).resolve().parent
-SOURCE = HERE / "avr_harness.c"
-BUILD_DIR = HERE / "build"
+SOURCE_NAME = "avr_harness.c"
 SIMAVR_INCLUDE = Path("/usr/include/simavr")
+DEBIAN_PACKAGES = "gcc and libsimavr-dev"
 
 #: AVRs that LDmicro targets but simavr has no core for (not upstream either).
 NO_CORE = {"atmega162", "atmega64"}
@@ -68,9 +71,21 @@ _built: Path | None = None
 _build_error: str | None = None
 
 
-def _build_dirs() -> Iterable[Path]:
-    yield BUILD_DIR
-    yield Path(tempfile.gettempdir()) / f"textladder-harness-{os.getuid()}"
+def cache_dirs() -> Iterable[Path]:
+    """Where the compiled harness is kept: the user's cache, else a temporary folder."""
+    cache = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    yield Path(cache) / "textladder"
+    yield Path(tempfile.gettempdir()) / f"textladder-{os.getuid()}"
+
+
+def missing() -> str | None:
+    """What is missing to build the harness, naming the Debian packages, or None."""
+    if shutil.which("gcc") is None and shutil.which("cc") is None:
+        return f"no C compiler: the simavr harness needs {DEBIAN_PACKAGES} (Debian packages)"
+    if not (SIMAVR_INCLUDE / "sim_avr.h").exists() or ctypes.util.find_library("simavr") is None:
+        return (f"simavr's headers or library are not installed in {SIMAVR_INCLUDE}: install the Debian "
+                "package libsimavr-dev (it brings libsimavr)")
+    return None
 
 
 def build_harness() -> Path:
@@ -80,17 +95,16 @@ def build_harness() -> Path:
         return _built
     if _build_error is not None:
         raise HarnessError(_build_error)
+    problem = missing()
+    if problem is not None:
+        _build_error = problem
+        raise HarnessError(_build_error)
+    source = resources.files(__package__).joinpath(SOURCE_NAME).read_bytes()
+    digest = hashlib.sha256(source).hexdigest()[:12]
     gcc = shutil.which("gcc") or shutil.which("cc")
-    if gcc is None:
-        _build_error = "no C compiler (gcc) found"
-        raise HarnessError(_build_error)
-    if not (SIMAVR_INCLUDE / "sim_avr.h").exists():
-        _build_error = f"simavr headers not found in {SIMAVR_INCLUDE} (install libsimavr-dev)"
-        raise HarnessError(_build_error)
-    digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:12]
     cflags, libs = _compile_flags()
     last_err = ""
-    for d in _build_dirs():
+    for d in cache_dirs():
         exe = d / f"avr_harness-{digest}"
         if exe.exists() and os.access(exe, os.X_OK):
             _built = exe
@@ -99,20 +113,26 @@ def build_harness() -> Path:
             d.mkdir(parents=True, exist_ok=True)
             if not os.access(d, os.W_OK):
                 raise OSError(f"{d} is not writable")
+            # parallel test workers may build at the same time: private names, then an atomic rename
+            tmp_source = d / f".avr_harness-{digest}-{os.getpid()}.c"
             tmp = d / f".avr_harness-{digest}-{os.getpid()}"
-            proc = subprocess.run(
-                [gcc, "-O2", "-Wall", *cflags, str(SOURCE), "-o", str(tmp), *libs],
-                capture_output=True, text=True, timeout=120)
+            tmp_source.write_bytes(source)
+            try:
+                proc = subprocess.run(
+                    [gcc, "-O2", "-Wall", *cflags, str(tmp_source), "-o", str(tmp), *libs],
+                    capture_output=True, text=True, timeout=120)
+            finally:
+                tmp_source.unlink()
         except (OSError, subprocess.SubprocessError) as e:
             last_err = str(e)
             continue
         if proc.returncode != 0:
             _build_error = f"building avr_harness failed:\n{proc.stderr}"
             raise HarnessError(_build_error)
-        os.replace(tmp, exe)  # atomic: parallel test workers may build at the same time
+        os.replace(tmp, exe)
         _built = exe
         return exe
-    _build_error = f"no writable build folder for avr_harness: {last_err}"
+    _build_error = f"no writable folder to build avr_harness in: {last_err}"
     raise HarnessError(_build_error)
 
 
@@ -120,11 +140,7 @@ def available() -> bool:
     """True when the harness's ingredients are installed: a C compiler, simavr's headers and
     libsimavr (Debian: gcc, libsimavr-dev). Building is not attempted here, so that a harness
     that fails to build makes the tests fail instead of skipping them."""
-    import ctypes.util
-
-    return ((shutil.which("gcc") or shutil.which("cc")) is not None
-            and (SIMAVR_INCLUDE / "sim_avr.h").exists()
-            and ctypes.util.find_library("simavr") is not None)
+    return missing() is None
 
 
 # --------------------------------------------------------------------------- names

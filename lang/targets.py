@@ -1,0 +1,63 @@
+"""The families of parts `ladder build` compiles for, as data.
+
+A family's key is the support-column key of the instruction table
+(`lang.instructions.LAYERS`) and the `family` of its device files
+(`lang/devices/*.json`). Its `parts` are the device-file part keys its back
+end compiles (`compiler/avr/`, `compiler/pic16/`). The compiler, the checks,
+the command line and the language server all read this table; `lang` never
+imports the compiler (docs/architecture.md).
+
+A listed part without a device file yet is left out of everything shown:
+only parts with pin data can be selected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .devices import Device, find_device, part_names
+
+
+@dataclass(frozen=True)
+class Family:
+    key: str  # instruction table support key and device files' "family"
+    title: str  # for messages: "the AVR back end"
+    parts: tuple[str, ...]  # device-file part keys the family's back end compiles
+
+
+FAMILIES: dict[str, Family] = {
+    family.key: family
+    for family in (
+        Family("avr", "AVR", ("atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
+                              "atmega328p", "atmega1284p", "atmega2560")),
+        Family("pic16", "PIC16", ("pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877",
+                                  "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
+                                  "pic16f72", "pic12f675", "pic12f683")),
+    )
+}
+
+
+def family_of(device: Device) -> Family | None:
+    return FAMILIES.get(device.family)
+
+
+def compiled(device: Device) -> bool:
+    """True when `ladder build` compiles for the device's part."""
+    family = family_of(device)
+    return family is not None and device.part in family.parts
+
+
+def compiled_parts(family: Family) -> list[str]:
+    """The family's parts that have a device file, in the family's order."""
+    known = set(part_names())
+    return [part for part in family.parts if part in known]
+
+
+def parts_text() -> str:
+    """`AVR: ATmega8, ATmega16, ...; PIC16: PIC16F628A, ...` for messages and --help."""
+    groups = []
+    for family in FAMILIES.values():
+        titles = [find_device(part).title for part in compiled_parts(family)]
+        if titles:
+            groups.append(f"{family.title}: {', '.join(titles)}")
+    return "; ".join(groups)

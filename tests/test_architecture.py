@@ -1,0 +1,67 @@
+"""The layering (docs/architecture.md), checked on the imports of every
+module: `lang` never imports the compiler; a back end sees `ir.Code` and a
+`Machine`, never the ladder program, the checks or the front end."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import compiler
+from compiler.target import BACKENDS
+
+ROOT = Path(__file__).resolve().parents[1]
+NOT_BACK_ENDS = {"lower", "run"}  # the compiler's subpackages that are not a family's back end
+
+
+def _imports(path: Path, package: str) -> set[str]:
+    """Absolute names of the modules a file imports (relative ones resolved)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[:len(package.split(".")) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            found.add(module)
+            found.update(f"{module}.{alias.name}" for alias in node.names)
+    return found
+
+
+def _package_of(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts if path.name == "__init__.py" else parts[:-1]).removesuffix(".__init__")
+
+
+def _offenders(folder: Path, forbidden: tuple[str, ...]) -> dict[str, list[str]]:
+    found = {}
+    for path in sorted(folder.rglob("*.py")):
+        bad = sorted(m for m in _imports(path, _package_of(path))
+                     if any(m == f or m.startswith(f + ".") for f in forbidden))
+        if bad:
+            found[str(path.relative_to(ROOT))] = bad
+    return found
+
+
+def back_end_folders() -> list[Path]:
+    return [path.parent for path in sorted((ROOT / "compiler").glob("*/__init__.py"))
+            if path.parent.name not in NOT_BACK_ENDS]
+
+
+def test_lang_never_imports_the_compiler():
+    assert _offenders(ROOT / "lang", ("compiler",)) == {}
+
+
+def test_back_ends_see_only_the_machine_and_the_intermediate_code():
+    assert back_end_folders(), "no back end found"
+    forbidden = ("lang.model", "lang.checks", "lang.loader", "lang.ldfile", "lang.textform", "compiler.lower",
+                 "compiler.optimise")
+    for folder in back_end_folders():
+        assert _offenders(folder, forbidden) == {}, folder.name
+
+
+def test_every_back_end_folder_registers_its_family():
+    assert {folder.name for folder in back_end_folders()} == set(BACKENDS)
+    for family, backend in BACKENDS.items():
+        assert backend.family == family and backend.delay_loop_cycles > 0
+    assert set(compiler._BACKEND_MODULES) == {f"compiler.{family}" for family in BACKENDS}
