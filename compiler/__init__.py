@@ -28,7 +28,7 @@ from .optimise import optimise
 from .target import BACKENDS, machine_for
 
 # Each registers its back end on import; the lead adds "compiler.pic16".
-_BACKEND_MODULES = ("compiler.avr",)
+_BACKEND_MODULES = ("compiler.avr", "compiler.pic16")
 
 
 def target_device(program: Program, target: str | None) -> Device:

@@ -18,6 +18,7 @@ from pathlib import Path
 from test_compiler_harness import DRIVE_BEFORE, SAMPLE_AT, Event, compared_names, simulate
 
 import compiler
+from compiler.pic16.part import Part
 
 END_MARK = "__textladder_end__"
 _VALUE = re.compile(r"^\*?\*?(?:gpsim> )*\s*(\w+)\[[^\]]*\] = \$([0-9a-fA-F]+)")
@@ -28,25 +29,26 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
     settings = build.program.settings
     per_ms = settings.crystal_hz / 4000
     cycle_ms = settings.cycle_us / 1000
-    device = build.part.device
+    device = build.device
 
     def at(ms: float) -> int:
         return max(1, round(ms * per_ms))
 
-    timeline: list[tuple[int, int, str]] = []
+    timeline: list[tuple[int, int, int, str]] = []  # cycle, kind, order, command
     modules: dict[str, str] = {}
     for event in events:
         pin = device.pin(build.program.pins[event.name].pin)
         module = modules.setdefault(pin.name, f"in_{pin.name.lower()}")
         volts = 5 if event.value else 0
-        timeline.append((at(max(0.0, (event.scan - DRIVE_BEFORE) * cycle_ms)), 0, f"{module}.voltage = {volts}"))
-    symbols = {n: build.symbols[n] for n in names}
+        timeline.append((at(max(0.0, (event.scan - DRIVE_BEFORE) * cycle_ms)), 0, len(timeline),
+                         f"{module}.voltage = {volts}"))
+    symbols = {n: build.image.symbols[n] for n in names}
     addresses = sorted({s.address + i for s in symbols.values() for i in range(s.size)})
     for scan in range(scans):
         cycle = at((scan + SAMPLE_AT) * cycle_ms)
-        timeline += [(cycle, 1, f"reg({address:#x})") for address in addresses]
+        timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
     timeline.sort()
-    lines = [f"processor {build.part.gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
+    lines = [f"processor {Part.of(device).gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
     if modules:
         lines.append("module library libgpsim_modules")
         for pin_name, module in sorted(modules.items()):
@@ -54,7 +56,7 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
             lines += [f"module load pullup {module}", f"node n_{module}",
                       f"attach n_{module} {module}.pin {port}{pin_name[-1]}"]
     last = 0
-    for cycle, _, command in timeline:
+    for cycle, _, _, command in timeline:
         if cycle > last:
             lines += [f"break c {cycle}", "run"]
             last = cycle
@@ -67,6 +69,8 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
             subprocess.run(["gpsim", "-i", "-I", "script.stc"], stdin=subprocess.DEVNULL, stdout=out,
                            stderr=subprocess.STDOUT, timeout=timeout, cwd=tmp, check=False)
         text = (Path(tmp) / "out.txt").read_text(errors="replace")
+        Path("/tmp/pa/last_out.txt").write_text(text)
+        Path("/tmp/pa/last_script.stc").write_text("\n".join(lines))
     if END_MARK not in text or "ERROR" in text:
         raise RuntimeError("gpsim did not run the script through:\n" + text[-3000:])
     values = [int(m.group(2), 16) for m in map(_VALUE.match, text.splitlines()) if m]

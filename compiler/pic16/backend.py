@@ -62,7 +62,7 @@ class Pic16Backend:
         write_routines(cx.e, layout.scratch, cx.routines)
         _write_tables(cx)
         compress_skips(assembler.items)
-        config = part.config_words(machine.config_word)
+        config = _config(part, machine.config_word)
         header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
                   f"; reassemble: gpasm -p {part.processor} FILE\n")
         try:
@@ -77,6 +77,17 @@ class Pic16Backend:
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
             listing_suffix=".asm")
+
+
+def _config(part: Part, setting: int | None) -> dict[int, int]:
+    """Word address -> configuration word: the program's setting (its high 16
+    bits are the second word of the parts with two, as LDmicro stores them),
+    else the part's."""
+    words = dict(part.config_words)
+    if setting is not None:
+        for i, address in enumerate(sorted(words)):
+            words[address] = setting >> 16 * i & 0x3FFF
+    return words
 
 
 def _symbols(layout) -> dict:

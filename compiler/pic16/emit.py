@@ -59,8 +59,7 @@ class Emitter:
         self.part = part
         self.ram = ram  # bytes only the program changes: W may be known to hold one
         self.state: State | None = UNKNOWN  # None: this point is unreachable
-        common = part.common
-        self._common = frozenset(range(common[0], common[1] + 1)) if common else frozenset()
+        self._common = frozenset(part.common or ())
         self._incoming: dict[str, list[State]] = {}
         self._skipped: State | None = None  # the state before the instruction a skip may skip
         self._labels = 0

@@ -65,9 +65,7 @@ def register_of(name: str, part: Part) -> int | None:
     if m:
         kind = {"PIN": "PORT", "DDR": "TRIS"}.get(m.group(1).upper(), m.group(1).upper())
         register = kind + m.group(2).upper()
-        if part.has(register):
-            return part.reg(register)
-        return None
+        return part.reg(register) if part.has(register) else None
     try:
         address = int(name[1:], 0)
     except ValueError:
@@ -79,10 +77,9 @@ class _Ram:
     """Free RAM bytes: common RAM first, then bank by bank."""
 
     def __init__(self, part: Part):
-        common = part.common
-        self.common = list(range(common[0], common[1] + 1)) if common else []
+        self.common = list(part.common or ())
         shared = set(self.common)
-        self.banked = [a for first, last in part.ram_ranges() for a in range(first, last + 1) if a not in shared]
+        self.banked = [a for span in part.ram_ranges() for a in span if a not in shared]
         self.size = len(self.common) + len(self.banked)
         self.used = 0
 
@@ -110,16 +107,9 @@ class _Full(Exception):
     pass
 
 
-def port_register(part: Part, letter: str, kind: str = "PORT") -> int:
-    """PORTx or TRISx of a port letter; the 8-pin parts' one port is GPIO/TRISIO."""
-    if part.has(f"{kind}{letter}"):
-        return part.reg(f"{kind}{letter}")
-    return part.reg("GPIO" if kind == "PORT" else "TRISIO")
-
-
 def _pin_bit(part: Part, machine, name: str) -> FileBit:
     pin = machine.pins[name]
-    return FileBit(port_register(part, pin.port), pin.bit, False)
+    return FileBit(part.port(pin.port), pin.bit, False)
 
 
 def allocate(code: ir.Code, part: Part, machine) -> Layout:

@@ -19,7 +19,7 @@ from .. import ir
 from ..errors import BAD_CYCLE, fail
 from . import bits
 from .emit import FSR, INDF, IRP, STATUS, W, Z
-from .memory import FileBit, port_register
+from .memory import FileBit
 from .select import Context, select
 
 CYCLE_TOLERANCE = 0.001
@@ -68,7 +68,7 @@ def _pulled_up(cx: Context) -> int:
     """The inputs of the port with weak pull-ups (PORTB, or GPIO) that want one."""
     mask = 0
     for name, pin in cx.machine.pins.items():
-        if name[:1] == "X" and pin.is_io and (pin.port == "B" or cx.part.has("GPIO")):
+        if name[:1] == "X" and pin.is_io and pin.port in ("B", "P"):
             mask |= (cx.machine.pullups.get(pin.port, 0xFF) >> pin.bit & 1) << pin.bit
     return mask
 
@@ -103,21 +103,15 @@ def _clear(cx: Context, addresses: list[int]) -> None:
 def _start(cx: Context, code: ir.Code) -> None:
     part = cx.part
     _clear(cx, sorted(cx.e.ram))
-    if part.has("ANSEL"):
-        _write(cx, "ANSEL", 0)
-        if part.has("ANSELH"):
-            _write(cx, "ANSELH", 0)
-    elif part.has("ADCON1"):
-        _write(cx, "ADCON1", 0x07)  # PCFG: every pin digital
-    for comparator in ("CMCON", "CMCON0"):
-        if part.has(comparator):
-            _write(cx, comparator, 0x07)  # comparators off
+    for features in ("digital_io", "comparators_off"):
+        for register, value in sorted(part.feature(features, {}).items()):
+            _write(cx, register, value)
     outputs = _pins(cx)
     for letter in sorted(outputs):
-        cx.e.ins("clrf", port_register(part, letter))
+        cx.e.ins("clrf", part.port(letter))
     for letter, mask in sorted(outputs.items()):
         cx.e.load_constant(~mask & 0xFF)
-        cx.e.store(port_register(part, letter, "TRIS"))
+        cx.e.store(part.tris(letter))
     pulled = _pulled_up(cx)
     if pulled:
         for register in ("WPUB", "WPU"):
@@ -153,7 +147,7 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
 def _duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
-    return FileBit(port_register(cx.part, pin.port), pin.bit, False) if pin is not None and pin.is_io else None
+    return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
 
 
 def write_runtime(cx: Context, code: ir.Code) -> None:
