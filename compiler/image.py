@@ -36,6 +36,16 @@ class Symbol:
     bit: int | None = None
 
 
+@dataclass(frozen=True)
+class LoopBound:
+    """A loop of the generated code: at most `iterations` passes through its
+    head each time it is entered (None: no bound the compiler knows), and
+    what it is, for the scan-time budget's report."""
+
+    iterations: int | None
+    what: str
+
+
 @dataclass
 class Image:
     words: list[int]  # program memory from word address 0
@@ -49,6 +59,7 @@ class Image:
     labels: dict[str, int]  # listing label -> word address
     segments: dict[int, bytes] = field(default_factory=dict)  # byte address -> data past program memory
     listing_suffix: str = ".lst"
+    loops: dict[str, LoopBound] = field(default_factory=dict)  # loop-head label -> its bound
 
     def __post_init__(self):
         if self.flash_unit not in ("bytes", "words"):

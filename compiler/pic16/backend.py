@@ -76,7 +76,7 @@ class Pic16Backend:
             flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=_symbols(layout),
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-            listing_suffix=".asm")
+            listing_suffix=".asm", loops=dict(cx.e.bounds))
 
 
 def _config(part: Part, setting: int | None) -> dict[int, int]:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from ..image import LoopBound
 from . import asm as a
 from .part import Part
 
@@ -65,6 +66,7 @@ class Emitter:
         self._labels = 0
         self._loops: set[str] = set()
         self._placed: set[str] = set()
+        self.bounds: dict[str, LoopBound] = {}  # loop heads and their bounds, for the scan-time budget
 
     # --- labels and control flow ------------------------------------------------
 
@@ -82,8 +84,12 @@ class Emitter:
         if self.state is not None:
             self._incoming.setdefault(target, []).append(self.state)
 
-    def label(self, name: str, loop: bool = False) -> None:
+    def label(self, name: str, loop: bool = False, bound: LoopBound | None = None) -> None:
+        """A label; `loop`: later code may jump back to it (or call it), so
+        nothing is known there; a loop head gives its `bound`."""
         self._merge_skip()
+        if bound is not None:
+            self.bounds[name] = bound
         self._placed.add(name)
         if loop:
             self._loops.add(name)

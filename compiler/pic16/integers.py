@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from lang.sim.numbers import byte_needed
 
 from .. import ir
+from ..image import LoopBound
 from . import bits
 from .emit import C, F, STATUS, W, Z, Emitter
 from .memory import FileBit
@@ -428,10 +429,10 @@ def shift_once(e: Emitter, kind: str, regs: list[int]) -> None:
 
 
 def _repeat(cx, kind: str, regs: list[int]) -> None:
-    """Shift D times (D in the scratch counter, not zero)."""
+    """Shift D times (D in the scratch counter, 1 to 8 * len(regs))."""
     e = cx.e
     top = e.new_label("shift")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(8 * len(regs), f"a shift of {len(regs)} bytes, one bit a pass"))
     shift_once(e, kind, regs)
     e.ins("decfsz", cx.layout.scratch[12], F)
     e.goto(top)
@@ -566,7 +567,7 @@ def change_bit(cx, op: ir.ChangeBitOf) -> None:
     e.goto(masked)
     e.store(s.D)
     top = e.new_label("bit")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(7, "the mask of a bit number"))
     e.ins("bcf", STATUS, C)
     e.ins("rlf", s.E, F)
     e.ins("decfsz", s.D, F)
@@ -661,7 +662,7 @@ def convert(cx, op: ir.Convert) -> None:
         copy_in(cx, op.src, s.A[:w])
         put(e, Byte("const", 8 * w), s.D)
         top = e.new_label("opp")
-        e.label(top, loop=True)
+        e.label(top, loop=True, bound=LoopBound(8 * w, f"OPPOSITE of {w} bytes, one bit a pass"))
         shift_once(e, "sr0", s.A[:w])
         for reg in s.B[:w]:
             e.ins("rlf", reg, F)

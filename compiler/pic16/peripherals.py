@@ -5,6 +5,7 @@ error (LD702) naming the instruction."""
 from __future__ import annotations
 
 from .. import ir
+from ..image import LoopBound
 from ..errors import NOT_COMPILED, fail
 from . import integers as ints
 from .emit import STATUS, W, Z
@@ -35,7 +36,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.ins("btfsc", STATUS, Z)
     e.goto(done)
     top = e.new_label("delay")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(None if op.loops else count, "DELAY"))
     e.ins("clrwdt")
     ints.add_constant(e, s.A, -1)
     e.load(s.A[0])

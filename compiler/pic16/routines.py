@@ -15,6 +15,7 @@ Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
 from __future__ import annotations
 
 from .. import ir
+from ..image import LoopBound
 from . import integers as ints
 from .emit import C, F, STATUS, W, Z, Emitter
 from .integers import Byte
@@ -50,7 +51,7 @@ def mul(e: Emitter, s: Scratch, n: int) -> None:
     for reg in R:
         e.ins("clrf", reg)
     top, skip = e.new_label("mul"), e.new_label("mul")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(8 * n + 1, f"a {8 * n}-bit multiplication, one bit a pass"))
     e.ins("movf", B[0], W)
     for reg in B[1:]:
         e.ins("iorwf", reg, W)
@@ -73,7 +74,7 @@ def udivmod(e: Emitter, s: Scratch, n: int) -> None:
     e.ins("movlw", 8 * n)
     e.ins("movwf", s.D)
     top, next_ = e.new_label("div"), e.new_label("div")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(8 * n, f"a {8 * n}-bit division, one bit a pass"))
     _shift_left(e, A)
     _shift_left(e, R, clear=False)
     ints.compare_files(e, R, B)  # C = R >= B
@@ -118,7 +119,8 @@ def bin2bcd(e: Emitter, s: Scratch) -> None:
     for digit, step in ((A[3], 1000), (A[2], 100), (A[1], 10)):
         e.ins("clrf", digit)
         top, done = e.new_label("bcd"), e.new_label("bcd")
-        e.label(top, loop=True)
+        # a 16-bit value holds 65 thousands at most; then fewer than ten of each
+        e.label(top, loop=True, bound=LoopBound(66 if step == 1000 else 10, f"BIN2BCD, counting {step}s"))
         ints.compare_files(e, R, [Byte("const", step & 0xFF), Byte("const", step >> 8)])
         e.ins("btfss", STATUS, C)
         e.goto(done)

@@ -16,6 +16,7 @@ cycle before its first scan).
 from __future__ import annotations
 
 from .. import ir
+from ..image import LoopBound
 from ..errors import BAD_CYCLE, fail
 from . import bits
 from .emit import FSR, INDF, IRP, STATUS, W, Z
@@ -91,7 +92,7 @@ def _clear(cx: Context, addresses: list[int]) -> None:
         e.load_constant(run[0] & 0xFF)
         e.store(FSR)
         top = e.new_label("clear")
-        e.label(top, loop=True)
+        e.label(top, loop=True, bound=LoopBound(len(run), "clearing RAM at start-up"))
         e.ins("clrf", INDF)
         e.ins("incf", FSR, 1)
         e.ins("movlw", (run[-1] + 1) & 0xFF)
@@ -135,7 +136,7 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
     select(cx, code.scan)
     if duty:
         bits.write(e, duty, False)
-    e.label("wait", loop=True)
+    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
     e.ins("clrwdt")
     flag = FileBit(part.reg("PIR1"), part.bit("PIR1", "CCP1IF"), False)
     bits.jump_if(e, flag, False, "wait")

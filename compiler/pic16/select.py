@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .. import ir
+from ..image import LoopBound
 from ..analysis import loop_labels
 from . import bits, integers, peripherals, routines
 from .emit import Emitter
@@ -49,7 +50,7 @@ def _halt(cx: Context, op: ir.Halt) -> None:
     """An endless loop; LOCK never clears the watchdog, so an enabled
     watchdog resets the MCU as it does on LDmicro's code."""
     top = cx.e.new_label("lock")
-    cx.e.label(top, loop=True)
+    cx.e.label(top, loop=True, bound=LoopBound(None, "LOCK"))
     cx.e.goto(top)
     cx.e.end_path()
 
