@@ -42,6 +42,18 @@ BAD_BAUD = register(
     "The UART's baud rate generator cannot make the BAUD setting from the crystal within 2 % (the "
     "error LDmicro tolerates), or the divisor overflows. Choose a baud rate or crystal that "
     "divide well (e.g. 3.6864, 7.3728, 11.0592, 14.7456 MHz).")
+BAUD_APPROXIMATED = register(
+    "LD713", "baud rate approximated",
+    "The UART's baud rate generator makes the BAUD setting from the crystal only approximately: more "
+    "than 2 % off (LDmicro warns from there), but within what a receiver sampling mid-bit follows. "
+    "Check the other end tolerates it, or choose a crystal that divides well (e.g. 3.6864, 7.3728, "
+    "11.0592, 14.7456 MHz).")
+ANALOG_PIN = register(
+    "LD714", "digital pin that READ ADC makes analog",
+    "On parts whose ADCON1 PCFG bits choose the analog pins (PIC16F87x, 16F819, 16F72), the A/D "
+    "channels can only be made analog in fixed groups: reading AN1 makes AN0 and AN3 analog too. A "
+    "digital input on such a pin would always read 0, an output would not be driven. Move it to "
+    "another pin, or the A/D input to a channel whose group leaves it digital.")
 BAD_PWM = register(
     "LD708", "PWM output not achievable",
     "SET PWM needs an 8-bit timer output (OC0, OC0A/B, OC2, OC2A/B): Timer1 makes the scan cycle "

@@ -39,7 +39,8 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
     for event in events:
         pin = device.pin(build.program.pins[event.name].pin)
         module = modules.setdefault(pin.name, f"in_{pin.name.lower()}")
-        volts = 5 if event.value else 0
+        # an input's level, or an A/D reading as the voltage that converts to it (VDD = 5 V reference)
+        volts = (5 if event.value else 0) if event.name[0] == "X" else round((event.value + 0.5) * 5 / 1024, 4)
         timeline.append((at(max(0.0, (event.scan - DRIVE_BEFORE) * cycle_ms)), 0, len(timeline),
                          f"{module}.voltage = {volts}"))
     symbols = {n: build.image.symbols[n] for n in names}
@@ -53,7 +54,8 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
         lines.append("module library libgpsim_modules")
         for pin_name, module in sorted(modules.items()):
             port = "gpio" if pin_name.startswith("GP") else f"port{pin_name[1].lower()}"
-            lines += [f"module load pullup {module}", f"node n_{module}",
+            # a stiff source: the PIC's weak pull-ups must not lift a driven 0
+            lines += [f"module load pullup {module}", f"{module}.resistance = 100", f"node n_{module}",
                       f"attach n_{module} {module}.pin {port}{pin_name[-1]}"]
     last = 0
     for cycle, _, _, command in timeline:
@@ -83,6 +85,18 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
     return samples
 
 
+def erase_eeprom(hex_path: Path, size: int) -> None:
+    """Add the data EEPROM as a new chip has it (every byte 0xFF) to the HEX:
+    gpsim starts it at 0. EEPROM data lies at word 0x2100, a byte a word."""
+    from intelhex import IntelHex
+
+    image = IntelHex(str(hex_path))
+    for i in range(size):
+        image[0x4200 + 2 * i] = 0xFF
+        image[0x4200 + 2 * i + 1] = 0x00
+    image.write_hex_file(str(hex_path))
+
+
 def _value(symbol, data: dict[int, int]) -> int:
     if symbol.bit is not None:
         return data[symbol.address] >> symbol.bit & 1
@@ -91,10 +105,15 @@ def _value(symbol, data: dict[int, int]) -> int:
 
 
 def differential(program, events: list[Event], scans: int, tmp_path: Path, target: str | None = None) -> list[str]:
-    """Mismatches between the simulator and the compiled PIC image, as text."""
+    """Mismatches between the simulator and the compiled PIC image, as text.
+    Inputs the stimulus does not set at scan 0 are driven low from the start,
+    as the simulator has them (a PIC pin with a pull-up would read high)."""
+    given = {e.name for e in events if e.scan == 0}
+    events = [Event(0, n, 0) for n in sorted(program.pins) if n[0] == "X" and n not in given] + list(events)
     build = compiler.build(program, target)
     hex_path = tmp_path / "program.hex"
     build.write(hex_path)
+    erase_eeprom(hex_path, Part.of(build.device).eeprom)
     program = build.program
     names = compared_names(program, build)
     expected = simulate(program, events, scans, names)

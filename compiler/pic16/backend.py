@@ -9,7 +9,7 @@ from . import asm as a
 from .emit import Emitter, compress_skips
 from .memory import allocate
 from .part import Part
-from .peripherals import DELAY_LOOP_CYCLES
+from .peripherals import DELAY_LOOP_CYCLES, check_pwm
 from .routines import write_routines
 from .runtime import write_runtime
 from .select import Context, prepare
@@ -58,7 +58,7 @@ class Pic16Backend:
         assembler = a.Assembler(part.flash_words, part.page_words)
         cx = Context(Emitter(assembler, part, _ram_in_use(layout)), part, layout, machine)
         prepare(cx, code)
-        write_runtime(cx, code)
+        warnings = check_pwm(cx, code.scan) + write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)
         _write_tables(cx)
         compress_skips(assembler.items)
@@ -73,7 +73,7 @@ class Pic16Backend:
         listing = header.format(words=len(assembled.words)) + assembled.listing
         return Image(
             words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=_symbols(layout),
+            flash_size=part.flash_words, flash_unit="words", warnings=warnings, symbols=_symbols(layout),
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
             listing_suffix=".asm", loops=dict(cx.e.bounds))

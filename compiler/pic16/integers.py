@@ -123,7 +123,7 @@ def copy_out(cx, regs, target) -> None:
         put(cx.e, Byte("mem", reg), address)
 
 
-def _scratch(cx, which: str, n: int) -> list[int]:
+def scratch(cx, which: str, n: int) -> list[int]:
     base = {"A": 0, "B": 4, "C": 8}[which]
     return list(cx.layout.scratch[base:base + n])
 
@@ -199,7 +199,7 @@ def near(cx, b: list[Byte], regs: list[int]) -> list[Byte]:
     e = cx.e
     if all(bi.kind == "const" or (bi.kind == "mem" and _same_bank(e, bi.value, regs[0])) for bi in b):
         return b
-    spare = _scratch(cx, "B", len(b))
+    spare = scratch(cx, "B", len(b))
     out = []
     for bi, reg in zip(b, spare):
         if bi.kind != "const":
@@ -286,7 +286,7 @@ def arith(cx, op: ir.Arith) -> None:
     if op.op in ("add", "and", "or", "xor") and not isinstance(op.dst, ir.Byte) and b == op.dst and a != op.dst:
         a, b = b, a  # commutative: work on the destination's own value
     place = _in_place(cx, ir.Arith(op.op, op.dst, a, b, op.overflow), width)
-    regs = place if place is not None else _scratch(cx, "A", width)
+    regs = place if place is not None else scratch(cx, "A", width)
     if op.overflow:
         # the signs before the operation, for the overflow test: C0 = a's, C1 = a's xor b's
         load_w(e, byte(cx, a, width - 1))
@@ -339,7 +339,7 @@ def unary(cx, op: ir.Unary) -> None:
     place = None if isinstance(op.dst, ir.Byte) or not storage(cx, op.dst).ram else target_bytes(cx, op.dst)
     if place is not None and not _same_bank(e, *place):
         place = None
-    regs = place if place is not None else _scratch(cx, "A", n)
+    regs = place if place is not None else scratch(cx, "A", n)
     copy_in(cx, op.a, regs)
     for reg in regs:
         e.ins("comf", reg, F)
@@ -371,7 +371,7 @@ def compare_jump(cx, op: ir.JumpIf) -> None:
         else:
             a, b, rel = b, a, _SWAPPED[rel]
     # a >= b (signed) <=> a ^ 0x80.. >= b ^ 0x80.. (unsigned): C after a - b
-    regs = _scratch(cx, "A", width)
+    regs = scratch(cx, "A", width)
     copy_in(cx, a, regs)
     e.ins("movlw", 0x80)
     e.ins("xorwf", regs[-1], F)
@@ -379,7 +379,7 @@ def compare_jump(cx, op: ir.JumpIf) -> None:
     if b_bytes[-1].kind == "const":
         b_bytes[-1] = Byte("const", b_bytes[-1].value ^ 0x80)
     else:
-        flipped = _scratch(cx, "B", width)[-1]
+        flipped = scratch(cx, "B", width)[-1]
         put(e, b_bytes[-1], flipped)
         e.ins("movlw", 0x80)
         e.ins("xorwf", flipped, F)
@@ -477,7 +477,7 @@ def _count(cx, count, bits_: int, rotate: bool) -> None:
     e.store(s.D)
 
 
-def _widen(cx, regs: list[int], w: int, n: int, signed: bool) -> list[int]:
+def widen(cx, regs: list[int], w: int, n: int, signed: bool) -> list[int]:
     """regs[:max(w, n)] with the bytes above w the sign (or zero) extension."""
     for reg in regs[w:n]:
         put(cx.e, Byte("ext", regs[w - 1]) if signed else Byte("const", 0), reg)
@@ -488,7 +488,7 @@ def shift(cx, op: ir.Shift) -> None:
     e = cx.e
     w, n = op.width, target_size(cx, op.dst)
     bits_ = 8 * w
-    regs = _scratch(cx, "A", 4)
+    regs = scratch(cx, "A", 4)
     if isinstance(op.count, ir.Const):
         count = op.count.value % bits_ if op.op in ("rol", "ror") else min(max(op.count.value, 0), bits_)
         copy_in(cx, op.a, regs[:w])
@@ -507,7 +507,7 @@ def shift(cx, op: ir.Shift) -> None:
         e.goto(done)
         _repeat(cx, op.op, regs[:w])
         e.label(done)
-    copy_out(cx, _widen(cx, regs, w, n, op.op == "shr"), op.dst)
+    copy_out(cx, widen(cx, regs, w, n, op.op == "shr"), op.dst)
 
 
 # --- bit numbers ------------------------------------------------------------------------------
@@ -668,7 +668,7 @@ def convert(cx, op: ir.Convert) -> None:
             e.ins("rlf", reg, F)
         e.ins("decfsz", s.D, F)
         e.goto(top)
-    copy_out(cx, _widen(cx, result, width, n, False), op.dst)
+    copy_out(cx, widen(cx, result, width, n, False), op.dst)
 
 
 def table(cx, op: ir.Table) -> None:
@@ -697,4 +697,4 @@ def permute(cx, op: ir.Permute) -> None:
         source = min(source, 8 * w - 1)  # past the width: the sign bit
         e.ins("btfsc", s.B[source // 8], source % 8)
         e.ins("bsf", s.A[0], dest)
-    copy_out(cx, _widen(cx, s.A, 1, n, False), op.dst)
+    copy_out(cx, widen(cx, s.A, 1, n, False), op.dst)

@@ -40,8 +40,10 @@ config
     its bits, its value in the words and the header symbol meaning that value
     (a listing writes __CONFIG as the AND of the symbols of a word).
 features
-    adc: {bits, result: [result registers, high byte first]}, absent without
-    an A/D converter. digital_io: {register: value} written at start-up to make
+    adc: {bits, result: [result registers, high byte first], pcfg}, absent
+    without an A/D converter; pcfg, on the parts whose ADCON1 PCFG bits pick
+    the analog pins: [[PCFG value, [the channels it makes analog]], ...], the
+    combinations with VDD/VSS references (the datasheet's ADCON1 table). digital_io: {register: value} written at start-up to make
     every analog pin digital (ADCON1's PCFG, or ANSEL/ANSELH). comparators_off:
     {register: value} written at start-up where the comparators' reset state
     is on (the pins read as analog until then). cycle_timers: the scan timers
@@ -126,6 +128,10 @@ class Part:
     def bit(self, register: str, name: str) -> int:
         """A bit's position in its register, by the header's names."""
         return self.pic16["bits"][register][name]
+
+    def bits(self, register: str) -> dict[str, int]:
+        """The named bits of a register (none for a register the part lacks)."""
+        return self.pic16["bits"].get(register, {})
 
     @staticmethod
     def bank(address: int) -> int:

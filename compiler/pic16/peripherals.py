@@ -1,18 +1,83 @@
-"""Peripheral patterns: busy-wait delays; the A/D converter, PWM, UART and
-data EEPROM are not compiled for PIC16 yet and are refused with a located
-error (LD702) naming the instruction."""
+"""Peripheral patterns and their set-up: busy-wait delays, the A/D converter,
+PWM on the CCP modules, the USART and the data EEPROM.
+
+The UART's "ready" means what the simulator means: the last byte has left
+the transmitter completely (TXREG empty, TXIF, and the shift register empty,
+TRMT), which is also true before anything was sent; a byte written while
+the transmitter is busy is lost.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .. import ir
+from ..errors import ANALOG_PIN, BAD_BAUD, BAD_PWM, BAUD_APPROXIMATED, NOT_COMPILED, PWM_FREQUENCY, fail, note
 from ..image import LoopBound
-from ..errors import NOT_COMPILED, fail
+from . import bits
 from . import integers as ints
-from .emit import STATUS, W, Z
+from .emit import F, STATUS, W, Z
+from .memory import FileBit
+from .part import Part
 
 # one count of a variable DELAY: 19 instruction cycles of 4 clock cycles
 DELAY_LOOP_CYCLES = 76
 
+BAUD_WARNING = 0.02  # LDmicro warns beyond this error
+BAUD_LIMIT = 0.045  # beyond this a receiver sampling mid-bit loses the frame
+PWM_TOLERANCE = 0.05
+TAD_MIN_NS = 1600  # the converter's shortest clock period (PIC16F87x: 1.6 us)
+ACQUISITION_US = 20  # the sample-and-hold capacitor's charging time before a conversion
+PWM_MODE = 0x0C  # CCPxM3:0 = 11xx
+TIMER2_PRESCALERS = {1: 0, 4: 1, 16: 2}  # T2CKPS1:0
+
+
+def _locate(cx, kind: str):
+    found = cx.machine.elements(kind)
+    return found[0] if found else None
+
+
+def _bit(cx, register: str, name: str) -> FileBit:
+    return FileBit(cx.part.reg(register), cx.part.bit(register, name), False)
+
+
+def _write(cx, register: str, value: int) -> None:
+    address = cx.part.reg(register)
+    if value & 0xFF == 0:
+        cx.e.ins("clrf", address)
+    else:
+        cx.e.load_constant(value)
+        cx.e.store(address)
+
+
+def _wait_while(cx, loc: FileBit, value: bool, bound: LoopBound) -> None:
+    """Clear the watchdog until the bit differs from `value`."""
+    e = cx.e
+    top = e.new_label("wait")
+    e.label(top, loop=True, bound=bound)
+    e.ins("clrwdt")
+    bits.jump_if(e, loc, value, top)
+
+
+def _cycles(cx, microseconds: float) -> int:
+    """Instruction cycles (Fosc/4) in a time."""
+    return round(microseconds * cx.machine.crystal_hz / 4_000_000)
+
+
+def _spin(cx, cycles: int, what: str) -> None:
+    """Wait about `cycles` instruction cycles (3 a pass of DECFSZ/GOTO)."""
+    passes = min(max(-(-cycles // 3), 1), 255)
+    e = cx.e
+    counter = cx.layout.scratch[12]
+    e.load_constant(passes)
+    e.store(counter)
+    top = e.new_label("spin")
+    e.label(top, loop=True, bound=LoopBound(passes, what))
+    e.ins("decfsz", counter, F)
+    e.goto(top)
+
+
+# --- delays ---------------------------------------------------------------------------
 
 def delay(cx, op: ir.Delay) -> None:
     """A loop of DELAY_LOOP_CYCLES clock cycles per count, clearing the watchdog."""
@@ -21,6 +86,7 @@ def delay(cx, op: ir.Delay) -> None:
     e = cx.e
     s = Scratch(cx.layout.scratch)
     done = e.new_label("delay")
+    count = None
     if op.loops:
         ints.copy_in(cx, op.amount, s.A)
         e.ins("btfsc", s.A[3], 7)
@@ -36,7 +102,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.ins("btfsc", STATUS, Z)
     e.goto(done)
     top = e.new_label("delay")
-    e.label(top, loop=True, bound=LoopBound(None if op.loops else count, "DELAY"))
+    e.label(top, loop=True, bound=LoopBound(count, "DELAY"))
     e.ins("clrwdt")
     ints.add_constant(e, s.A, -1)
     e.load(s.A[0])
@@ -47,19 +113,359 @@ def delay(cx, op: ir.Delay) -> None:
     e.label(done)
 
 
-def _refused(what: str, kind: str):
-    def pattern(cx, op) -> None:
-        found = cx.machine.elements(kind)
-        raise fail(NOT_COMPILED, f"{what} is not compiled for PIC16 yet", found[0] if found else None)
-    return pattern
+# --- A/D converter ---------------------------------------------------------------------------
+
+def adc_clock(part: Part, crystal_hz: int) -> int:
+    """ADCS1:0: the smallest of Fosc/2, /8, /32 whose period is at least
+    TAD_MIN_NS; the converter's own RC clock (3) beyond that."""
+    for select, divisor in enumerate((2, 8, 32)):
+        if divisor * 1e9 / crystal_hz >= TAD_MIN_NS:
+            return select
+    return 3
 
 
-read_adc = _refused("READ ADC", "READ_ADC")
-set_pwm = _refused("SET PWM", "SET_PWM")
-pwm_off = _refused("SET PWM", "SET_PWM")
-uart_send = _refused("UART output", "UART_SEND")
-uart_ready = _refused("UART output", "UART_SEND")
-uart_available = _refused("UART input", "UART_RECV")
-uart_take = _refused("UART input", "UART_RECV")
-eeprom_load = _refused("PERSIST", "PERSIST")
-eeprom_save = _refused("PERSIST", "PERSIST")
+def analog_setup(cx, channels: set[int]) -> None:
+    """At start-up: the pins of the channels READ ADC uses analog, the
+    others digital; results right-justified."""
+    part = cx.part
+    adc = part.feature("adc")
+    if adc is None or not channels:
+        return
+    adfm = next((r for r in ("ADCON1", "ADCON0") if "ADFM" in part.bits(r)), None)
+    if part.has("ANSEL"):
+        mask = sum(1 << c for c in channels)
+        clock = 0
+        if "ADCS0" in part.bits("ANSEL"):
+            clock = _adcs(part, "ANSEL", adc_clock(part, cx.machine.crystal_hz))
+        _write(cx, "ANSEL", mask & 0xFF | clock)
+        if part.has("ANSELH"):
+            _write(cx, "ANSELH", mask >> 8)
+        if adfm == "ADCON1":
+            _write(cx, "ADCON1", 1 << part.bit("ADCON1", "ADFM"))
+        return
+    choices = [(value, set(covered)) for value, covered in adc["pcfg"]]
+    value, analog = min((c for c in choices if channels <= c[1]), key=lambda c: len(c[1]))
+    for name, pin in cx.machine.pins.items():
+        channel = part.device.adc.get(pin.name)
+        if name[0] in "XYP" and channel in analog:
+            raise fail(ANALOG_PIN, f"'{name}' is on {pin.name} (AN{channel}), which the {part.title} makes analog "
+                                   f"with the A/D inputs on " + ", ".join(f"AN{c}" for c in sorted(channels)),
+                       cx.machine.locate(name))
+    _write(cx, "ADCON1", value | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
+
+
+def _adcs(part: Part, register: str, select: int) -> int:
+    return (select & 1) << part.bit(register, "ADCS0") | (select >> 1) << part.bit(register, "ADCS1")
+
+
+def read_adc(cx, op: ir.ReadAdc) -> None:
+    e, part = cx.e, cx.part
+    adc = part.feature("adc")
+    control = 1 << part.bit("ADCON0", "ADON") | op.channel << part.bit("ADCON0", "CHS0")
+    if "ADCS0" in part.bits("ADCON0"):
+        control |= _adcs(part, "ADCON0", adc_clock(part, cx.machine.crystal_hz))
+    if "ADFM" in part.bits("ADCON0"):
+        control |= 1 << part.bit("ADCON0", "ADFM")
+    _write(cx, "ADCON0", control)
+    _spin(cx, _cycles(cx, ACQUISITION_US), "the A/D input's acquisition time")
+    go = _bit(cx, "ADCON0", "GO")
+    bits.write(e, go, True)
+    # 12 converter clocks of at most 32 instruction cycles... each pass is 4 cycles
+    _wait_while(cx, go, True, LoopBound(12 * 32 // 4 + 1, "an A/D conversion"))
+    regs = ints.scratch(cx, "A", 4)
+    result = adc["result"]
+    e.load(part.reg(result[-1]))
+    e.store(regs[0])
+    if len(result) > 1:
+        e.load(part.reg(result[0]))
+        e.store(regs[1])
+    else:
+        e.ins("clrf", regs[1])
+    n = ints.target_size(cx, op.dst)
+    ints.copy_out(cx, ints.widen(cx, regs, 2, n, False), op.dst)
+
+
+# --- PWM ----------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PwmSetting:
+    prescaler: int  # T2CKPS
+    period: int  # PR2 + 1
+    freq: float
+
+
+def pwm_setting(crystal_hz: int, freq: int, element=None) -> PwmSetting:
+    """Timer2's prescaler and period nearest the frequency (the finest period first)."""
+    if freq <= 0:
+        raise fail(BAD_PWM, f"PWM frequency {freq} Hz is not possible", element)
+    choices = []
+    for prescaler, select in TIMER2_PRESCALERS.items():
+        period = min(max(round(crystal_hz / (4 * prescaler * freq)), 1), 256)
+        choices.append(PwmSetting(select, period, crystal_hz / (4 * prescaler * period)))
+    return min(choices, key=lambda c: (abs(c.freq - freq), -c.period))
+
+
+def check_pwm(cx, ops: list[ir.Op]) -> list:
+    """Warnings for approximated frequencies; an error when two CCP outputs
+    (Timer2 makes both) ask for different frequencies."""
+    found, settings = [], {}
+    element = _locate(cx, "SET_PWM")
+    for op in ops:
+        if not isinstance(op, ir.SetPwm):
+            continue
+        setting = pwm_setting(cx.machine.crystal_hz, op.freq, element)
+        if settings.setdefault("timer2", setting) != setting:
+            raise fail(BAD_PWM, "the CCP outputs share Timer2, so they need the same PWM frequency", element)
+        if abs(setting.freq - op.freq) > PWM_TOLERANCE * op.freq and op.freq not in settings:
+            settings[op.freq] = setting
+            found.append(note(PWM_FREQUENCY, f"PWM on {op.unit} runs at {setting.freq:.1f} Hz "
+                                             f"(asked {op.freq} Hz)", element))
+    return found
+
+
+def set_pwm(cx, op: ir.SetPwm) -> None:
+    """0 or less: the CCP off and its pin low; full or more: off and high;
+    else duty * 4 * period / full tenths of a Timer2 count (10 bits)."""
+    from .routines import Scratch
+
+    e, part = cx.e, cx.part
+    s = Scratch(cx.layout.scratch)
+    setting = pwm_setting(cx.machine.crystal_hz, op.freq)
+    off, on, done = e.new_label("pwm"), e.new_label("pwm"), e.new_label("pwm")
+    width = max(2, ints.size(cx, op.duty))
+    duty = s.C[:width]
+    ints.copy_in(cx, op.duty, duty)
+    e.ins("btfsc", duty[-1], 7)
+    e.goto(off)
+    e.load(duty[0])
+    for reg in duty[1:]:
+        e.ins("iorwf", reg, W)
+    e.ins("btfsc", STATUS, Z)
+    e.goto(off)
+    ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
+    e.ins("btfsc", STATUS, 0)
+    e.goto(on)
+    # A = duty * 4 * period, then / full: a 10-bit duty cycle
+    ints.copy_in(cx, ir.Const(0), s.A[:3])
+    for reg, src in zip(s.A, duty[:2]):
+        e.load(src)
+        e.store(reg)
+    for reg, value in zip(s.B[:3], (4 * setting.period).to_bytes(3, "little")):
+        ints.put(e, ints.Byte("const", value), reg)
+    e.call(cx.routine("mul3"))
+    for src, dst in zip(s.C[:3], s.A[:3]):
+        ints.put(e, ints.Byte("mem", src), dst)
+    for reg, value in zip(s.B[:3], op.full.to_bytes(3, "little")):
+        ints.put(e, ints.Byte("const", value), reg)
+    e.call(cx.routine("udivmod3"))
+    unit = op.unit
+    ccp = part.reg(f"{unit}CON")
+    # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
+    e.load(s.A[0])
+    e.ins("andlw", 3)
+    e.store(s.E)
+    e.ins("swapf", s.E, W)
+    e.ins("iorlw", PWM_MODE)
+    e.store(ccp)
+    for _ in range(2):
+        e.ins("bcf", STATUS, 0)
+        e.ins("rrf", s.A[1], F)
+        e.ins("rrf", s.A[0], F)
+    e.load(s.A[0])
+    e.store(part.reg(f"CCPR{unit[-1]}L"))
+    e.goto(done)
+    e.label(on)
+    _disconnect(cx, unit, True)
+    e.goto(done)
+    e.label(off)
+    _disconnect(cx, unit, False)
+    e.label(done)
+
+
+def pwm_setup(cx, code: ir.Code) -> None:
+    """Timer2 running at the PWM frequency when a program uses PWM."""
+    ops = [op for op in code.scan if isinstance(op, ir.SetPwm)]
+    if not ops:
+        return
+    setting = pwm_setting(cx.machine.crystal_hz, ops[0].freq)
+    _write(cx, "PR2", setting.period - 1)
+    _write(cx, "T2CON", 1 << 2 | setting.prescaler)  # TMR2ON
+
+
+def _disconnect(cx, unit: str, level: bool) -> None:
+    """The CCP off: the pin shows its latch."""
+    e, part = cx.e, cx.part
+    e.ins("clrf", part.reg(f"{unit}CON"))
+    pin = part.device.pin(next(p for p, u in part.device.pwm.items() if u == unit))
+    bits.write(e, FileBit(part.port(pin.port), pin.bit, False), level)
+
+
+def pwm_off(cx, op: ir.PwmOff) -> None:
+    _disconnect(cx, op.unit, False)
+
+
+# --- UART -------------------------------------------------------------------------------------
+
+def baud_divisor(crystal_hz: int, baud: int, element=None) -> tuple[int, bool, float]:
+    """(SPBRG, BRGH, error): the setting nearest the baud rate."""
+    best = None
+    for high in (True, False):
+        divisor = 16 if high else 64
+        spbrg = min(max(round(crystal_hz / (divisor * baud)) - 1, 0), 255)
+        error = abs(crystal_hz / (divisor * (spbrg + 1)) - baud) / baud
+        if best is None or error < best[2] - 1e-12:
+            best = (spbrg, high, error)
+    if best[2] > BAUD_LIMIT:
+        spbrg, high, error = best
+        actual = crystal_hz / ((16 if high else 64) * (spbrg + 1))
+        raise fail(BAD_BAUD, f"{baud} baud cannot be made from a {crystal_hz / 1e6:g} MHz crystal: the nearest "
+                             f"is {actual:.0f} baud ({100 * error:.1f} % off; a receiver follows up to "
+                             f"{100 * BAUD_LIMIT:.1f} %)", element)
+    return best
+
+
+def _uart_element(cx):
+    return _locate(cx, "UART_SEND") or _locate(cx, "UART_RECV") or _locate(cx, "FORMATTED_STRING")
+
+
+def uart_setup(cx, code: ir.Code) -> list:
+    """The USART on at the baud rate; a warning when it is more than 2 % off."""
+    if not any(isinstance(op, (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake)) for op in code.scan):
+        return []
+    element = _uart_element(cx)
+    if not cx.part.feature("uart"):
+        raise fail(NOT_COMPILED, f"the {cx.part.title} has no UART", element)
+    spbrg, high, error = baud_divisor(cx.machine.crystal_hz, cx.machine.baud, element)
+    _write(cx, "SPBRG", spbrg)
+    _write(cx, "TXSTA", 1 << cx.part.bit("TXSTA", "TXEN") | int(high) << cx.part.bit("TXSTA", "BRGH"))
+    _write(cx, "RCSTA", 1 << cx.part.bit("RCSTA", "SPEN") | 1 << cx.part.bit("RCSTA", "CREN"))
+    if error > BAUD_WARNING:
+        actual = cx.machine.crystal_hz / ((16 if high else 64) * (spbrg + 1))
+        return [note(BAUD_APPROXIMATED, f"{cx.machine.baud} baud runs at {actual:.0f} baud from a "
+                                        f"{cx.machine.crystal_hz / 1e6:g} MHz crystal ({100 * error:.1f} % off)",
+                     element)]
+    return []
+
+
+def _ready(cx, busy: str) -> None:
+    """To `busy` unless the transmitter is empty (TXIF and TRMT)."""
+    bits.jump_if(cx.e, _bit(cx, "PIR1", "TXIF"), False, busy)
+    bits.jump_if(cx.e, _bit(cx, "TXSTA", "TRMT"), False, busy)
+
+
+def uart_ready(cx, op: ir.UartReady) -> None:
+    e = cx.e
+    busy, done = e.new_label("uart"), e.new_label("uart")
+    dst = cx.bit(op.dst)
+    _ready(cx, busy)
+    bits.write(e, dst, True)
+    e.goto(done)
+    e.label(busy)
+    bits.write(e, dst, False)
+    e.label(done)
+
+
+def uart_send(cx, op: ir.UartSend) -> None:
+    e = cx.e
+    done = e.new_label("uart")
+    if op.wait:
+        # one byte time: 10 bits at the baud rate, 7 cycles a pass
+        passes = _cycles(cx, 10e6 / cx.machine.baud) // 7 + 1
+        top = e.new_label("uart")
+        e.label(top, loop=True, bound=LoopBound(passes, "waiting for the UART transmitter"))
+        e.ins("clrwdt")
+        _ready(cx, top)
+    else:
+        _ready(cx, done)  # busy: the byte is lost, as on the simulator
+    ints.load_w(e, ints.byte(cx, op.value, 0))
+    e.store(cx.part.reg("TXREG"))
+    e.label(done)
+
+
+def _clear_overrun(cx) -> None:
+    """An overrun stops the receiver until CREN is cleared and set again."""
+    e = cx.e
+    overrun = _bit(cx, "RCSTA", "OERR")
+    cren = _bit(cx, "RCSTA", "CREN")
+    ok = e.new_label("uart")
+    bits.jump_if(e, overrun, False, ok)
+    bits.write(e, cren, False)
+    bits.write(e, cren, True)
+    e.label(ok)
+
+
+def uart_available(cx, op: ir.UartAvailable) -> None:
+    _clear_overrun(cx)
+    bits.copy(cx.e, cx.bit(op.dst), _bit(cx, "PIR1", "RCIF"), False)
+
+
+def uart_take(cx, op: ir.UartTake) -> None:
+    e = cx.e
+    _clear_overrun(cx)
+    _wait_while(cx, _bit(cx, "PIR1", "RCIF"), False, LoopBound(None, "waiting for a UART byte"))
+    regs = ints.scratch(cx, "A", 4)
+    e.load(cx.part.reg("RCREG"))
+    e.store(regs[0])
+    n = ints.target_size(cx, op.dst)
+    ints.copy_out(cx, ints.widen(cx, regs, 1, n, False), op.dst)
+
+
+# --- EEPROM ----------------------------------------------------------------------------------
+
+def _eeprom(cx) -> dict:
+    eeprom = cx.part.feature("eeprom")
+    if eeprom is None:
+        raise fail(NOT_COMPILED, f"the {cx.part.title} has no data EEPROM for PERSIST", _locate(cx, "PERSIST"))
+    return eeprom
+
+
+def _eeprom_read(cx, address: int) -> None:
+    """W = the EEPROM byte."""
+    e, part, eeprom = cx.e, cx.part, _eeprom(cx)
+    _write(cx, eeprom["address"], address)
+    if "EEPGD" in part.bits(eeprom["control"]):
+        bits.write(e, _bit(cx, eeprom["control"], "EEPGD"), False)
+    bits.write(e, _bit(cx, eeprom["control"], "RD"), True)
+    e.load(part.reg(eeprom["data"]))
+
+
+def eeprom_load(cx, op: ir.EepromLoad) -> None:
+    eeprom = _eeprom(cx)
+    _wait_while(cx, _bit(cx, eeprom["control"], "WR"), True,
+                LoopBound(_cycles(cx, 5000) // 4 + 1, "an EEPROM write"))
+    st = ints.storage(cx, op.var)
+    for i in range(st.size):
+        _eeprom_read(cx, op.address + i)
+        cx.e.store(st.addr + i)
+
+
+def eeprom_save(cx, op: ir.EepromSave) -> None:
+    """The first byte that differs is written if the EEPROM is idle; the rest
+    wait for later scans (a write takes milliseconds)."""
+    e, part, eeprom = cx.e, cx.part, _eeprom(cx)
+    done = e.new_label("eeprom")
+    control = eeprom["control"]
+    bits.jump_if(e, _bit(cx, control, "WR"), True, done)
+    st = ints.storage(cx, op.var)
+    spare = cx.layout.scratch[13]
+    for i in range(st.size):
+        same = e.new_label("eeprom")
+        _eeprom_read(cx, op.address + i)
+        e.store(spare)
+        e.load(st.addr + i)
+        e.ins("xorwf", spare, W)
+        e.ins("btfsc", STATUS, Z)
+        e.goto(same)
+        e.load(st.addr + i)
+        e.store(part.reg(eeprom["data"]))
+        bits.write(e, _bit(cx, control, "WREN"), True)
+        # the unlock sequence, then WR, with no instruction between
+        e.load_constant(0x55)
+        e.store(part.reg(eeprom["unlock"]))
+        e.load_constant(0xAA)
+        e.store(part.reg(eeprom["unlock"]))
+        bits.write(e, _bit(cx, control, "WR"), True)
+        bits.write(e, _bit(cx, control, "WREN"), False)
+        e.goto(done)
+        e.label(same)
+    e.label(done)

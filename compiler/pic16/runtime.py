@@ -6,9 +6,9 @@
     scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
     wait:   clear the watchdog until the cycle timer's flag, clear it, scan
 
-The cycle timer is Timer1 in compare mode with CCP1's special event trigger,
-which restarts Timer1 at the match and sets CCP1IF: the period is exact and
-no interrupt is used. The first scan runs at once after start-up and scan k
+The cycle timer is Timer1 with CCP1 in compare mode and its special event
+trigger, which restarts Timer1 at the match and sets CCP1IF (CCP2 and
+CCP2IF when PWM takes CCP1): the period is exact and no interrupt is used. The first scan runs at once after start-up and scan k
 starts k cycle times after it, as in the simulator (LDmicro's code waits a
 cycle before its first scan).
 """
@@ -21,6 +21,7 @@ from ..errors import BAD_CYCLE, fail
 from . import bits
 from .emit import FSR, INDF, IRP, STATUS, W, Z
 from .memory import FileBit
+from .peripherals import analog_setup, pwm_setup, uart_setup
 from .select import Context, select
 
 CYCLE_TOLERANCE = 0.001
@@ -101,12 +102,13 @@ def _clear(cx: Context, addresses: list[int]) -> None:
         e.goto(top)
 
 
-def _start(cx: Context, code: ir.Code) -> None:
+def _start(cx: Context, code: ir.Code) -> list:
     part = cx.part
     _clear(cx, sorted(cx.e.ram))
     for features in ("digital_io", "comparators_off"):
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
+    analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
     outputs = _pins(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.port(letter))
@@ -119,16 +121,34 @@ def _start(cx: Context, code: ir.Code) -> None:
             if part.has(register):
                 _write(cx, register, pulled)
         cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
+    warnings = uart_setup(cx, code)
+    pwm_setup(cx, code)
     select(cx, code.init)
+    return warnings
+
+
+def _cycle_module(cx: Context, code: ir.Code) -> str:
+    """The CCP module whose compare match restarts Timer1: CCP1, or CCP2 when
+    PWM takes CCP1."""
+    pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
+    for unit in ("CCP1", "CCP2"):
+        if unit not in pwm and cx.part.has(f"{unit}CON"):
+            return unit
+    found = cx.machine.elements("SET_PWM")
+    what = "has no CCP module" if not cx.part.has("CCP1CON") else "uses its only CCP module for PWM"
+    raise fail(BAD_CYCLE, f"the scan cycle needs a CCP module's compare with Timer1, and the program on the "
+                          f"{cx.part.title} {what} (Timer0 cycles are not compiled yet)",
+               found[0] if found else None)
 
 
 def _scan_loop(cx: Context, code: ir.Code) -> None:
     e, part = cx.e, cx.part
     duty = _duty_pin(cx)
     prescaler, counts = cycle_timer(cx.machine.crystal_hz, cx.machine.cycle_us)
-    _write(cx, "CCPR1L", (counts - 1) & 0xFF)
-    _write(cx, "CCPR1H", (counts - 1) >> 8)
-    _write(cx, "CCP1CON", CCP_SPECIAL_EVENT)
+    unit = _cycle_module(cx, code)
+    _write(cx, f"CCPR{unit[-1]}L", (counts - 1) & 0xFF)
+    _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
+    _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
     _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
     e.label("scan", loop=True)
     if duty:
@@ -138,7 +158,8 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
         bits.write(e, duty, False)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
     e.ins("clrwdt")
-    flag = FileBit(part.reg("PIR1"), part.bit("PIR1", "CCP1IF"), False)
+    flags = "PIR1" if unit == "CCP1" else "PIR2"
+    flag = FileBit(part.reg(flags), part.bit(flags, f"{unit}IF"), False)
     bits.jump_if(e, flag, False, "wait")
     e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
     bits.write(e, flag, False)
@@ -151,6 +172,8 @@ def _duty_pin(cx: Context) -> FileBit | None:
     return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
 
 
-def write_runtime(cx: Context, code: ir.Code) -> None:
-    _start(cx, code)
+def write_runtime(cx: Context, code: ir.Code) -> list:
+    """The runtime and the scan; the warnings of the peripherals' set-up."""
+    warnings = _start(cx, code)
     _scan_loop(cx, code)
+    return warnings
