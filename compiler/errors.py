@@ -52,8 +52,9 @@ ANALOG_PIN = register(
     "LD714", "digital pin that READ ADC makes analog",
     "On parts whose ADCON1 PCFG bits choose the analog pins (PIC16F87x, 16F819, 16F72), the A/D "
     "channels can only be made analog in fixed groups: reading AN1 makes AN0 and AN3 analog too. A "
-    "digital input on such a pin would always read 0, an output would not be driven. Move it to "
-    "another pin, or the A/D input to a channel whose group leaves it digital.")
+    "digital input on such a pin always reads 0; an output is driven, but an instruction that changes "
+    "another bit of the port reads the pin as 0 and may clear it. LDmicro makes every channel analog "
+    "and says nothing. Move the pin, or the A/D input to a channel whose group leaves it digital.")
 BAD_PWM = register(
     "LD708", "PWM output not achievable",
     "SET PWM needs an 8-bit timer output (OC0, OC0A/B, OC2, OC2A/B): Timer1 makes the scan cycle "

@@ -124,13 +124,14 @@ def adc_clock(part: Part, crystal_hz: int) -> int:
     return 3
 
 
-def analog_setup(cx, channels: set[int]) -> None:
+def analog_setup(cx, channels: set[int]) -> list:
     """At start-up: the pins of the channels READ ADC uses analog, the
-    others digital; results right-justified."""
+    others digital (as far as the part can: a warning for each digital pin
+    made analog with them); results right-justified."""
     part = cx.part
     adc = part.feature("adc")
     if adc is None or not channels:
-        return
+        return []
     adfm = next((r for r in ("ADCON1", "ADCON0") if "ADFM" in part.bits(r)), None)
     if part.has("ANSEL"):
         mask = sum(1 << c for c in channels)
@@ -142,16 +143,20 @@ def analog_setup(cx, channels: set[int]) -> None:
             _write(cx, "ANSELH", mask >> 8)
         if adfm == "ADCON1":
             _write(cx, "ADCON1", 1 << part.bit("ADCON1", "ADFM"))
-        return
+        return []
     choices = [(value, set(covered)) for value, covered in adc["pcfg"]]
     value, analog = min((c for c in choices if channels <= c[1]), key=lambda c: len(c[1]))
-    for name, pin in cx.machine.pins.items():
+    found = []
+    for name, pin in sorted(cx.machine.pins.items()):
         channel = part.device.adc.get(pin.name)
-        if name[0] in "XYP" and channel in analog:
-            raise fail(ANALOG_PIN, f"'{name}' is on {pin.name} (AN{channel}), which the {part.title} makes analog "
-                                   f"with the A/D inputs on " + ", ".join(f"AN{c}" for c in sorted(channels)),
-                       cx.machine.locate(name))
+        if name[0] in "XYP" and channel in analog and channel not in channels:
+            effect = "it reads 0" if name[0] == "X" else "reading the port back reads it as 0"
+            found.append(note(ANALOG_PIN, f"'{name}' is on {pin.name} (AN{channel}), which the {part.title} makes "
+                                          "analog with the A/D inputs on "
+                                          + ", ".join(f"AN{c}" for c in sorted(channels)) + f": {effect}",
+                              cx.machine.locate(name)))
     _write(cx, "ADCON1", value | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
+    return found
 
 
 def _adcs(part: Part, register: str, select: int) -> int:

@@ -108,7 +108,7 @@ def _start(cx: Context, code: ir.Code) -> list:
     for features in ("digital_io", "comparators_off"):
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
-    analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
+    warnings = analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
     outputs = _pins(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.port(letter))
@@ -121,7 +121,7 @@ def _start(cx: Context, code: ir.Code) -> list:
             if part.has(register):
                 _write(cx, register, pulled)
         cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
-    warnings = uart_setup(cx, code)
+    warnings += uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
     return warnings
