@@ -580,7 +580,7 @@ def test_part_api_on_the_small_and_odd_parts():
     assert (f72.gpsim, f72.gpsim_exact, f72.eeprom) == ("p16f73", False, 0)
     assert (f72.physical(0xC0), f72.physical(0x120), f72.physical(0x1A0)) == (0x40, 0x20, 0xA0)
     assert f72.common == range(0x40, 0x80)
-    assert f72.feature("adc") == {"bits": 8, "result": ["ADRES"]} and f72.feature("eeprom") is None
+    assert f72.feature("adc")["bits"] == 8 and f72.feature("adc")["result"] == ["ADRES"] and f72.feature("eeprom") is None
     f88 = Part.of(find_device("pic16f88"))
     assert f88.config_words == ((0x2007, 0x2F42), (0x2008, 0x0000)) and f88.ldmicro_config
     assert f88.config_field("FCMEN").word == 1 and f88.config_symbols(1) == ["_IESO_OFF", "_FCMEN_OFF"]

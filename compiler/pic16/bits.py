@@ -3,9 +3,9 @@ BTFSC/BTFSS and written with BCF/BSF.
 
 A conditional write is a skip over a GOTO around the write; the emitter's
 `compress_skips` makes it a single skip over the write when the write needs
-no bank selection of its own. A copy to a bit sets it when the source is set
-and clears it when it is clear: a pin never glitches, and its latch is
-written only when it changes.
+no bank selection of its own. A copy to a pin sets it when the source is set
+and clears it when it is clear, so that it never glitches; a copy to a RAM
+bit clears it, then sets it if the source is set (one word less).
 """
 
 from __future__ import annotations
@@ -44,6 +44,11 @@ def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
         if invert:
             e.load_constant(1 << dst.bit)
             e.ins("xorwf", dst.addr, 1)
+        return
+    if dst.ram:
+        # RAM may change for an instruction's time: clear, then set if the source says so
+        write(e, dst, False)
+        when(e, src, not invert, lambda: write(e, dst, True))
         return
     when(e, src, not invert, lambda: write(e, dst, True))
     when(e, src, invert, lambda: write(e, dst, False))

@@ -370,22 +370,54 @@ def compare_jump(cx, op: ir.JumpIf) -> None:
             width = max(width, size(cx, b))
         else:
             a, b, rel = b, a, _SWAPPED[rel]
-    # a >= b (signed) <=> a ^ 0x80.. >= b ^ 0x80.. (unsigned): C after a - b
+    if isinstance(b, ir.Const):
+        _at_least_constant(cx, a, b.value, width)
+    else:
+        _at_least(cx, a, b, width)
+    bits.jump_if(e, FileBit(STATUS, C), rel == ">=", op.target)
+
+
+def _at_least(cx, a, b, width: int) -> None:
+    """C = a >= b (signed): with the sign bits flipped (XOR 0x80) the order is
+    the unsigned one, the carry of a - b."""
+    e = cx.e
     regs = scratch(cx, "A", width)
     copy_in(cx, a, regs)
     e.ins("movlw", 0x80)
     e.ins("xorwf", regs[-1], F)
     b_bytes = [byte(cx, b, i) for i in range(width)]
-    if b_bytes[-1].kind == "const":
-        b_bytes[-1] = Byte("const", b_bytes[-1].value ^ 0x80)
-    else:
-        flipped = scratch(cx, "B", width)[-1]
-        put(e, b_bytes[-1], flipped)
-        e.ins("movlw", 0x80)
-        e.ins("xorwf", flipped, F)
-        b_bytes[-1] = Byte("mem", flipped)
+    flipped = scratch(cx, "B", width)[-1]
+    put(e, b_bytes[-1], flipped)
+    e.ins("movlw", 0x80)
+    e.ins("xorwf", flipped, F)
+    b_bytes[-1] = Byte("mem", flipped)
     chain(e, "cmp", regs, near(cx, b_bytes, regs))
-    bits.jump_if(e, FileBit(STATUS, C), rel == ">=", op.target)
+
+
+def _at_least_constant(cx, a, k: int, width: int) -> None:
+    """C = a >= k (signed), byte by byte from the most significant (its sign
+    flipped) while the bytes are equal: ADDLW -k_i leaves C = byte >= k_i and
+    Z = byte == k_i."""
+    e = cx.e
+    done = e.new_label("cmp")
+    for i in reversed(range(width)):
+        ki = (k >> 8 * i) & 0xFF ^ (0x80 if i == width - 1 else 0)
+        load_w(e, byte(cx, a, i))
+        if i == width - 1:
+            e.ins("xorlw", 0x80)
+        if ki:
+            e.ins("addlw", 0x100 - ki)
+        elif i:
+            if i != width - 1:
+                e.ins("iorlw", 0)  # Z: the byte is 0
+            e.ins("bsf", STATUS, C)
+        else:
+            e.ins("bsf", STATUS, C)  # the last byte is at least 0
+        if i:
+            e.ins("btfss", STATUS, Z)
+            e.goto(done)
+    e.label(done)
+    e.forget_w()
 
 
 def _equality(cx, a, b, width: int, equal: bool, target: str) -> None:

@@ -104,7 +104,8 @@ def _clear(cx: Context, addresses: list[int]) -> None:
 
 def _start(cx: Context, code: ir.Code) -> list:
     part = cx.part
-    _clear(cx, sorted(cx.e.ram))
+    # the scratch bytes are written before they are read
+    _clear(cx, sorted(cx.e.ram - set(cx.layout.scratch)))
     for features in ("digital_io", "comparators_off"):
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
