@@ -56,7 +56,11 @@ class Pic16Backend:
         part = Part.of(machine.device)
         layout = allocate(code, part, machine)
         assembler = a.Assembler(part.flash_words, part.page_words)
-        cx = Context(Emitter(assembler, part, _ram_in_use(layout)), part, layout, machine)
+        ram = _ram_in_use(layout)
+        # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
+        high_banks = any(st.addr >= 0x100 for st in layout.vars.values()) or any(
+            isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
+        cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
         prepare(cx, code)
         warnings = check_pwm(cx, code.scan) + write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)

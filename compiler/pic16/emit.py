@@ -55,11 +55,14 @@ UNKNOWN = State()
 
 
 class Emitter:
-    def __init__(self, assembler: a.Assembler, part: Part, ram: frozenset[int]):
+    def __init__(self, assembler: a.Assembler, part: Part, ram: frozenset[int], high_banks: bool = True):
         self.asm = assembler
         self.part = part
         self.ram = ram  # bytes only the program changes: W may be known to hold one
-        self.state: State | None = UNKNOWN  # None: this point is unreachable
+        # without anything in banks 2 and 3, RP1 keeps its reset value 0
+        self.unknown = UNKNOWN if high_banks or part.banks <= 2 else State(rp1=0)
+        self.state: State | None = self.unknown  # None: this point is unreachable
+        self._entry: dict[str, State] = {}  # loop heads entered with a known bank
         self._common = frozenset(part.common or ())
         self._incoming: dict[str, list[State]] = {}
         self._skipped: State | None = None  # the state before the instruction a skip may skip
@@ -84,18 +87,24 @@ class Emitter:
         if self.state is not None:
             self._incoming.setdefault(target, []).append(self.state)
 
-    def label(self, name: str, loop: bool = False, bound: LoopBound | None = None) -> None:
+    def label(self, name: str, loop: bool = False, bound: LoopBound | None = None, bank: int | None = None) -> None:
         """A label; `loop`: later code may jump back to it (or call it), so
-        nothing is known there; a loop head gives its `bound`."""
+        nothing is known there; a loop head gives its `bound`, and `bank`
+        when every way in selects that bank (the jumps back select it)."""
         self._merge_skip()
         if bound is not None:
             self.bounds[name] = bound
+        if bank is not None:
+            self.select(bank << 7 | 0x20)
+            self._entry[name] = State(bank & 1, bank >> 1)
         self._placed.add(name)
         if loop:
             self._loops.add(name)
         states = self._incoming.pop(name, []) + ([self.state] if self.state is not None else [])
-        if loop or not states:
-            self.state = UNKNOWN
+        if name in self._entry:
+            self.state = self._entry[name]
+        elif loop or not states:
+            self.state = self.unknown
         else:
             merged = states[0]
             for other in states[1:]:
@@ -104,6 +113,9 @@ class Emitter:
         self.asm.label(name)
 
     def goto(self, target: str) -> None:
+        entry = self._entry.get(target)
+        if entry is not None and self.state is not None and (self.state.rp0, self.state.rp1) != (entry.rp0, entry.rp1):
+            self.select((entry.rp1 << 1 | entry.rp0) << 7 | 0x20)
         pending, self._skipped = self._skipped, None
         self._record(target)
         self.asm.goto(target)
@@ -113,9 +125,7 @@ class Emitter:
         """A call: the callee may leave any bank selected and anything in W."""
         pending, self._skipped = self._skipped, None
         self.asm.call(target)
-        self.state = UNKNOWN if self.state is not None else None
-        if pending is not None:
-            self.state = UNKNOWN
+        self.state = self.unknown if self.state is not None or pending is not None else None
 
     def end_path(self) -> None:
         """After RETURN or an endless loop: nothing falls through."""

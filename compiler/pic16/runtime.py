@@ -151,13 +151,13 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
     _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
     _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
     _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
-    e.label("scan", loop=True)
+    e.label("scan", loop=True, bank=0)
     if duty:
         bits.write(e, duty, True)
     select(cx, code.scan)
     if duty:
         bits.write(e, duty, False)
-    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
+    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
     flags = "PIR1" if unit == "CCP1" else "PIR2"
     flag = FileBit(part.reg(flags), part.bit(flags, f"{unit}IF"), False)
