@@ -58,7 +58,7 @@ class Pic16Backend:
         assembler = a.Assembler(part.flash_words, part.page_words)
         ram = _ram_in_use(layout)
         # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
-        high_banks = any(st.addr >= 0x100 for st in layout.vars.values()) or any(
+        high_banks = any(a >= 0x100 for a in ram) or any(st.addr >= 0x100 for st in layout.vars.values()) or any(
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
         cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
         prepare(cx, code)
