@@ -4,6 +4,8 @@
   known value (the rung starts powered; after a conditional jump on a bit,
   both paths know it) and folds the bit operations and tests they decide.
 * Constant folding: integer operations and comparisons of constants.
+* Copies: a temporary that is a copy of another bit is read as that bit,
+  within straight-line code while neither changes.
 * Dead temporaries: a backward liveness pass deletes writes of temporary
   bits nothing reads, and records on each Call the temporaries that must
   survive it.
@@ -31,6 +33,7 @@ def optimise(code: ir.Code) -> ir.Code:
         before = ops
         ops = _fold_constants(ops)
         ops = _known_bits(ops, code.bits)
+        ops = _copies(ops, code.bits)
         ops = _jumps(ops)
         ops = _dead_temporaries(ops, code.bits)
         if ops == before:
@@ -236,6 +239,50 @@ def _falls_to(ops: list[ir.Op], start: int, label: str) -> bool:
 # --- dead temporaries --------------------------------------------------------------------------
 
 _PURE_BIT_OPS = (ir.SetBit, ir.CopyBit, ir.AndBit, ir.OrBit, ir.UartReady, ir.UartAvailable)
+
+
+def _copies(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """Reads of a temporary that is a copy of another bit read that bit, and
+    the copy often dies: within straight-line code, until either is written
+    (a copy of an input pin only when it is read once)."""
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    reads = _use_counts(ops, temps)
+    alias: dict[str, tuple[ir.Bit, bool]] = {}  # temporary -> (bit, inverted)
+    out: list[ir.Op] = []
+    for op in ops:
+        if isinstance(op, (ir.Label, ir.Call)):
+            alias.clear()
+        op = _read_through(op, alias)
+        written = {bit.name for bit in op.writes()}
+        alias = {t: (b, inv) for t, (b, inv) in alias.items() if t not in written and b.name not in written}
+        # a pin may change during the scan: an input is read as often as the
+        # program reads it, so only a copy read once may be replaced by it
+        if (isinstance(op, ir.CopyBit) and op.dst.name in temps and op.src != op.dst
+                and (classes.get(op.src.name) != ir.INPUT or reads[op.dst.name] == 1)):
+            alias[op.dst.name] = (op.src, op.invert)
+        out.append(op)
+    return out
+
+
+def _use_counts(ops: list[ir.Op], names: set[str]) -> dict[str, int]:
+    counts = dict.fromkeys(names, 0)
+    for op in ops:
+        for bit in op.reads():
+            if bit.name in counts:
+                counts[bit.name] += 1
+    return counts
+
+
+def _read_through(op: ir.Op, alias: dict) -> ir.Op:
+    if isinstance(op, (ir.CopyBit, ir.AndBit)) and op.src.name in alias:
+        bit, inv = alias[op.src.name]
+        return replace(op, src=bit, invert=op.invert ^ inv)
+    if isinstance(op, ir.OrBit) and op.src.name in alias and not alias[op.src.name][1]:
+        return replace(op, src=alias[op.src.name][0])
+    if isinstance(op, ir.JumpIfBit) and op.bit.name in alias:
+        bit, inv = alias[op.bit.name]
+        return replace(op, bit=bit, value=op.value ^ inv)
+    return op
 
 
 def _dead_temporaries(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:

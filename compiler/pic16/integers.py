@@ -421,27 +421,42 @@ def _at_least_constant(cx, a, k: int, width: int) -> None:
 
 
 def _equality(cx, a, b, width: int, equal: bool, target: str) -> None:
+    """Byte by byte: Z after W = a_i XOR b_i (or MOVF a_i,F against 0); the
+    last byte jumps on its own result."""
     e = cx.e
-    differ = e.new_label() if equal else target
+    differ = e.new_label("ne") if equal else target
+    pairs = []
     for i in range(width):
         ai, bi = byte(cx, a, i), byte(cx, b, i)
-        if ai.kind == "const" and bi.kind == "const":
-            if ai.value != bi.value:
-                e.goto(differ)
-            continue
         if ai.kind == "const":
             ai, bi = bi, ai
-        if bi.kind == "const":
+        if ai.kind == "const":
+            if ai.value != bi.value:
+                e.goto(differ)
+                if equal:
+                    e.label(differ)
+                return
+            continue
+        pairs.append((ai, bi))
+    if not pairs:
+        if equal:
+            e.goto(target)
+        return
+    for n, (ai, bi) in enumerate(pairs):
+        if bi.kind == "const" and bi.value == 0 and ai.kind == "mem":
+            e.ins("movf", ai.value, F)
+        elif bi.kind == "const":
             load_w(e, ai)
             e.ins("xorlw", bi.value)
         else:
             bi = as_file(cx, bi, cx.layout.scratch[11])
             load_w(e, ai)
             e.ins("xorwf", bi.value, W)
-        e.ins("btfss", STATUS, Z)
-        e.goto(differ)
+        if n == len(pairs) - 1 and equal:
+            bits.jump_if(e, FileBit(STATUS, Z), True, target)
+        else:
+            bits.jump_if(e, FileBit(STATUS, Z), False, differ)
     if equal:
-        e.goto(target)
         e.label(differ)
 
 
