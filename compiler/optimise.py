@@ -87,8 +87,11 @@ def _fold_constants(ops: list[ir.Op]) -> list[ir.Op]:
 def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
     """Forward pass; `known` maps a bit to its value on the path being
     followed. A label merges what every jump to it and the fall-through
-    know; a label reached by a backward jump knows nothing."""
+    know; a label reached by a backward jump knows nothing. A jump to a test
+    of a bit its path knows goes straight where the test leads (and so does
+    a path falling into one)."""
     tracked = {name for name, kind in classes.items() if kind in (ir.TEMP, ir.MEMORY)}
+    ops = _labels_after_bit_tests(ops)
     positions = _label_positions(ops)
     # labels entered by a backward jump or a call: nothing is known there
     backward = {op.target for i, op in enumerate(ops) if _target(op) and positions[op.target] <= i}
@@ -101,8 +104,30 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
         first, *rest = states
         return {bit: value for bit, value in first.items() if all(s.get(bit) == value for s in rest)}
 
-    for op in ops:
+    def thread(label: str, state: dict, here: int) -> str:
+        """Where a path knowing `state` that jumps to `label` really goes
+        (forward only: the backward jumps stay as they are)."""
+        for _ in range(len(ops)):
+            i = positions[label]
+            while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
+                i += 1
+            test = ops[i] if i < len(ops) else None
+            if not isinstance(test, ir.JumpIfBit) or test.bit.name not in state:
+                return label
+            after = test.target if state[test.bit.name] == test.value else ops[i + 1].name
+            if positions[after] <= here:
+                return label
+            label = after
+        return label
+
+    for i, op in enumerate(ops):
         if isinstance(op, ir.Label):
+            if known is not None and op.name not in backward:
+                ahead = thread(op.name, known, i)
+                if ahead != op.name:
+                    incoming.setdefault(ahead, []).append(known)
+                    out.append(ir.Jump(ahead))
+                    known = None
             states = incoming.pop(op.name, []) + ([known] if known is not None else [])
             known = {} if op.name in backward or not states else merge(states)
             out.append(op)
@@ -113,14 +138,15 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
         op = _fold_bit_op(op, known)
         if op is None:
             continue
-        out.append(op)
         if isinstance(op, ir.JumpIfBit):
             taken = dict(known)
             if op.bit.name in tracked:
                 taken[op.bit.name] = op.value
                 known[op.bit.name] = not op.value
+            op = replace(op, target=thread(op.target, taken, i))
             incoming.setdefault(op.target, []).append(taken)
         elif _target(op):
+            op = replace(op, target=thread(op.target, known, i))
             incoming.setdefault(op.target, []).append(dict(known))
             if isinstance(op, ir.Jump):
                 known = None
@@ -132,6 +158,21 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
             known = {bit: value for bit, value in known.items() if ir.Bit(bit) in op.keep}
         else:
             _learn(op, known, tracked)
+        out.append(op)
+    return out
+
+
+def _labels_after_bit_tests(ops: list[ir.Op]) -> list[ir.Op]:
+    """A label after every bit test, for jumps threaded past it (_jumps
+    removes the unused ones)."""
+    out: list[ir.Op] = []
+    count = max((int(op.name[5:]) for op in ops if isinstance(op, ir.Label) and op.name.startswith("~past")),
+                default=0)
+    for i, op in enumerate(ops):
+        out.append(op)
+        if isinstance(op, ir.JumpIfBit) and not (i + 1 < len(ops) and isinstance(ops[i + 1], ir.Label)):
+            count += 1
+            out.append(ir.Label(f"~past{count}"))
     return out
 
 

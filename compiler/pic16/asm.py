@@ -27,6 +27,7 @@ lie anywhere.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from . import isa
@@ -247,14 +248,14 @@ class Assembler:
             for offset, word in enumerate(group):
                 address = start + offset
                 if offset == lead:
-                    lines += [f"{item.name}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
+                    lines += [f"{_name(item.name)}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
                 op, args, text = self._resolve(word, address, labels, jump)
                 value = isa.encode(op, *args)
                 words.append(value)
                 note = f"  {word.comment}" if word.comment else ""
                 lines.append(f"\t{op}\t{text}".rstrip() + f"\t; {address:04X} {value:04X}{note}")
             if not group:
-                lines += [f"{item.name}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
+                lines += [f"{_name(item.name)}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
         lines.append("\tend")
         return Assembled(words, "\n".join(lines) + "\n", labels)
 
@@ -269,8 +270,8 @@ class Assembler:
             target = labels[word.target]
             if word.op == "movlw":
                 return "movlw", ((target >> 8) if word.high else target & 0xFF,), \
-                    f"{'high' if word.high else 'low'}({word.target})"
-            return word.op, (target & 0x7FF,), word.target
+                    f"{'high' if word.high else 'low'}({_name(word.target)})"
+            return word.op, (target & 0x7FF,), _name(word.target)
         pattern = isa.INSTRUCTIONS[word.op].pattern
         args = word.args
         text = {"fd": lambda: f"0x{args[0]:02X}, {args[1]}", "f": lambda: f"0x{args[0]:02X}",
@@ -278,3 +279,8 @@ class Assembler:
                 "": lambda: ""}[pattern]()
         return word.op, args, text
 
+
+
+def _name(label: str) -> str:
+    """A label as gpasm spells one: letters, digits and underscores."""
+    return re.sub(r"\W", "_", label)
