@@ -239,19 +239,19 @@ def test_persist_reads_the_eeprom_at_start(tmp_path):
 # --- every part ---------------------------------------------------------------------------------
 
 PARTS = ["pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877", "pic16f877a", "pic16f88",
-         "pic16f819", "pic16f886", "pic16f887", "pic16f72", "pic12f683"]
+         "pic16f819", "pic16f886", "pic16f887", "pic16f72", "pic12f675", "pic12f683"]
 
 
 @pytest.mark.parametrize("part", PARTS)
 def test_every_part_compiles_and_gpasm_agrees(part, tmp_path):
-    """blink with its pins by port name, on every part with a CCP module:
-    gpasm reassembles the listing to the same words and configuration."""
+    """blink with its pins by port name, on every part: gpasm reassembles the
+    listing to the same words and configuration."""
     import subprocess
 
     from intelhex import IntelHex
 
     program = load("sample/blink.ld")
-    device_pins = {"pic12f683": ("GP2", "GP5")}.get(part, ("RB0", "RB1"))
+    device_pins = ("GP2", "GP5") if part.startswith("pic12") else ("RB0", "RB1")
     program.pins["Xbutton"] = PinAssignment("Xbutton", device_pins[0])
     program.pins["Yled"] = PinAssignment("Yled", device_pins[1])
     build = compiler.build(program, part)
@@ -260,3 +260,22 @@ def test_every_part_compiles_and_gpasm_agrees(part, tmp_path):
                    capture_output=True)
     ours, theirs = IntelHex(str(tmp_path / "p.hex")), IntelHex(str(tmp_path / "g.hex"))
     assert ours.todict() == theirs.todict()
+
+
+def test_timer0_makes_the_cycle_without_a_ccp(tmp_path):
+    """The PIC12F675 has no CCP: Timer0 times the scan, scan for scan with the
+    simulator, and its cycle-duty pin rises every 10 ms without drift."""
+    from dataclasses import replace
+
+    program = load("sample/blink.ld")
+    program.pins["Xbutton"] = PinAssignment("Xbutton", "GP2")
+    program.pins["Yled"] = PinAssignment("Yled", "GP5")
+    assert differential(program, BLINK, 300, tmp_path, "pic12f675") == []
+    program.pins["YPlcCycleDuty"] = PinAssignment("YPlcCycleDuty", "GP4")
+    program = replace(program, settings=replace(program.settings, cycle_duty=True))
+    compiler.build(program, "pic12f675").write(tmp_path / "duty.hex")
+    run = gpsim.run_pic(tmp_path / "duty.hex", "p12f675", 4_000_000, inputs=[(0, "GP2", 0)], watch=["GP4"],
+                        until_ms=1000, timeout=120)
+    rises = [t for t, v in run.pin_edges("GP4") if v]
+    assert len(rises) == 100
+    assert all(abs(t - rises[0] - 10 * k) < 0.05 for k, t in enumerate(rises))

@@ -11,12 +11,14 @@ from .memory import allocate
 from .part import Part
 from .peripherals import DELAY_LOOP_CYCLES, check_pwm
 from .routines import write_routines
-from .runtime import write_runtime
+from .runtime import uses_timer0, write_runtime
 from .select import Context, prepare
 
 
 def _ram_in_use(layout) -> frozenset[int]:
     used = set(layout.scratch)
+    if layout.clock is not None:
+        used.update(range(layout.clock, layout.clock + 3))
     used.update(loc.addr for loc in layout.bits.values() if loc.ram)
     for st in layout.vars.values():
         if st.ram:
@@ -54,8 +56,10 @@ class Pic16Backend:
         from ..image import Image
 
         part = Part.of(machine.device)
-        layout = allocate(code, part, machine)
-        assembler = a.Assembler(part.flash_words, part.page_words)
+        layout = allocate(code, part, machine, uses_timer0(code, part))
+        # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
+        reserved = 1 if part.feature("osccal") else 0
+        assembler = a.Assembler(part.flash_words - reserved, part.page_words)
         ram = _ram_in_use(layout)
         # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
         high_banks = any(a >= 0x100 for a in ram) or any(st.addr >= 0x100 for st in layout.vars.values()) or any(
@@ -73,7 +77,7 @@ class Pic16Backend:
             assembled = assembler.assemble(processor=part.processor, config=config)
         except a.ProgramTooLarge as error:
             raise fail(FLASH_FULL, f"the program needs {error.words} words of program memory; the "
-                                   f"{part.title} has {part.flash_words}") from None
+                                   f"{part.title} has {part.flash_words - reserved}") from None
         listing = header.format(words=len(assembled.words)) + assembled.listing
         return Image(
             words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,

@@ -8,7 +8,10 @@
 
 The cycle timer is Timer1 with CCP1 in compare mode and its special event
 trigger, which restarts Timer1 at the match and sets CCP1IF (CCP2 and
-CCP2IF when PWM takes CCP1): the period is exact and no interrupt is used. The first scan runs at once after start-up and scan k
+CCP2IF when PWM takes CCP1): the period is exact and no interrupt is used.
+Without a CCP left (the PIC12F675, PWM on a part's only CCP) Timer0 makes
+it: free-running, its overflows counted in software, each scan's deadline
+one cycle after the last. The first scan runs at once after start-up and scan k
 starts k cycle times after it, as in the simulator (LDmicro's code waits a
 cycle before its first scan).
 """
@@ -19,6 +22,7 @@ from .. import ir
 from ..image import LoopBound
 from ..errors import BAD_CYCLE, fail
 from . import bits
+from . import integers as ints
 from .emit import FSR, INDF, IRP, STATUS, W, Z
 from .memory import FileBit
 from .peripherals import analog_setup, pwm_setup, uart_setup
@@ -128,35 +132,46 @@ def _start(cx: Context, code: ir.Code) -> list:
     return warnings
 
 
-def _cycle_module(cx: Context, code: ir.Code) -> str:
+def _cycle_module(cx: Context, code: ir.Code) -> str | None:
     """The CCP module whose compare match restarts Timer1: CCP1, or CCP2 when
-    PWM takes CCP1."""
+    PWM takes CCP1; None when none is left (Timer0 then makes the cycle)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
-    for unit in ("CCP1", "CCP2"):
-        if unit not in pwm and cx.part.has(f"{unit}CON"):
-            return unit
-    found = cx.machine.elements("SET_PWM")
-    what = "has no CCP module" if not cx.part.has("CCP1CON") else "uses its only CCP module for PWM"
-    raise fail(BAD_CYCLE, f"the scan cycle needs a CCP module's compare with Timer1, and the program on the "
-                          f"{cx.part.title} {what} (Timer0 cycles are not compiled yet)",
-               found[0] if found else None)
+    return next((unit for unit in ("CCP1", "CCP2") if unit not in pwm and cx.part.has(f"{unit}CON")), None)
 
 
-def _scan_loop(cx: Context, code: ir.Code) -> None:
-    e, part = cx.e, cx.part
+def timer0_cycle(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
+    """(PS2:0, ticks) for Timer0 counting instruction cycles through its
+    prescaler (2 to 256): the smallest prescaler whose tick count fits 15
+    bits and makes the cycle within CYCLE_TOLERANCE."""
+    cycles = crystal_hz / 4 * cycle_us / 1_000_000
+    for select_bits in range(8):
+        prescaler = 2 << select_bits
+        ticks = round(cycles / prescaler)
+        if 1 <= ticks < 0x8000 and abs(ticks * prescaler - cycles) / cycles <= CYCLE_TOLERANCE:
+            return select_bits, ticks
+    raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz clock "
+                          "with Timer0 (prescaler 2 to 256, Fosc/4)")
+
+
+def _scan(cx: Context, code: ir.Code) -> None:
+    e = cx.e
     duty = _duty_pin(cx)
-    prescaler, counts = cycle_timer(cx.machine.crystal_hz, cx.machine.cycle_us)
-    unit = _cycle_module(cx, code)
-    _write(cx, f"CCPR{unit[-1]}L", (counts - 1) & 0xFF)
-    _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
-    _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
-    _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
     e.label("scan", loop=True, bank=0)
     if duty:
         bits.write(e, duty, True)
     select(cx, code.scan)
     if duty:
         bits.write(e, duty, False)
+
+
+def _ccp_cycle(cx: Context, code: ir.Code, unit: str) -> None:
+    e, part = cx.e, cx.part
+    prescaler, counts = cycle_timer(cx.machine.crystal_hz, cx.machine.cycle_us)
+    _write(cx, f"CCPR{unit[-1]}L", (counts - 1) & 0xFF)
+    _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
+    _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
+    _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
+    _scan(cx, code)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
     flags = "PIR1" if unit == "CCP1" else "PIR2"
@@ -167,10 +182,62 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
     e.goto("scan")
 
 
+def _timer0_cycle(cx: Context, code: ir.Code) -> None:
+    """Timer0 runs free; a 16-bit tick count (its overflows counted in
+    software above TMR0) is compared with the next scan's deadline, which
+    moves on by one cycle each scan: no drift, a few cycles of jitter."""
+    e, part = cx.e, cx.part
+    select_bits, ticks = timer0_cycle(cx.machine.crystal_hz, cx.machine.cycle_us)
+    high, deadline = cx.layout.clock, [cx.layout.clock + 1, cx.layout.clock + 2]
+    spare = cx.layout.scratch[13]
+    option = part.reg("OPTION_REG")
+    # T0CS = 0 (Fosc/4), T0SE, PSA = 0 (the prescaler to Timer0); the pull-up and edge bits kept
+    e.load(option)
+    e.ins("andlw", 0xC0)
+    e.ins("iorlw", select_bits)
+    e.store(option)
+    e.ins("clrf", part.reg("TMR0"))
+    e.ins("bcf", part.reg("INTCON"), part.bit("INTCON", "T0IF"))
+    _scan(cx, code)
+    ints.add_constant(e, deadline, ticks)
+    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
+    e.ins("clrwdt")
+    t0if = FileBit(part.reg("INTCON"), part.bit("INTCON", "T0IF"), False)
+    bits.when(e, t0if, True, lambda: (bits.write(e, t0if, False), e.ins("incf", high, 1)))
+    # the tick count minus the deadline, its sign: high:TMR0 - deadline in 16 bits
+    e.load(part.reg("TMR0"))
+    e.store(spare)
+    e.load(deadline[0])
+    e.ins("subwf", spare, 1)
+    e.load(high)
+    e.store(spare)
+    e.load(deadline[1])
+    e.ins("btfss", STATUS, 0)
+    e.ins("incfsz", deadline[1], 0)
+    e.ins("subwf", spare, 1)
+    bits.jump_if(e, FileBit(spare, 7), True, "wait")
+    e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
+    e.goto("scan")
+
+
+def _scan_loop(cx: Context, code: ir.Code) -> None:
+    unit = _cycle_module(cx, code)
+    if unit is None:
+        _timer0_cycle(cx, code)
+    else:
+        _ccp_cycle(cx, code, unit)
+
+
 def _duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
     return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
+
+
+def uses_timer0(code: ir.Code, part) -> bool:
+    """True when no CCP module is left for the scan cycle."""
+    pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
+    return not any(unit not in pwm and part.has(f"{unit}CON") for unit in ("CCP1", "CCP2"))
 
 
 def write_runtime(cx: Context, code: ir.Code) -> list:

@@ -59,16 +59,35 @@ def processor_name(name: str) -> str:
     return "p" + m.group(1)
 
 
+GPIO = "io"  # the 8-pin parts' one port: GP0..GP5, registers GPIO and TRISIO
+
+
 def parse_pin(pin: str) -> tuple[str, int]:
-    """``"RB0"`` / ``"rb0"`` / ``"B0"`` -> ``("b", 0)``."""
-    m = re.fullmatch(r"R?([A-G])([0-7])", pin.strip().upper())
+    """``"RB0"`` / ``"rb0"`` / ``"B0"`` -> ``("b", 0)``; ``"GP2"`` -> ``("io", 2)``."""
+    m = re.fullmatch(r"R?([A-G])([0-7])|GP([0-5])", pin.strip().upper())
     if not m:
-        raise ValueError(f"bad PIC pin name {pin!r} (want e.g. 'RB0')")
+        raise ValueError(f"bad PIC pin name {pin!r} (want e.g. 'RB0' or 'GP2')")
+    if m.group(3):
+        return GPIO, int(m.group(3))
     return m.group(1).lower(), int(m.group(2))
 
 
 def _pin_label(port: str, bit: int) -> str:
-    return f"R{port.upper()}{bit}"
+    return f"GP{bit}" if port == GPIO else f"R{port.upper()}{bit}"
+
+
+def _registers(port: str) -> tuple[str, str]:
+    """gpsim's names of a port's data and direction registers."""
+    return ("gpio", "trisio") if port == GPIO else (f"port{port}", f"tris{port}")
+
+
+def _port_of(register: str) -> tuple[str, str] | None:
+    """(port, "data" or "tris") of a register gpsim logged, or None."""
+    if register in ("gpio", "trisio"):
+        return GPIO, "data" if register == "gpio" else "tris"
+    if register[:4] in ("port", "tris") and len(register) == 5:
+        return register[4], "data" if register.startswith("port") else "tris"
+    return None
 
 
 @dataclass
@@ -198,10 +217,10 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
             s.append("module library libgpsim_modules")
             for (port, bit), mod in sorted(modules.items()):
                 s += [f"module load pullup {mod}", f"node n_{mod}",
-                      f"attach n_{mod} {mod}.pin port{port}{bit}"]
+                      f"attach n_{mod} {mod}.pin {_registers(port)[0]}{bit}"]
         s.append(f"log on {log}")
         for port in ports:
-            s += [f"log w port{port}", f"log w tris{port}"]
+            s += [f"log w {register}" for register in _registers(port)]
         if uart is None or uart:
             s.append("log w txreg")
         # timeline
@@ -271,13 +290,11 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
         if reg == "txreg":
             run.uart_cycles.append((cyc, val & 0xFF))
             continue
-        if reg.startswith("port") and reg[4:] in latch:
-            latch[reg[4:]] = val
-        elif reg.startswith("tris") and reg[4:] in tris:
-            tris[reg[4:]] = val
-        else:
+        found = _port_of(reg)
+        if found is None or found[0] not in latch:
             continue
-        p = reg[4:]
+        p, kind = found
+        (latch if kind == "data" else tris)[p] = val
         for (wp, wb), old in level.items():
             if wp != p:
                 continue
