@@ -56,7 +56,7 @@ class Pic16Backend:
         from ..image import Image
 
         part = Part.of(machine.device)
-        layout = allocate(code, part, machine, uses_timer0(code, part))
+        layout = allocate(code, part, machine, uses_timer0(code, part, machine))
         # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
         reserved = 1 if part.feature("osccal") else 0
         assembler = a.Assembler(part.flash_words - reserved, part.page_words)

@@ -9,9 +9,9 @@
 The cycle timer is Timer1 with CCP1 in compare mode and its special event
 trigger, which restarts Timer1 at the match and sets CCP1IF (CCP2 and
 CCP2IF when PWM takes CCP1): the period is exact and no interrupt is used.
-Without a CCP left (the PIC12F675, PWM on a part's only CCP) Timer0 makes
-it: free-running, its overflows counted in software, each scan's deadline
-one cycle after the last. The first scan runs at once after start-up and scan k
+Without a CCP left (the PIC12F675, PWM on a part's only CCP), or for a
+cycle longer than Timer1 counts, Timer0 makes it: free-running, its
+overflows counted in software, each scan's deadline one cycle after the last. The first scan runs at once after start-up and scan k
 starts k cycle times after it, as in the simulator (LDmicro's code waits a
 cycle before its first scan).
 """
@@ -222,7 +222,7 @@ def _timer0_cycle(cx: Context, code: ir.Code) -> None:
 
 def _scan_loop(cx: Context, code: ir.Code) -> None:
     unit = _cycle_module(cx, code)
-    if unit is None:
+    if cx.layout.clock is not None:
         _timer0_cycle(cx, code)
     else:
         _ccp_cycle(cx, code, unit)
@@ -234,10 +234,13 @@ def _duty_pin(cx: Context) -> FileBit | None:
     return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
 
 
-def uses_timer0(code: ir.Code, part) -> bool:
-    """True when no CCP module is left for the scan cycle."""
+def uses_timer0(code: ir.Code, part, machine) -> bool:
+    """True when Timer0 makes the scan cycle: no CCP module is left for it,
+    or the cycle is longer than Timer1 counts (0.52 s at 4 MHz)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
-    return not any(unit not in pwm and part.has(f"{unit}CON") for unit in ("CCP1", "CCP2"))
+    free = any(unit not in pwm and part.has(f"{unit}CON") for unit in ("CCP1", "CCP2"))
+    longest = 65536 * max(TIMER1_PRESCALERS) * 4_000_000 / machine.crystal_hz
+    return not free or machine.cycle_us > longest
 
 
 def write_runtime(cx: Context, code: ir.Code) -> list:
