@@ -12,6 +12,8 @@ Both also read a digital input on RA0, which their A/D input makes analog
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from pic16_harness import differential, erase_eeprom
 from test_compiler_harness import LDMICRO_HEX, Event, load
@@ -262,9 +264,9 @@ def test_every_part_compiles_and_gpasm_agrees(part, tmp_path):
     assert ours.todict() == theirs.todict()
 
 
-def test_timer0_makes_the_cycle_without_a_ccp(tmp_path):
-    """The PIC12F675 has no CCP: Timer0 times the scan, scan for scan with the
-    simulator, and its cycle-duty pin rises every 10 ms without drift."""
+def test_free_running_timer1_makes_the_cycle_without_a_ccp(tmp_path):
+    """The PIC12F675 has no CCP: a free-running Timer1 times the scan, scan for
+    scan with the simulator, and its cycle-duty pin rises every 10 ms without drift."""
     from dataclasses import replace
 
     program = load("sample/blink.ld")
@@ -278,4 +280,40 @@ def test_timer0_makes_the_cycle_without_a_ccp(tmp_path):
                         until_ms=1000, timeout=120)
     rises = [t for t, v in run.pin_edges("GP4") if v]
     assert len(rises) == 100
-    assert all(abs(t - rises[0] - 10 * k) < 0.05 for k, t in enumerate(rises))
+    assert all(abs(t - rises[0] - 10 * k) < 0.1 for k, t in enumerate(rises))
+
+
+# --- the oracle programs (tests/pic16_programs) against the simulator ---------------------------------
+
+ORACLES = Path(__file__).parent / "pic16_programs"
+# the simulator stops on these: a division by zero on purpose, SLEEP, TIME2DELAY, instructions it lacks
+SIMULATOR_FAULTS = {"p16f877_arith", "p16f877_sleep", "p16f877_watchdog", "p16f877_target_extras"}
+# bytes into the UART receiver: the gpsim runner cannot send them; the 16F72's converter has 8 bits
+# (its reading is 0..255, as LDmicro's code gives it), the simulator's 10
+NOT_COMPARED = {"p16f877_uart_recv", "p16f72_basic"}
+SCANS_BEFORE_A_FAULT = {"p16f877_arith_wide": 250}  # then it divides by zero
+
+
+def _oracle_events(program, stimulus: dict) -> list[Event]:
+    """The stimulus file's times as scans: a change at t applies to the first
+    scan that starts after it."""
+    cycle = program.settings.cycle_us / 1000
+    scan = lambda t: 0 if t == 0 else int(t // cycle) + 1  # noqa: E731
+    return ([Event(scan(t), name, value) for t, name, value in stimulus.get("inputs", [])]
+            + [Event(scan(t), name, round(volts * 1023 / 5)) for t, name, volts in stimulus.get("adc", [])])
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in ORACLES.glob("*.ld")
+                                        if p.stem not in SIMULATOR_FAULTS | NOT_COMPARED))
+def test_oracle_program_follows_the_simulator(name, tmp_path):
+    import json
+
+    from lang.loader import load_path
+
+    program, _ = load_path(ORACLES / f"{name}.ld")
+    stimulus = json.loads((ORACLES / f"{name}.json").read_text())
+    if stimulus.get("reset"):
+        stimulus["until_ms"] = min(stimulus["until_ms"], stimulus["reset"][0])
+    scans = int(stimulus["until_ms"] * 1000 // program.settings.cycle_us) - 1
+    scans = min(scans, SCANS_BEFORE_A_FAULT.get(name, scans))
+    assert differential(program, _oracle_events(program, stimulus), scans, tmp_path) == []

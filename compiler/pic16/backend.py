@@ -11,14 +11,14 @@ from .memory import allocate
 from .part import Part
 from .peripherals import DELAY_LOOP_CYCLES, check_pwm
 from .routines import write_routines
-from .runtime import uses_timer0, write_runtime
+from .runtime import free_running, write_runtime
 from .select import Context, prepare
 
 
 def _ram_in_use(layout) -> frozenset[int]:
     used = set(layout.scratch)
     if layout.clock is not None:
-        used.update(range(layout.clock, layout.clock + 3))
+        used.update(range(layout.clock, layout.clock + 4))
     used.update(loc.addr for loc in layout.bits.values() if loc.ram)
     for st in layout.vars.values():
         if st.ram:
@@ -56,7 +56,7 @@ class Pic16Backend:
         from ..image import Image
 
         part = Part.of(machine.device)
-        layout = allocate(code, part, machine, uses_timer0(code, part, machine))
+        layout = allocate(code, part, machine, free_running(code, part, machine))
         # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
         reserved = 1 if part.feature("osccal") else 0
         assembler = a.Assembler(part.flash_words - reserved, part.page_words)

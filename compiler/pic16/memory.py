@@ -52,7 +52,7 @@ class Layout:
     scratch: tuple[int, ...]  # SCRATCH_BYTES addresses
     ram_used: int
     ram_size: int
-    clock: int | None = None  # a Timer0 cycle's tick count high byte and deadline (3 bytes)
+    clock: int | None = None  # a free-running cycle's tick count high byte and 3-byte deadline
 
 
 _REGISTER_NAME = re.compile(r"#(PORT|PIN|TRIS|DDR)([A-E])$", re.IGNORECASE)
@@ -113,7 +113,7 @@ def _pin_bit(part: Part, machine, name: str) -> FileBit:
     return FileBit(part.port(pin.port), pin.bit, False)
 
 
-def allocate(code: ir.Code, part: Part, machine, timer0: bool = False) -> Layout:
+def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> Layout:
     ram = _Ram(part)
     bits: dict[str, FileBit] = {}
     try:
@@ -159,7 +159,7 @@ def allocate(code: ir.Code, part: Part, machine, timer0: bool = False) -> Layout
                 variables[name] = Storage(register, 1, False)
                 continue
             variables[name] = Storage(ram.block(size), size, True)
-        clock = ram.block(3) if timer0 else None
+        clock = ram.block(4) if free_running else None
     except _Full:
         needed = SCRATCH_BYTES + (len(code.bits) + 7) // 8 + sum(code.vars.values())
         raise fail(RAM_FULL, f"the variables, bits and the compiler's {SCRATCH_BYTES} scratch bytes need about "

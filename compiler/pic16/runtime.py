@@ -10,8 +10,8 @@ The cycle timer is Timer1 with CCP1 in compare mode and its special event
 trigger, which restarts Timer1 at the match and sets CCP1IF (CCP2 and
 CCP2IF when PWM takes CCP1): the period is exact and no interrupt is used.
 Without a CCP left (the PIC12F675, PWM on a part's only CCP), or for a
-cycle longer than Timer1 counts, Timer0 makes it: free-running, its
-overflows counted in software, each scan's deadline one cycle after the last. The first scan runs at once after start-up and scan k
+cycle longer than Timer1 counts, Timer1 runs free instead: its overflows
+counted in software, each scan's deadline one cycle after the last. The first scan runs at once after start-up and scan k
 starts k cycle times after it, as in the simulator (LDmicro's code waits a
 cycle before its first scan).
 """
@@ -118,7 +118,10 @@ def _start(cx: Context, code: ir.Code) -> list:
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.port(letter))
     for letter, mask in sorted(outputs.items()):
-        cx.e.load_constant(~mask & 0xFF)
+        direction = ~mask & 0xFF
+        if "PSPMODE" in part.bits(f"TRIS{letter}"):
+            direction &= 0x0F  # TRISE's high bits: PORTD as a port, not the parallel slave port
+        cx.e.load_constant(direction)
         cx.e.store(part.tris(letter))
     pulled = _pulled_up(cx)
     if pulled:
@@ -134,23 +137,22 @@ def _start(cx: Context, code: ir.Code) -> list:
 
 def _cycle_module(cx: Context, code: ir.Code) -> str | None:
     """The CCP module whose compare match restarts Timer1: CCP1, or CCP2 when
-    PWM takes CCP1; None when none is left (Timer0 then makes the cycle)."""
+    PWM takes CCP1; None when none is left (Timer1 then runs free)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
     return next((unit for unit in ("CCP1", "CCP2") if unit not in pwm and cx.part.has(f"{unit}CON")), None)
 
 
-def timer0_cycle(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
-    """(PS2:0, ticks) for Timer0 counting instruction cycles through its
-    prescaler (2 to 256): the smallest prescaler whose tick count fits 15
-    bits and makes the cycle within CYCLE_TOLERANCE."""
+def free_cycle(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
+    """(T1CKPS, ticks) for a free-running Timer1: the largest prescaler (the
+    longest time between overflows, the longest scan it follows) that makes
+    the cycle within CYCLE_TOLERANCE, in at most 23 bits of ticks."""
     cycles = crystal_hz / 4 * cycle_us / 1_000_000
-    for select_bits in range(8):
-        prescaler = 2 << select_bits
+    for prescaler, select_bits in sorted(TIMER1_PRESCALERS.items(), reverse=True):
         ticks = round(cycles / prescaler)
-        if 1 <= ticks < 0x8000 and abs(ticks * prescaler - cycles) / cycles <= CYCLE_TOLERANCE:
+        if 1 <= ticks < 1 << 23 and abs(ticks * prescaler - cycles) / cycles <= CYCLE_TOLERANCE:
             return select_bits, ticks
     raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz clock "
-                          "with Timer0 (prescaler 2 to 256, Fosc/4)")
+                          "with Timer1 (prescaler 1 to 8, Fosc/4)")
 
 
 def _scan(cx: Context, code: ir.Code) -> None:
@@ -182,40 +184,39 @@ def _ccp_cycle(cx: Context, code: ir.Code, unit: str) -> None:
     e.goto("scan")
 
 
-def _timer0_cycle(cx: Context, code: ir.Code) -> None:
-    """Timer0 runs free; a 16-bit tick count (its overflows counted in
-    software above TMR0) is compared with the next scan's deadline, which
-    moves on by one cycle each scan: no drift, a few cycles of jitter."""
+def _free_cycle(cx: Context, code: ir.Code) -> None:
+    """Timer1 runs free; a 24-bit tick count (its overflows counted in
+    software above TMR1H:TMR1L) is compared with the next scan's deadline,
+    which moves on by one cycle each scan: no drift, a few cycles of jitter.
+    A scan may last up to 65536 ticks without losing an overflow."""
     e, part = cx.e, cx.part
-    select_bits, ticks = timer0_cycle(cx.machine.crystal_hz, cx.machine.cycle_us)
-    high, deadline = cx.layout.clock, [cx.layout.clock + 1, cx.layout.clock + 2]
-    spare = cx.layout.scratch[13]
-    option = part.reg("OPTION_REG")
-    # T0CS = 0 (Fosc/4), T0SE, PSA = 0 (the prescaler to Timer0); the pull-up and edge bits kept
-    e.load(option)
-    e.ins("andlw", 0xC0)
-    e.ins("iorlw", select_bits)
-    e.store(option)
-    e.ins("clrf", part.reg("TMR0"))
-    e.ins("bcf", part.reg("INTCON"), part.bit("INTCON", "T0IF"))
+    select_bits, ticks = free_cycle(cx.machine.crystal_hz, cx.machine.cycle_us)
+    high, deadline = cx.layout.clock, [cx.layout.clock + 1 + i for i in range(3)]
+    s = cx.layout.scratch
+    count = [s[11], s[12], s[13]]  # the tick count read now, less the deadline
+    _write(cx, "T1CON", select_bits << 4 | 1)  # TMR1ON
     _scan(cx, code)
     ints.add_constant(e, deadline, ticks)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
-    t0if = FileBit(part.reg("INTCON"), part.bit("INTCON", "T0IF"), False)
-    bits.when(e, t0if, True, lambda: (bits.write(e, t0if, False), e.ins("incf", high, 1)))
-    # the tick count minus the deadline, its sign: high:TMR0 - deadline in 16 bits
-    e.load(part.reg("TMR0"))
-    e.store(spare)
-    e.load(deadline[0])
-    e.ins("subwf", spare, 1)
+    overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
+    bits.when(e, overflow, True, lambda: (bits.write(e, overflow, False), e.ins("incf", high, 1)))
+    # TMR1H, TMR1L, TMR1H again: read the low byte again when the high one moved meanwhile
+    timer_low, timer_high = part.reg("TMR1L"), part.reg("TMR1H")
+    read = e.new_label("tick")
+    e.label(read, loop=True, bound=LoopBound(2, "reading Timer1 across its carry"))
+    e.load(timer_high)
+    e.store(count[1])
+    e.load(timer_low)
+    e.store(count[0])
+    e.load(timer_high)
+    e.ins("xorwf", count[1], 0)
+    e.ins("btfss", STATUS, Z)
+    e.goto(read)
     e.load(high)
-    e.store(spare)
-    e.load(deadline[1])
-    e.ins("btfss", STATUS, 0)
-    e.ins("incfsz", deadline[1], 0)
-    e.ins("subwf", spare, 1)
-    bits.jump_if(e, FileBit(spare, 7), True, "wait")
+    e.store(count[2])
+    ints.chain(e, "sub", count, [ints.Byte("mem", d) for d in deadline])
+    bits.jump_if(e, FileBit(count[2], 7), True, "wait")
     e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
     e.goto("scan")
 
@@ -223,7 +224,7 @@ def _timer0_cycle(cx: Context, code: ir.Code) -> None:
 def _scan_loop(cx: Context, code: ir.Code) -> None:
     unit = _cycle_module(cx, code)
     if cx.layout.clock is not None:
-        _timer0_cycle(cx, code)
+        _free_cycle(cx, code)
     else:
         _ccp_cycle(cx, code, unit)
 
@@ -234,9 +235,9 @@ def _duty_pin(cx: Context) -> FileBit | None:
     return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
 
 
-def uses_timer0(code: ir.Code, part, machine) -> bool:
-    """True when Timer0 makes the scan cycle: no CCP module is left for it,
-    or the cycle is longer than Timer1 counts (0.52 s at 4 MHz)."""
+def free_running(code: ir.Code, part, machine) -> bool:
+    """True when a free-running Timer1 makes the scan cycle: no CCP module is
+    left for it, or the cycle is longer than Timer1 counts (0.52 s at 4 MHz)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
     free = any(unit not in pwm and part.has(f"{unit}CON") for unit in ("CCP1", "CCP2"))
     longest = 65536 * max(TIMER1_PRESCALERS) * 4_000_000 / machine.crystal_hz
