@@ -52,7 +52,7 @@ LDMICRO_WORDS = {
 # registers whose bits every part file must carry where the header has them
 BIT_REGISTERS = ("STATUS", "OPTION_REG", "INTCON", "PIR1", "PIR2", "PIE1", "PIE2", "T1CON", "T2CON",
                  "CCP1CON", "CCP2CON", "TXSTA", "RCSTA", "ADCON0", "ADCON1", "ANSEL", "ANSELH", "CMCON",
-                 "CMCON0", "CM1CON0", "CM2CON0", "EECON1", "OSCCON", "WDTCON", "PCON")
+                 "CMCON0", "CM1CON0", "CM2CON0", "EECON1", "OSCCON", "WDTCON", "PCON", "TRISE")
 
 needs_gputils = pytest.mark.skipif(not (GPUTILS / "header").is_dir(), reason="gputils not installed")
 
