@@ -69,8 +69,6 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
             subprocess.run(["gpsim", "-i", "-I", "script.stc"], stdin=subprocess.DEVNULL, stdout=out,
                            stderr=subprocess.STDOUT, timeout=timeout, cwd=tmp, check=False)
         text = (Path(tmp) / "out.txt").read_text(errors="replace")
-        Path("/tmp/pa/last_out.txt").write_text(text)
-        Path("/tmp/pa/last_script.stc").write_text("\n".join(lines))
     if END_MARK not in text or "ERROR" in text:
         raise RuntimeError("gpsim did not run the script through:\n" + text[-3000:])
     values = [int(m.group(2), 16) for m in map(_VALUE.match, text.splitlines()) if m]
