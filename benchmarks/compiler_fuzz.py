@@ -1,11 +1,12 @@
-"""Differential fuzzing of the AVR compiler, time-boxed, run on demand:
-`python benchmarks/compiler_fuzz.py [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
+"""Differential fuzzing of the compiler, time-boxed, run on demand:
+`python benchmarks/compiler_fuzz.py [--family avr|pic16] [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
 
-Each worker draws random compilable programs (tests/test_compiler_random.py),
-runs each in simavr under its random stimulus and compares every name with
-the simulator after every scan. The report is how many programs were
-reached (goal: 1,000) and every mismatch, each saved as an .ld file with its
-stimulus for replay. A program too large for its part's flash is skipped.
+Each worker draws random compilable programs for the family's boards
+(tests/test_compiler_random.py), runs each in simavr (AVR) or gpsim (PIC16)
+under its random stimulus and compares every name with the simulator after
+every scan. The report is how many programs were reached (goal: 1,000) and
+every mismatch, each saved as an .ld file with its stimulus for replay. A
+program too large for its part's flash is skipped.
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
 GOAL = 1000
+# family -> (the harness module with its differential, the generator's boards, the simulator run)
+FAMILIES = {"avr": ("test_compiler_harness", "BOARDS", "simavr"),
+            "pic16": ("pic16_harness", "PIC16_BOARDS", "gpsim")}
 
 
 class TimeUp(BaseException):
@@ -29,25 +33,35 @@ class TimeUp(BaseException):
     BaseException as a failing example."""
 
 
-def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
-    seed_value, deadline, out = args
+def worker(args: tuple[str, int, float, str]) -> tuple[int, list[str]]:
+    family, seed_value, deadline, out = args
+    import importlib
+
+    import test_compiler_random
     from hypothesis import HealthCheck, Phase, given, seed, settings
-    from test_compiler_harness import differential
     from test_compiler_random import cases, too_large
 
     from compiler.errors import CompileError
     from lang.ldfile import write_ld
 
+    harness, boards, _ = FAMILIES[family]
+    differential = importlib.import_module(harness).differential
     reached, failures = 0, []
+    seen: set[str] = set()  # hypothesis repeats itself: each program and stimulus counts once
 
     @seed(seed_value)
     @settings(max_examples=10**9, deadline=None, database=None, phases=[Phase.generate],
               suppress_health_check=list(HealthCheck))
-    @given(case=cases())
+    @given(case=cases(getattr(test_compiler_random, boards)))
     def run(case):
         nonlocal reached
         if time.monotonic() > deadline:
             raise TimeUp
+        stimulus = "\n".join(f"; scan {e.scan}: {e.name} = {e.value}" for e in case.events)
+        text = write_ld(case.program) + f"\n; {case.scans} scans\n{stimulus}\n"
+        if text in seen:
+            return
+        seen.add(text)
         with tempfile.TemporaryDirectory() as tmp:
             try:
                 problems = differential(case.program, case.events, case.scans, Path(tmp))
@@ -59,9 +73,8 @@ def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
                 problems = [f"{type(error).__name__}: {error}"]
         reached += 1
         if problems:
-            path = Path(out) / f"mismatch-{seed_value}-{reached}.ld"
-            stimulus = "\n".join(f"; scan {e.scan}: {e.name} = {e.value}" for e in case.events)
-            path.write_text(write_ld(case.program) + f"\n; {case.scans} scans\n{stimulus}\n; " + "\n; ".join(problems))
+            path = Path(out) / f"mismatch-{family}-{seed_value}-{reached}.ld"
+            path.write_text(text + "; " + "\n; ".join(problems))
             failures.append(f"{path}: {problems[0]}")
 
     try:
@@ -73,6 +86,7 @@ def worker(args: tuple[int, float, str]) -> tuple[int, list[str]]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--family", choices=sorted(FAMILIES), default="avr")
     parser.add_argument("--seconds", type=float, default=600)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=int(time.time()) % 100_000,
@@ -83,11 +97,11 @@ def main() -> int:
     started = time.monotonic()
     deadline = started + args.seconds
     with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
-        results = pool.map(worker, [(args.seed + n, deadline, args.out) for n in range(args.workers)])
+        results = pool.map(worker, [(args.family, args.seed + n, deadline, args.out) for n in range(args.workers)])
     reached = sum(r for r, _ in results)
     failures = [f for _, fs in results for f in fs]
     elapsed = time.monotonic() - started
-    print(f"{reached} programs compiled, run in simavr and compared scan for scan in {elapsed:.0f} s on "
+    print(f"{reached} distinct programs compiled, run in {FAMILIES[args.family][2]} and compared scan for scan in {elapsed:.0f} s on "
           f"{args.workers} workers (goal {GOAL}, seed {args.seed}): {len(failures)} mismatches")
     for failure in failures:
         print("  " + failure)

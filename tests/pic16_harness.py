@@ -19,6 +19,7 @@ from test_compiler_harness import DRIVE_BEFORE, SAMPLE_AT, Event, compared_names
 
 import compiler
 from compiler.pic16.part import Part
+from compiler.run.gpsim import DRIVE_OHMS
 
 END_MARK = "__textladder_end__"
 _VALUE = re.compile(r"^\*?\*?(?:gpsim> )*\s*(\w+)\[[^\]]*\] = \$([0-9a-fA-F]+)")
@@ -54,8 +55,7 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
         lines.append("module library libgpsim_modules")
         for pin_name, module in sorted(modules.items()):
             port = "gpio" if pin_name.startswith("GP") else f"port{pin_name[1].lower()}"
-            # a stiff source: the PIC's weak pull-ups must not lift a driven 0
-            lines += [f"module load pullup {module}", f"{module}.resistance = 100", f"node n_{module}",
+            lines += [f"module load pullup {module}", f"{module}.resistance = {DRIVE_OHMS}", f"node n_{module}",
                       f"attach n_{module} {module}.pin {port}{pin_name[-1]}"]
     last = 0
     for cycle, _, _, command in timeline:

@@ -1,18 +1,21 @@
-"""Random compilable programs: built for a part simavr has a core for, run
-under a random stimulus, and compared with the simulator on every name after
-every scan (test_compiler_harness.py). benchmarks/compiler_fuzz.py runs the
+"""Random compilable programs: built for a part simavr (AVR) or gpsim (PIC16)
+runs, run under a random stimulus, and compared with the simulator on every
+name after every scan (test_compiler_harness.py, pic16_harness.py; the PIC16
+sample is tests/test_pic16_random.py). benchmarks/compiler_fuzz.py runs the
 same generator for as long as it is given.
 
-The generator draws from every instruction the AVR back end compiles, on
-small pools of names so that elements read what others write. A program
-must pass the checks, and the simulator must run it through the stimulus
-without a fault (a division by zero, a table index out of range, a BCD
-digit above 9, a runaway jump): the MCU's result is undefined there.
+The generator draws, for a board of a family, from every instruction that
+family's back end compiles (the instruction table's support column) but those
+the board leaves out, on small pools of names so that elements read what
+others write. A program must pass the checks, and the simulator must run it
+through the stimulus without a fault (a division by zero, a table index out
+of range, a BCD digit above 9, a runaway jump): the MCU's result is undefined
+there.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -35,38 +38,69 @@ from lang.model import (
 )
 from lang.sim import SimulationError, Simulator
 
-CYCLE_US = 4000  # room in the cycle for a long scan and a UART byte's arrival
-CRYSTAL = 16_000_000
+# instructions of the PIC16 peripherals, not compiled yet
+PIC16_PERIPHERALS = frozenset(("READ_ADC", "SET_PWM", "UART_SEND", "UART_SEND_READY", "UART_RECV",
+                               "UART_RECV_AVAIL", "FORMATTED_STRING", "PERSIST"))
 
 
 @dataclass(frozen=True)
 class Board:
-    """Which port bits a part offers the generator."""
+    """A part as the generator uses it: its family, the port bits it offers
+    (inputs the harness can drive), the clock and the cycle."""
 
     part: str
+    family: str  # the instruction table's support key: which instructions compile
     ldmicro: str
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
-    adc: str | None
-    pwm: str | None
+    adc: str | None = None
+    pwm: str | None = None
     uart0: bool = True  # the harness feeds and watches USART0 only (the ATmega128 uses USART1)
+    crystal_hz: int = 16_000_000
+    cycle_us: int = 4000  # room in the cycle for a long scan and a UART byte's arrival
+    left_out: frozenset[str] = frozenset()  # instructions not drawn on this board
+
+    def draws(self, kind: str) -> bool:
+        return self.family in INSTRUCTIONS[kind].support and kind not in self.left_out
 
 
 BOARDS = (
-    Board("atmega328p", "Atmel AVR ATmega328 28-PDIP", ("PD2", "PD3", "PD4", "PD7"),
+    Board("atmega328p", "avr", "Atmel AVR ATmega328 28-PDIP", ("PD2", "PD3", "PD4", "PD7"),
           ("PB0", "PB1", "PB2", "PB3", "PB4", "PB5"), "PC0", "PD6"),
-    Board("atmega16", "Atmel AVR ATmega16 40-PDIP", ("PD2", "PD3", "PD4", "PD5"),
+    Board("atmega16", "avr", "Atmel AVR ATmega16 40-PDIP", ("PD2", "PD3", "PD4", "PD5"),
           ("PB0", "PB1", "PB2", "PC0", "PC1", "PC2"), "PA0", "PB3"),
-    Board("atmega128", "Atmel AVR ATmega128 64-TQFP", ("PE2", "PE3", "PA5", "PA6"),
+    Board("atmega128", "avr", "Atmel AVR ATmega128 64-TQFP", ("PE2", "PE3", "PA5", "PA6"),
           ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7", uart0=False),
-    Board("atmega2560", "Atmel AVR ATmega2560 100-TQFP", ("PD2", "PD3", "PH0", "PH1"),
+    Board("atmega2560", "avr", "Atmel AVR ATmega2560 100-TQFP", ("PD2", "PD3", "PH0", "PH1"),
           ("PB0", "PB1", "PK0", "PL1", "PC0", "PC1"), "PF0", "PB4"),
-    Board("atmega8", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
+    Board("atmega8", "avr", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
           ("PB0", "PB4", "PB5", "PC0", "PC1", "PC2"), "PC3", "PB3"),
-    Board("atmega32", "Atmel AVR ATmega32 40-PDIP", ("PD2", "PD3", "PC6", "PC7"),
+    Board("atmega32", "avr", "Atmel AVR ATmega32 40-PDIP", ("PD2", "PD3", "PC6", "PC7"),
           ("PB0", "PB1", "PB2", "PA1", "PA2", "PD6"), "PA0", "PD7"),
-    Board("atmega1284p", "Atmel AVR ATmega1284 40-PDIP", ("PD2", "PD3", "PB5", "PB6"),
+    Board("atmega1284p", "avr", "Atmel AVR ATmega1284 40-PDIP", ("PD2", "PD3", "PB5", "PB6"),
           ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7"),
+)
+
+
+def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str, ...], crystal_hz: int) -> Board:
+    """Inputs on pins a gpsim pull-up module drives, analog ones among them (the
+    start-up makes them digital), none on the oscillator, MCLR or open-drain
+    RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz."""
+    return Board(part, "pic16", ldmicro, inputs, outputs, uart0=False, crystal_hz=crystal_hz, cycle_us=10_000,
+                 left_out=PIC16_PERIPHERALS)
+
+
+PIC16_BOARDS = (
+    _pic16("pic16f877", "Microchip PIC16F877 40-PDIP", ("RD0", "RC1", "RA0", "RB4"),
+           ("RB0", "RB3", "RC5", "RD7", "RE1", "RA1"), 20_000_000),
+    _pic16("pic16f876", "Microchip PIC16F876 28-PDIP or 28-SOIC", ("RC0", "RA2", "RB5", "RB7"),
+           ("RB0", "RB1", "RB2", "RC4", "RC5", "RA3"), 4_000_000),
+    _pic16("pic16f628", "Microchip PIC16F628 18-PDIP or 18-SOIC", ("RA0", "RA1", "RB4", "RB5"),
+           ("RB0", "RB1", "RB2", "RB3", "RA2", "RA3"), 4_000_000),
+    _pic16("pic16f88", "Microchip PIC16F88 18-PDIP or 18-SOIC", ("RA0", "RA1", "RB6", "RB7"),
+           ("RB0", "RB1", "RB3", "RB4", "RA2", "RA3"), 20_000_000),
+    _pic16("pic16f887", "Microchip PIC16F887 40-PDIP", ("RA0", "RD2", "RE0", "RB5"),
+           ("RB0", "RC2", "RD0", "RD1", "RE1", "RA5"), 4_000_000),
 )
 
 INPUTS = ("Xa", "Xb", "Xc", "Xd")
@@ -92,41 +126,49 @@ def _int_or_literal():
     return st.one_of(st.sampled_from(INTS), st.integers(-300, 300).map(str))
 
 
+@dataclass
+class Drawing:
+    """What the element strategies share while one program is drawn."""
+
+    board: Board
+    timers: list[str] = field(default_factory=list)
+
+
 @st.composite
-def _element(draw, eol: bool, timers: list) -> Element:
-    kinds = [k for k in FACTORIES if INSTRUCTIONS[k].eol == eol]
+def _element(draw, eol: bool, d: Drawing) -> Element:
+    kinds = [k for k in FACTORIES if INSTRUCTIONS[k].eol == eol and d.board.draws(k)]
     kind = draw(st.sampled_from(kinds))
-    return draw(FACTORIES[kind](timers))
+    return draw(FACTORIES[kind](d))
 
 
 def _simple(kind):
-    return lambda timers: st.just(_e(kind))
+    return lambda d: st.just(_e(kind))
 
 
-def _contact(timers):
+def _contact(d):
     return st.builds(lambda n, neg: _e("CONTACTS", name=n, negated=neg),
                      st.sampled_from(INPUTS + OUTPUTS + RELAYS + ("ROverflowFlagV",)), st.integers(0, 1))
 
 
-def _coil(timers):
+def _coil(d):
     return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(OUTPUTS + RELAYS),
                      st.sampled_from(" /SRT"))
 
 
 @st.composite
-def _timer(draw, timers, kind):
-    name = f"T{len(timers)}"
-    timers.append(name)
-    delay = draw(st.one_of(st.integers(1, 25).map(lambda n: CYCLE_US * n), st.sampled_from(INTS)))
+def _timer(draw, d, kind):
+    name = f"T{len(d.timers)}"
+    d.timers.append(name)
+    delay = draw(st.one_of(st.integers(1, 25).map(lambda n: d.board.cycle_us * n), st.sampled_from(INTS)))
     return _e(kind, name=name, delay=delay, adjust=0)
 
 
 def _timer_of(kind):
-    return lambda timers: _timer(timers, kind)
+    return lambda d: _timer(d, kind)
 
 
 def _counter(kind):
-    def make(timers):
+    def make(d):
         return st.builds(lambda n, m, i, k: _e(kind, name=n, max=m, init=i, kind=k), st.sampled_from(COUNTERS),
                          st.one_of(st.integers(-5, 12).map(str), st.sampled_from(INTS)),
                          st.one_of(st.integers(-3, 5).map(str), st.sampled_from(INTS)), st.sampled_from("/\\-o"))
@@ -134,29 +176,28 @@ def _counter(kind):
 
 
 def _compare(kind):
-    return lambda timers: st.builds(lambda a, b: _e(kind, op1=a, op2=b), _int_or_literal(), _int_or_literal())
+    return lambda d: st.builds(lambda a, b: _e(kind, op1=a, op2=b), _int_or_literal(), _int_or_literal())
 
 
 def _math(kind):
     # mostly a constant divisor: a variable one is often 0, which the simulator refuses
     divisor = st.one_of(st.integers(1, 300).map(str), st.integers(-300, -1).map(str), st.sampled_from(INTS))
-    return lambda timers: st.builds(lambda d, a, b: _e(kind, dest=d, op1=a, op2=b), st.sampled_from(INTS),
-                                    _int_or_literal(), divisor if kind in ("DIV", "MOD") else _int_or_literal())
+    return lambda d: st.builds(lambda r, a, b: _e(kind, dest=r, op1=a, op2=b), st.sampled_from(INTS),
+                               _int_or_literal(), divisor if kind in ("DIV", "MOD") else _int_or_literal())
 
 
 def _shift(kind):
-    return lambda timers: st.builds(lambda d, a, n: _e(kind, dest=d, op1=a, op2=n), st.sampled_from(INTS),
-                                    st.sampled_from(INTS), st.one_of(st.integers(0, 8).map(str),
-                                                                     st.sampled_from(INTS)))
+    return lambda d: st.builds(lambda r, a, n: _e(kind, dest=r, op1=a, op2=n), st.sampled_from(INTS),
+                               st.sampled_from(INTS), st.one_of(st.integers(0, 8).map(str), st.sampled_from(INTS)))
 
 
 def _unary(kind):
-    return lambda timers: st.builds(lambda d, a: _e(kind, dest=d, op1=a), st.sampled_from(INTS), _int_or_literal())
+    return lambda d: st.builds(lambda r, a: _e(kind, dest=r, op1=a), st.sampled_from(INTS), _int_or_literal())
 
 
 def _bit_op(kind):
-    return lambda timers: st.builds(lambda v, b: _e(kind, var=v, bit=b), st.sampled_from(INTS),
-                                    st.one_of(st.integers(-1, 33).map(str), st.sampled_from(INTS)))
+    return lambda d: st.builds(lambda v, b: _e(kind, var=v, bit=b), st.sampled_from(INTS),
+                               st.one_of(st.integers(-1, 33).map(str), st.sampled_from(INTS)))
 
 
 def _convert(kind):
@@ -168,87 +209,88 @@ def _convert(kind):
             lambda v: v & 0xF <= 9 and v >> 8 <= 9 and not v & 0xF0).map(str))
     else:
         source = st.sampled_from(INTS)
-    return lambda timers: st.builds(lambda d, s: _e(kind, dest=d, src=s), st.sampled_from(INTS), source)
+    return lambda d: st.builds(lambda r, s: _e(kind, dest=r, src=s), st.sampled_from(INTS), source)
 
 
-def _seven(timers):
-    return st.builds(lambda d, s, c: _e("7SEGMENTS", dest=d, src=s, common=c), st.sampled_from(INTS),
+def _seven(d):
+    return st.builds(lambda r, s, c: _e("7SEGMENTS", dest=r, src=s, common=c), st.sampled_from(INTS),
                      st.one_of(st.sampled_from(INTS), st.integers(0, 200).map(str)), st.sampled_from("CA"))
 
 
-def _bus(timers):
-    return st.builds(lambda d, s, bits: _e("BUS", dest=d, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
+def _bus(d):
+    return st.builds(lambda r, s, bits: _e("BUS", dest=r, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
                      st.sampled_from(INTS), st.sampled_from(INTS), st.lists(st.integers(0, 7), min_size=8,
                                                                             max_size=8))
 
 
-def _lut(timers):
-    return st.builds(lambda d, i, values: _e("LOOK_UP_TABLE", dest=d, index=i, values=tuple(values)),
+def _lut(d):
+    return st.builds(lambda r, i, values: _e("LOOK_UP_TABLE", dest=r, index=i, values=tuple(values)),
                      st.sampled_from(INTS), st.one_of(st.integers(0, 3).map(str), st.sampled_from(INTS),
                                                       st.integers(0, 3).map(str)),
                      st.lists(st.integers(-100, 100).map(str), min_size=4, max_size=8))
 
 
 @st.composite
-def _pwl(draw, timers):
+def _pwl(draw, d):
     xs = sorted(draw(st.sets(st.integers(-20, 40), min_size=2, max_size=5)))
     points = tuple((str(x), str(draw(st.integers(-30, 30)))) for x in xs)
     return _e("PIECEWISE_LINEAR", dest=draw(st.sampled_from(INTS)), index=draw(st.sampled_from(INTS)), points=points)
 
 
-def _shift_register(timers):
+def _shift_register(d):
     return st.builds(lambda n: _e("SHIFT_REGISTER", name="sr", stages=n), st.integers(2, 4))
 
 
-def _random(timers):
-    return st.builds(lambda d: _e("RANDOM", name=d), st.sampled_from(INTS))
+def _random(d):
+    return st.builds(lambda r: _e("RANDOM", name=r), st.sampled_from(INTS))
 
 
-def _seed(timers):
-    return st.builds(lambda d, s: _e("SEED_RANDOM", name=d, seed=s), st.sampled_from(INTS), _int_or_literal())
+def _seed(d):
+    return st.builds(lambda r, s: _e("SEED_RANDOM", name=r, seed=s), st.sampled_from(INTS), _int_or_literal())
 
 
-def _move(timers):
-    return st.builds(lambda d, s: _e("MOVE", dest=d, src=s), st.sampled_from(INTS + COUNTERS), _int_or_literal())
+def _move(d):
+    return st.builds(lambda r, s: _e("MOVE", dest=r, src=s), st.sampled_from(INTS + COUNTERS), _int_or_literal())
 
 
-def _reset(timers):
+def _reset(d):
     return st.builds(lambda n: _e("RES", name=n), st.sampled_from(COUNTERS))
 
 
-def _persist(timers):
+def _persist(d):
     return st.builds(lambda v: _e("PERSIST", var=v), st.sampled_from(INTS))
 
 
-def _adc(timers):
+def _adc(d):
     return st.just(_e("READ_ADC", name="Aa", refs=0))
 
 
-def _pwm(timers):
-    return st.builds(lambda d: _e("SET_PWM", duty=d, freq=CRYSTAL // (256 * 64), name="Pa", resolution="0-100%"),
+def _pwm(d):
+    frequency = d.board.crystal_hz // (256 * 64)
+    return st.builds(lambda duty: _e("SET_PWM", duty=duty, freq=frequency, name="Pa", resolution="0-100%"),
                      _int_or_literal())
 
 
-def _uart_send(timers):
+def _uart_send(d):
     return st.builds(lambda v, n: _e("UART_SEND", var=v, bytes=n, wait=0), st.sampled_from(INTS), st.integers(1, 3))
 
 
-def _uart_recv(timers):
+def _uart_recv(d):
     # into a 4-byte variable, so that any byte count fits
     return st.builds(lambda n: _e("UART_RECV", var="vr", bytes=n, wait=0), st.integers(1, 3))
 
 
-def _delay(timers):
+def _delay(d):
     return st.builds(lambda us: _e("DELAY", delay=str(us)), st.integers(1, 50))
 
 
-def _fstring(timers):
+def _fstring(d):
     return st.builds(lambda v, t: _e("FORMATTED_STRING", var=v, text=t), st.sampled_from(INTS),
                      st.sampled_from(("v=\\3\\r\\n", "\\-5 ok", "x\\1", "n: \\-2.")))
 
 
-def _t2cnt(timers):
-    return st.builds(lambda d, n: _e("TIME2COUNT", name=d, delay=CYCLE_US * n), st.sampled_from(INTS),
+def _t2cnt(d):
+    return st.builds(lambda r, n: _e("TIME2COUNT", name=r, delay=d.board.cycle_us * n), st.sampled_from(INTS),
                      st.integers(1, 50))
 
 
@@ -273,24 +315,24 @@ FACTORIES = {
 
 
 @st.composite
-def _series(draw, depth: int, ends: bool, timers: list):
-    items = draw(st.lists(_inline(depth, timers), min_size=0 if ends else 1, max_size=3))
+def _series(draw, depth: int, ends: bool, d: Drawing):
+    items = draw(st.lists(_inline(depth, d), min_size=0 if ends else 1, max_size=3))
     if ends:
-        options = [_element(eol=True, timers=timers)]
+        options = [_element(eol=True, d=d)]
         if depth:
-            options.append(st.lists(_series(depth - 1, True, timers), min_size=2, max_size=3).map(Parallel))
+            options.append(st.lists(_series(depth - 1, True, d), min_size=2, max_size=3).map(Parallel))
         items.append(draw(st.one_of(*options)))
     return Series(items)
 
 
-def _inline(depth: int, timers: list):
-    options = [_element(eol=False, timers=timers)]
+def _inline(depth: int, d: Drawing):
+    options = [_element(eol=False, d=d)]
     if depth:
-        options.append(st.lists(_series(depth - 1, False, timers), min_size=2, max_size=3).map(Parallel))
+        options.append(st.lists(_series(depth - 1, False, d), min_size=2, max_size=3).map(Parallel))
     return st.one_of(*options)
 
 
-def _add_jumps(draw, rungs: list[Rung], timers: list) -> None:
+def _add_jumps(draw, rungs: list[Rung], d: Drawing) -> None:
     """Maybe a forward GOTO to a LABEL, and a subroutine called from the
     middle of a rung whose lower branch still needs its power bit after the
     call (backward jumps could loop until the watchdog resets)."""
@@ -305,7 +347,7 @@ def _add_jumps(draw, rungs: list[Rung], timers: list) -> None:
                          Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(OUTPUTS)), type=" ")])])
         caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0), call])))
         rungs.insert(draw(st.integers(0, len(rungs))), caller)
-        body = [Rung(rung_circuit(draw(_series(1, True, timers)))) for _ in range(draw(st.integers(1, 2)))]
+        body = [Rung(rung_circuit(draw(_series(1, True, d)))) for _ in range(draw(st.integers(1, 2)))]
         rungs += [Rung(Series([_e("SUBPROG", label="sub")])), *body, Rung(Series([_e("ENDSUB", label="sub")]))]
 
 
@@ -317,12 +359,13 @@ class Case:
 
 
 @st.composite
-def cases(draw) -> Case:
-    board = draw(st.sampled_from(BOARDS))
-    timers: list[str] = []
-    rungs = [Rung(rung_circuit(draw(_series(2, True, timers)))) for _ in range(draw(st.integers(1, 8)))]
-    _add_jumps(draw, rungs, timers)
-    program = Program(Settings(mcu=board.ldmicro, cycle_us=CYCLE_US, crystal_hz=CRYSTAL, baud=9600), rungs)
+def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
+    board = draw(st.sampled_from(boards))
+    d = Drawing(board)
+    rungs = [Rung(rung_circuit(draw(_series(2, True, d)))) for _ in range(draw(st.integers(1, 8)))]
+    _add_jumps(draw, rungs, d)
+    program = Program(Settings(mcu=board.ldmicro, cycle_us=board.cycle_us, crystal_hz=board.crystal_hz, baud=9600),
+                      rungs)
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
     # every relay read is written somewhere, and a master relay zone is closed
     for relay in sorted(r for r in RELAYS if r in used):

@@ -386,3 +386,21 @@ def test_gpsim_register_reads():
                      + [(100, "RA0", 1)],
                      reads=[(50, "portc"), (150, "portc"), (150, "trisc")], until_ms=200)
     assert run.reads == [(50.0, "portc", 0x02), (150.0, "portc", 0x03), (150.0, "trisc", 0xFC)]
+
+
+@needs_gpsim
+def test_gpsim_drives_a_port_b_input_against_its_weak_pull_up(tmp_path):
+    """A switch to ground on RB4 with PORTB's weak pull-ups on: the pin reads 0
+    every time it is driven low, not only before it was first high (the input
+    modules are a switch, not a 10 kOhm resistor that leaves the pin between
+    the thresholds)."""
+    import compiler
+    from builders import coil, contact, program
+
+    built = compiler.build(program([contact("Xd"), coil("Ya")], mcu="Microchip PIC16F877 40-PDIP",
+                                   pins={"Xd": "RB4", "Ya": "RC7"}, crystal_hz=20_000_000))
+    hex_path = tmp_path / "follow.hex"
+    built.write(hex_path)
+    run = gp.run_pic(hex_path, "p16f877", 20_000_000, inputs=[(0, "RB4", 0), (55, "RB4", 1), (85, "RB4", 0)],
+                     watch=["RC7"], until_ms=120)
+    assert [level for _, level in run.pin_edges("RC7")] == [1, 0]

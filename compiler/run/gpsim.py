@@ -5,9 +5,9 @@ gpsim runs a generated command script (``gpsim -i -I script.stc < /dev/null``) a
 a timeout: a script error or a missing final ``quit`` leaves it at its prompt forever, and a
 missing HEX still exits 0, so the output is scanned for error messages.
 
-* Inputs: one ``pullup`` module (from ``libgpsim_modules``) per input pin, attached to the
-  pin through a node; its voltage is switched between 0 and 5 V (or any analog voltage, for
-  an ADC input) at exact instruction cycles (``break c N`` then ``run``).
+* Inputs: one ``pullup`` module (from ``libgpsim_modules``) per input pin, of 100 ohms,
+  attached to the pin through a node; its voltage is switched between 0 and 5 V (or any
+  analog voltage, for an ADC input) at exact instruction cycles (``break c N`` then ``run``).
 * Outputs: ``log w portX`` / ``log w trisX`` record every write to the watched ports' latch
   and direction registers with the instruction cycle of the write, so every output edge is
   known to the cycle (an output pin's level is its latch bit while its TRIS bit is 0; a pin
@@ -31,6 +31,10 @@ from pathlib import Path
 from typing import Iterable
 
 END_MARK = "__textladder_gpsim_end__"
+# The input modules' source resistance: a switch. At the module's default 10 kOhm
+# against PORTB's weak pull-up a pin driven to 0 V sits between the input
+# thresholds and keeps reading 1 once it has been high.
+DRIVE_OHMS = 100
 
 # Messages gpsim prints for script problems (it carries on at its prompt after them).
 _ERROR_PATTERNS = re.compile(
@@ -216,7 +220,7 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
         if modules:
             s.append("module library libgpsim_modules")
             for (port, bit), mod in sorted(modules.items()):
-                s += [f"module load pullup {mod}", f"node n_{mod}",
+                s += [f"module load pullup {mod}", f"{mod}.resistance = {DRIVE_OHMS}", f"node n_{mod}",
                       f"attach n_{mod} {mod}.pin {_registers(port)[0]}{bit}"]
         s.append(f"log on {log}")
         for port in ports:

@@ -1,0 +1,31 @@
+"""Random compilable programs on PIC16 boards (test_compiler_random.py's
+generator, its PIC16_BOARDS), built, run in gpsim under a random stimulus and
+compared with the simulator on every name after every scan
+(pic16_harness.py). benchmarks/compiler_fuzz.py --family pic16 runs the same
+for as long as it is given."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from pic16_harness import differential
+from test_compiler_harness import IN_CI
+from test_compiler_random import PIC16_BOARDS, cases, too_large
+
+from compiler.errors import CompileError
+from compiler.run import gpsim
+
+needs_gpsim = pytest.mark.skipif(not gpsim.available() and not IN_CI, reason="gpsim not installed")
+
+
+@needs_gpsim
+@pytest.mark.slow
+@settings(max_examples=15, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+@given(case=cases(PIC16_BOARDS))
+def test_random_programs_follow_the_simulator_on_pic16(case, tmp_path_factory):
+    try:
+        problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("random"))
+    except CompileError as problem:
+        assume(not too_large(problem))
+        raise
+    assert problems == [], "\n".join(problems)
