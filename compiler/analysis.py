@@ -3,6 +3,10 @@ and write control flow: pure functions of `ir` ops and `ir.Code`."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+from lang.sim.numbers import byte_needed
+
 from . import ir
 
 UART_OPS = (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake)
@@ -45,3 +49,31 @@ def loop_labels(ops: list[ir.Op]) -> set[str]:
 
 def uses_uart(code: ir.Code) -> bool:
     return any(isinstance(op, UART_OPS) for op in code.scan)
+
+
+def value_size(operand: ir.Operand, stored: Callable[[ir.Var], int]) -> int:
+    """Bytes that hold the operand's value as a signed number: a constant's
+    own, 2 for one unsigned byte of a variable, else the variable's size in
+    memory (`stored`)."""
+    if isinstance(operand, ir.Const):
+        return byte_needed(operand.value)
+    if isinstance(operand, ir.Byte):
+        return 2
+    return stored(operand)
+
+
+def target_size(target: ir.Target, stored: Callable[[ir.Var], int]) -> int:
+    return 1 if isinstance(target, ir.Byte) else stored(target)
+
+
+def nearest_period(ticks: float, prescalers: dict[int, int], most: int) -> tuple[float, int, int] | None:
+    """(relative error, select bits, counts) of the prescaler whose whole
+    count (1..most) comes nearest `ticks`, the first of equals; None if none fits."""
+    best = None
+    for prescaler, select_bits in prescalers.items():
+        counts = round(ticks / prescaler)
+        if 1 <= counts <= most:
+            error = abs(counts * prescaler - ticks) / ticks
+            if best is None or error < best[0]:
+                best = (error, select_bits, counts)
+    return best

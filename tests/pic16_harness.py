@@ -15,7 +15,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from test_compiler_harness import DRIVE_BEFORE, SAMPLE_AT, Event, compared_names, simulate
+from test_compiler_harness import DRIVE_BEFORE, SAMPLE_AT, Event, compared_names, mismatches, simulate
 
 import compiler
 from compiler.pic16.part import Part
@@ -116,9 +116,4 @@ def differential(program, events: list[Event], scans: int, tmp_path: Path, targe
     names = compared_names(program, build)
     expected = simulate(program, events, scans, names)
     actual = run_scans(build, hex_path, events, scans, names)
-    problems = []
-    for scan, (want, got) in enumerate(zip(expected, actual)):
-        for name in names:
-            if want[name] != got[name]:
-                problems.append(f"scan {scan}: {name} simulator {want[name]}, compiled {got[name]}")
-    return problems[:20]
+    return mismatches(expected, actual, names)

@@ -174,11 +174,13 @@ def differential(program: Program, events: list[Event], scans: int, tmp_path: Pa
     expected = simulate(program, events, scans, names)
     actual = run_hex(build, hex_path, events, scans, names).values
     assert len(actual) == scans, f"simavr gave {len(actual)} samples for {scans} scans"
-    problems = []
-    for scan, (want, got) in enumerate(zip(expected, actual)):
-        for name in names:
-            if want[name] != got[name]:
-                problems.append(f"scan {scan}: {name} simulator {want[name]}, compiled {got[name]}")
+    return mismatches(expected, actual, names)
+
+
+def mismatches(expected: list[dict[str, int]], actual: list[dict[str, int]], names: list[str]) -> list[str]:
+    """The first 20 differences, scan by scan, as text."""
+    problems = [f"scan {scan}: {name} simulator {want[name]}, compiled {got[name]}"
+                for scan, (want, got) in enumerate(zip(expected, actual)) for name in names if want[name] != got[name]]
     return problems[:20]
 
 

@@ -15,9 +15,10 @@ bytes stored to the destination (the wrap-around the semantics ask for).
 
 from __future__ import annotations
 
-from lang.sim.numbers import byte_needed, wrap
+from lang.sim.numbers import wrap
 
-from .. import ir
+from .. import analysis, ir
+from ..analysis import value_size
 from . import bits
 from .emit import SCRATCH, ZERO, A, B
 from .memory import MemBit, RegBit
@@ -32,15 +33,11 @@ def storage(cx, operand):
 
 def size(cx, operand) -> int:
     """Bytes that hold the operand's value as a signed number."""
-    if isinstance(operand, ir.Const):
-        return byte_needed(operand.value)
-    if isinstance(operand, ir.Byte):
-        return 2  # an unsigned byte
-    return storage(cx, operand).size
+    return value_size(operand, lambda var: storage(cx, var).size)
 
 
 def target_size(cx, target) -> int:
-    return 1 if isinstance(target, ir.Byte) else storage(cx, target).size
+    return analysis.target_size(target, lambda var: storage(cx, var).size)
 
 
 def extend(cx, regs, n: int, signed: bool = True) -> None:

@@ -15,6 +15,7 @@ The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
 from __future__ import annotations
 
 from .. import ir
+from ..analysis import nearest_period
 from ..analysis import uses_uart
 from ..errors import BAD_CYCLE, fail
 from ..target import Machine
@@ -32,14 +33,7 @@ WATCHDOG_2S = 0b111  # WDP2:0
 def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
     """(clock select, counts) for Timer1: the exact cycle when a prescaler
     makes it, else the nearest within CYCLE_TOLERANCE."""
-    ticks = crystal_hz * cycle_us / 1_000_000
-    best = None
-    for prescaler, select_bits in CYCLE_PRESCALERS.items():
-        counts = round(ticks / prescaler)
-        if 1 <= counts <= 65536:
-            error = abs(counts * prescaler - ticks) / ticks
-            if best is None or error < best[0]:
-                best = (error, select_bits, counts)
+    best = nearest_period(crystal_hz * cycle_us / 1_000_000, CYCLE_PRESCALERS, 65536)
     if best is None or best[0] > CYCLE_TOLERANCE:
         raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
                               "crystal with Timer1 (16 bits, prescaler 1 to 1024)")

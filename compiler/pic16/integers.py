@@ -22,9 +22,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lang.sim.numbers import byte_needed
-
-from .. import ir
+from .. import analysis, ir
+from ..analysis import value_size
 from ..image import LoopBound
 from . import bits
 from .emit import C, F, STATUS, W, Z, Emitter
@@ -46,15 +45,11 @@ def storage(cx, operand):
 
 def size(cx, operand) -> int:
     """Bytes that hold the operand's value as a signed number."""
-    if isinstance(operand, ir.Const):
-        return byte_needed(operand.value)
-    if isinstance(operand, ir.Byte):
-        return 2  # an unsigned byte
-    return storage(cx, operand).size
+    return value_size(operand, lambda var: storage(cx, var).size)
 
 
 def target_size(cx, target) -> int:
-    return 1 if isinstance(target, ir.Byte) else storage(cx, target).size
+    return analysis.target_size(target, lambda var: storage(cx, var).size)
 
 
 def byte(cx, operand, i: int) -> Byte:

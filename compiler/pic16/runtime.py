@@ -19,6 +19,7 @@ cycle before its first scan).
 from __future__ import annotations
 
 from .. import ir
+from ..analysis import nearest_period
 from ..image import LoopBound
 from ..errors import BAD_CYCLE, fail
 from . import bits
@@ -36,14 +37,7 @@ CCP_SPECIAL_EVENT = 0x0B  # CCP1M3:0 = 1011: compare, trigger special event
 def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
     """(T1CKPS, counts) for Timer1: the exact cycle when a prescaler makes it,
     else the nearest within CYCLE_TOLERANCE."""
-    ticks = crystal_hz / 4 * cycle_us / 1_000_000
-    best = None
-    for prescaler, select_bits in TIMER1_PRESCALERS.items():
-        counts = round(ticks / prescaler)
-        if 1 <= counts <= 65536:
-            error = abs(counts * prescaler - ticks) / ticks
-            if best is None or error < best[0]:
-                best = (error, select_bits, counts)
+    best = nearest_period(crystal_hz / 4 * cycle_us / 1_000_000, TIMER1_PRESCALERS, 65536)
     if best is None or best[0] > CYCLE_TOLERANCE:
         raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
                               "crystal with Timer1 (16 bits, prescaler 1 to 8, Fosc/4)")
