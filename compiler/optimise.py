@@ -166,13 +166,13 @@ def _labels_after_bit_tests(ops: list[ir.Op]) -> list[ir.Op]:
     """A label after every bit test, for jumps threaded past it (_jumps
     removes the unused ones)."""
     out: list[ir.Op] = []
-    count = max((int(op.name[5:]) for op in ops if isinstance(op, ir.Label) and op.name.startswith("~past")),
+    count = max((int(op.name[4:]) for op in ops if isinstance(op, ir.Label) and op.name.startswith("past")),
                 default=0)
     for i, op in enumerate(ops):
         out.append(op)
         if isinstance(op, ir.JumpIfBit) and not (i + 1 < len(ops) and isinstance(ops[i + 1], ir.Label)):
             count += 1
-            out.append(ir.Label(f"~past{count}"))
+            out.append(ir.Label(f"past{count}"))
     return out
 
 

@@ -122,11 +122,11 @@ def test_pwm_outputs_the_back_end_cannot_drive():
 
 
 def test_a_program_larger_than_flash():
-    rungs = [[contact("Xa"), el("MUL", dest=f"v{i}", op1=f"w{i}", op2="1000")] for i in range(400)]
+    rungs = [[contact("Xa"), el("MUL", dest=f"v{i}", op1=f"w{i % 100}", op2="1000")] for i in range(700)]
     rungs.append([contact("Xa"), coil("Ya")])
     prog = part(program(*rungs), M8)
     prog.pins = {"Xa": PinAssignment("Xa", "PD2"), "Ya": PinAssignment("Ya", "PB0")}
-    prog.var_sizes.update({f"v{i}": 1 for i in range(400)} | {f"w{i}": 1 for i in range(400)})
+    prog.var_sizes.update({f"v{i}": 1 for i in range(700)} | {f"w{i}": 1 for i in range(100)})
     found = errors(prog)
     assert [d.code for d in found] == ["LD703"]
     assert "8192" in found[0].message
