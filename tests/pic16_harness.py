@@ -4,7 +4,10 @@ The stimulus is the AVR harness's (test_compiler_harness.Event): the
 simulator applies an event before its scan; gpsim switches the input pin's
 pull-up module 0.05 cycle before the scan starts. After each scan, at 0.9
 cycle, the script prints every file register the compared names live in
-(`reg(0x20)`), and the comparison takes every name both sides have.
+(`reg(0x20)`) and the PC, and the comparison takes every name both sides
+have. A PC outside the wait loop there means the scan is longer than the
+cycle allows (CycleOverrun): the values are a scan's half-done work, not a
+result to compare.
 """
 
 from __future__ import annotations
@@ -23,6 +26,16 @@ from compiler.run.gpsim import DRIVE_OHMS
 
 END_MARK = "__textladder_end__"
 _VALUE = re.compile(r"^\*?\*?(?:gpsim> )*\s*(\w+)\[[^\]]*\] = \$([0-9a-fA-F]+)")
+_PC = re.compile(r"^\*?\*?(?:gpsim> )*\s*pc = 0x([0-9a-fA-F]+)")
+
+
+class CycleOverrun(Exception):
+    """A scan had not ended by the time its values are read."""
+
+    def __init__(self, scan: int, pc: int):
+        super().__init__(f"scan {scan} still running at {SAMPLE_AT} cycle (PC {pc:#06x}): the scan is longer "
+                         "than the cycle allows at this crystal")
+        self.scan = scan
 
 
 def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: list[str],
@@ -49,6 +62,7 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
     for scan in range(scans):
         cycle = at((scan + SAMPLE_AT) * cycle_ms)
         timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
+        timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
     lines = [f"processor {Part.of(device).gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
     if modules:
@@ -76,6 +90,13 @@ def run_scans(build, hex_path: Path, events: list[Event], scans: int, names: lis
     values = [int(m.group(2), 16) for m in map(_VALUE.match, text.splitlines()) if m]
     if len(values) != scans * len(addresses):
         raise RuntimeError(f"gpsim printed {len(values)} register values, expected {scans * len(addresses)}")
+    pcs = [int(m.group(1), 16) for m in map(_PC.match, text.splitlines()) if m]
+    waiting = range(build.image.labels["wait"], build.image.labels["waited"])
+    late = next((scan for scan, pc in enumerate(pcs) if pc not in waiting), None)
+    if len(pcs) != scans:
+        raise RuntimeError(f"gpsim printed {len(pcs)} PCs, expected {scans}")
+    if late is not None:
+        raise CycleOverrun(late, pcs[late])
     samples = []
     for scan in range(scans):
         data = dict(zip(addresses, values[scan * len(addresses):(scan + 1) * len(addresses)]))

@@ -59,6 +59,9 @@ class Board:
     crystal_hz: int = 16_000_000
     cycle_us: int = 4000  # room in the cycle for a long scan and a UART byte's arrival
     left_out: frozenset[str] = frozenset()  # instructions not drawn on this board
+    # at most this many 4-byte variables allocated first and never used, so
+    # that the program's own land in other RAM banks (PIC16)
+    ballast: int = 0
 
     def draws(self, kind: str) -> bool:
         return self.family in INSTRUCTIONS[kind].support and kind not in self.left_out
@@ -82,12 +85,14 @@ BOARDS = (
 )
 
 
-def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str, ...], crystal_hz: int) -> Board:
+def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str, ...], crystal_hz: int,
+           ballast: int = 68) -> Board:
     """Inputs on pins a gpsim pull-up module drives, analog ones among them (the
     start-up makes them digital), none on the oscillator, MCLR or open-drain
-    RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz."""
+    RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz;
+    ballast up to three of the four banks of RAM."""
     return Board(part, "pic16", ldmicro, inputs, outputs, uart0=False, crystal_hz=crystal_hz, cycle_us=10_000,
-                 left_out=PIC16_PERIPHERALS)
+                 left_out=PIC16_PERIPHERALS, ballast=ballast)
 
 
 PIC16_BOARDS = (
@@ -96,7 +101,7 @@ PIC16_BOARDS = (
     _pic16("pic16f876", "Microchip PIC16F876 28-PDIP or 28-SOIC", ("RC0", "RA2", "RB5", "RB7"),
            ("RB0", "RB1", "RB2", "RC4", "RC5", "RA3"), 4_000_000),
     _pic16("pic16f628", "Microchip PIC16F628 18-PDIP or 18-SOIC", ("RA0", "RA1", "RB4", "RB5"),
-           ("RB0", "RB1", "RB2", "RB3", "RA2", "RA3"), 4_000_000),
+           ("RB0", "RB1", "RB2", "RB3", "RA2", "RA3"), 4_000_000, ballast=20),
     _pic16("pic16f88", "Microchip PIC16F88 18-PDIP or 18-SOIC", ("RA0", "RA1", "RB6", "RB7"),
            ("RB0", "RB1", "RB3", "RB4", "RA2", "RA3"), 20_000_000),
     _pic16("pic16f887", "Microchip PIC16F887 40-PDIP", ("RA0", "RD2", "RE0", "RB5"),
@@ -364,6 +369,9 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     d = Drawing(board)
     rungs = [Rung(rung_circuit(draw(_series(2, True, d)))) for _ in range(draw(st.integers(1, 8)))]
     _add_jumps(draw, rungs, d)
+    pads = draw(st.integers(0, board.ballast))
+    if pads:
+        rungs.insert(0, Rung(Series([_e("OPEN"), _e("SHIFT_REGISTER", name="pad", stages=pads)])))
     program = Program(Settings(mcu=board.ldmicro, cycle_us=board.cycle_us, crystal_hz=board.crystal_hz, baud=9600),
                       rungs)
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
@@ -384,6 +392,7 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     for name in INTS + tuple(f"sr{i}" for i in range(4)):
         program.var_sizes[name] = draw(st.integers(1, 4))
     program.var_sizes["vr"] = 4
+    program.var_sizes.update((f"pad{i}", 4) for i in range(pads))
     scans = draw(st.integers(40, 120))
     events = [Event(0, x, draw(st.integers(0, 1))) for x in INPUTS if x in program.pins]
     events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(INPUTS)), draw(st.integers(0, 1)))

@@ -2,13 +2,14 @@
 generator, its PIC16_BOARDS), built, run in gpsim under a random stimulus and
 compared with the simulator on every name after every scan
 (pic16_harness.py). benchmarks/compiler_fuzz.py --family pic16 runs the same
-for as long as it is given."""
+for as long as it is given. A program whose scan outlasts the cycle at the
+board's crystal (heavy 32-bit arithmetic at 4 MHz) is not compared."""
 
 from __future__ import annotations
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
-from pic16_harness import differential
+from pic16_harness import CycleOverrun, differential
 from test_compiler_harness import IN_CI
 from test_compiler_random import PIC16_BOARDS, cases, too_large
 
@@ -28,4 +29,6 @@ def test_random_programs_follow_the_simulator_on_pic16(case, tmp_path_factory):
     except CompileError as problem:
         assume(not too_large(problem))
         raise
+    except CycleOverrun:
+        assume(False)
     assert problems == [], "\n".join(problems)
