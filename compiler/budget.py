@@ -362,8 +362,8 @@ def _loop_cycles(bound: LoopBound | None, one_pass: int, leave: int) -> int | No
 
 @dataclass(frozen=True)
 class Wait:
-    """A kind of bounded loop that takes a share of the worst case worth
-    naming: its passes on the worst path, and the rungs they are in."""
+    """A kind of bounded loop on the worst path: the cycles all its passes
+    take there, how many times it is entered and the rungs it is in."""
 
     what: str
     rungs: tuple[int, ...]
@@ -389,13 +389,18 @@ class Budget:
     cycles: int | None  # None: no bound
     cycle_hz: float  # cycles per second
     cycle_us: int  # the program's scan cycle
-    waits: tuple[Wait, ...] = ()  # the loops that dominate, the costliest first
+    loops: tuple[Wait, ...] = ()  # the loops on the worst path, the costliest first
     unbounded: tuple[str, ...] = ()  # why there is no bound: "LOCK in rung 7"
     rung: int | None = None  # the rung that takes the most on the worst path
 
     @property
     def us(self) -> float | None:
         return None if self.cycles is None else self.cycles * 1e6 / self.cycle_hz
+
+    @property
+    def dominant(self) -> tuple[Wait, ...]:
+        """The (at most three) loops that take a tenth of the worst case or more."""
+        return tuple(w for w in self.loops if w.cycles >= MENTIONED_SHARE * self.cycles)[:3]
 
     @property
     def overruns(self) -> bool:
@@ -408,8 +413,8 @@ class Budget:
             return f"scan: no bound ({'; '.join(self.unbounded)})"
         line = (f"scan: at most {self.cycles:,} cycles = {_us(self.us)} of the {self.cycle_us / 1000:g} ms cycle "
                 f"({100 * self.us / self.cycle_us:.1f}%)")
-        if self.waits:
-            line += "; mostly " + ", ".join(w.text() for w in self.waits)
+        if self.dominant:
+            line += "; mostly " + ", ".join(w.text() for w in self.dominant)
         return line
 
 
@@ -463,7 +468,7 @@ def scan_budget(program: Program, device, image: Image) -> Budget:
     for site, cycles in worst.spent:
         by_rung[rung_of(site)] = by_rung.get(rung_of(site), 0) + cycles
     costliest = max((r for r in by_rung if r), key=lambda r: by_rung[r], default=None)
-    return Budget(worst.cycles, hz, settings.cycle_us, _waits(worst, rung_of), rung=costliest)
+    return Budget(worst.cycles, hz, settings.cycle_us, _loops(worst, rung_of), rung=costliest)
 
 
 def _reason(found: Unbounded, rung_of, rung_heads: dict[int, int]) -> str:
@@ -476,16 +481,15 @@ def _reason(found: Unbounded, rung_of, rung_heads: dict[int, int]) -> str:
     return f"a loop at word 0x{found.head:X} without a bound{where}"
 
 
-def _waits(worst: Worst, rung_of) -> tuple[Wait, ...]:
-    """The kinds of loops on the worst path that take a tenth of it or more."""
+def _loops(worst: Worst, rung_of) -> tuple[Wait, ...]:
+    """The loops on the worst path by kind, the costliest first."""
     grouped: dict[str, Wait] = {}
     for use in worst.loops:
         old = grouped.get(use.what, Wait(use.what, (), 0, 0))
         rung = rung_of(use.site)
         rungs = tuple(sorted(set(old.rungs) | ({rung} if rung else set())))
         grouped[use.what] = Wait(use.what, rungs, old.cycles + use.cycles, old.count + 1)
-    named = [w for w in grouped.values() if w.cycles >= MENTIONED_SHARE * worst.cycles]
-    return tuple(sorted(named, key=lambda w: -w.cycles)[:3])
+    return tuple(sorted(grouped.values(), key=lambda w: -w.cycles))
 
 
 def overrun_warning(program: Program, budget: Budget) -> Diagnostic | None:
@@ -495,8 +499,8 @@ def overrun_warning(program: Program, budget: Budget) -> Diagnostic | None:
         return None
     message = (f"a scan may take up to {_us(budget.us)} ({budget.cycles:,} cycles), more than the "
                f"{budget.cycle_us / 1000:g} ms cycle: every timer would run slow")
-    if budget.waits:
-        message += "; mostly " + ", ".join(w.text() for w in budget.waits)
+    if budget.dominant:
+        message += "; mostly " + ", ".join(w.text() for w in budget.dominant)
     rung = program.rungs[budget.rung - 1] if budget.rung else None
     return note(SCAN_OVERRUN, message, _first_element(rung) if rung is not None else None)
 
