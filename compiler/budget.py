@@ -27,6 +27,7 @@ rung that calls it).
 
 from __future__ import annotations
 
+import bisect
 import importlib
 import re
 from collections.abc import Callable
@@ -445,16 +446,11 @@ def scan_budget(program: Program, device, image: Image) -> Budget:
 
     scan, wait = image.labels["scan"], image.labels["wait"]
     starts = _rung_starts(image, len(program.rungs))
+    addresses = [start for start, _ in starts]
 
     def rung_of(address: int) -> int | None:
-        if not scan <= address < wait:
-            return None
-        number = 0
-        for start, n in starts:
-            if start > address:
-                break
-            number = n
-        return number or None
+        at = bisect.bisect_right(addresses, address) - 1
+        return starts[at][1] or None if scan <= address < wait and at >= 0 else None
 
     bounds = {image.labels[name]: bound for name, bound in image.loops.items() if name in image.labels}
     rung_heads = {start: n for start, n in starts if n}
@@ -462,7 +458,8 @@ def scan_budget(program: Program, device, image: Image) -> Budget:
     settings = program.settings
     hz = settings.crystal_hz / flow.CLOCKS_PER_CYCLE
     if worst.unbounded:
-        reasons = list(dict.fromkeys(_reason(u, rung_of, rung_heads) for u in worst.unbounded))
+        in_order = sorted(worst.unbounded, key=lambda u: rung_of(u.site) or len(program.rungs) + 1)
+        reasons = list(dict.fromkeys(_reason(u, rung_of, rung_heads) for u in in_order))
         return Budget(None, hz, settings.cycle_us, unbounded=tuple(reasons))
     by_rung: dict[int | None, int] = {}
     for site, cycles in worst.spent:

@@ -295,6 +295,12 @@ def test_an_unbounded_scan_says_why_and_where(rung, reason):
     assert SCAN_OVERRUN not in {w.code for w in build.warnings}
 
 
+def test_every_reason_is_given_in_rung_order():
+    rungs = [[contact("Xgo"), coil("Ya")], [contact("Xgo"), el("DELAY", delay="wait")], [contact("Xgo"), el("LOCK")]]
+    prog = program(*rungs, mcu=AVR, pins={"Xgo": "PD2", "Ya": "PB0"}, sizes={"wait": 2})
+    assert compiler.build(prog).budget.summary() == "scan: no bound (a DELAY by a variable in rung 2; LOCK in rung 3)"
+
+
 def test_a_uart_byte_already_received_is_bounded():
     rung = [contact("Xgo"), el("UART_RECV", var="got", bytes=1, wait=0)]
     build = compiler.build(program(rung, mcu="Atmel AVR ATmega328 28-PDIP", pins={"Xgo": "PD2"}))
@@ -392,6 +398,21 @@ def test_avr_worst_case_covers_every_measured_scan_of_random_programs(case, tmp_
     except CompileError:
         return
     _sound(build, measured)
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_avr_waits_on_hardware_cover_simavr(tmp_path):
+    """UART SEND that waits for the transmitter (2 bytes: the second waits a
+    whole frame), an A/D conversion (the first takes 25 ADC clocks) and a
+    DELAY, every scan."""
+    rungs = [[contact("Xa"), el("UART_SEND", var="word", bytes=2, wait=1)],
+             [contact("Xa"), el("READ_ADC", name="Ain", refs=0)], [contact("Xa"), el("DELAY", delay="1000")]]
+    prog = program(*rungs, mcu=AVR, pins={"Xa": "PD2", "Ain": "PC0"}, sizes={"word": 2},
+                   crystal_hz=16_000_000, cycle_us=20_000)
+    build, measured = measure_avr(prog, [Event(0, "Xa", 1)], 40, tmp_path)
+    assert {w.what for w in build.budget.dominant} == {"waiting for the UART transmitter", "DELAY"}
+    assert _sound(build, measured) <= 2
 
 
 def _logic(mcu: str, pins: dict, arithmetic: bool):
