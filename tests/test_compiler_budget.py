@@ -262,7 +262,7 @@ def test_a_scan_that_cannot_fit_is_warned_on_its_costliest_rung(mcu, count, size
     assert budget.dominant[0].what == "a 32-bit division, one bit a pass" and budget.dominant[0].count == count
     warning = next(w for w in build.warnings if w.code == SCAN_OVERRUN)
     assert warning.severity == "warning" and warning.span.line == 1  # the second rung (0-based lines)
-    assert f"more than the 1 ms cycle" in warning.message and "32-bit division" in warning.message
+    assert "more than the 1 ms cycle" in warning.message and "32-bit division" in warning.message
     fewer = compiler.build(_divisions(mcu, 4_000_000, 1, 2))
     assert not fewer.budget.overruns and SCAN_OVERRUN not in {w.code for w in fewer.warnings}
 
