@@ -224,6 +224,24 @@ def test_pic16_decoder_agrees_with_gpdasm(source, tmp_path):
         assert seen >= {CALL, RETURN, COMPUTED}
 
 
+def test_pic16_decoder_finds_the_page_of_far_jumps():
+    """A program past 2K words: every GOTO and CALL goes to a label, some of
+    them on another page (the page selection before them read)."""
+    from compiler.pic16.flow import instruction_at
+
+    rungs = [[contact("Xa" if i % 2 else "Xb"),
+              par([el("ADD", dest=f"v{i}", op1=f"v{i}", op2="3")], [el("GRT", op1=f"v{i}", op2="100"), coil("Ya")],
+                  [el("EQU", op1=f"v{(i + 7) % 30}", op2=f"v{i}"), el("MUL", dest=f"m{i}", op1=f"v{i}", op2="3")])]
+             for i in range(30)]
+    build = compiler.build(program(*rungs, mcu=PIC, pins=PIC_PINS, crystal_hz=20_000_000))
+    words, labels = build.image.words, set(build.image.labels.values())
+    assert len(words) > 2048
+    jumps = [(a, ins.target) for a in range(len(words))
+             if (ins := instruction_at(words, a, build.device)) is not None and ins.flow in (JUMP, CALL)]
+    assert all(target in labels for _, target in jumps)
+    assert any(target // 2048 != a // 2048 for a, target in jumps)
+
+
 # --- what the compiler reports ---------------------------------------------------------------
 
 
