@@ -21,6 +21,7 @@ from lang.diagnostics import ERROR, Diagnostic
 from lang.model import Program
 from lang.targets import compiled, family_of, parts_text
 
+from .budget import overrun_warning, scan_budget
 from .errors import MOVED_PIN, NO_TARGET, CompileError, fail, note
 from .image import Build
 from .lower import lower_program
@@ -63,7 +64,9 @@ def build(program: Program, target: str | None = None) -> Build:
         raise CompileError(problems)
     code = optimise(lower_program(program, device, backend.delay_loop_cycles))
     image = backend.compile(code, machine_for(program, device))
-    return Build(program, device, image, moved + image.warnings)
+    budget = scan_budget(program, device, image)
+    overrun = overrun_warning(program, budget)
+    return Build(program, device, image, moved + image.warnings + ([overrun] if overrun else []), budget)
 
 
 def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:

@@ -70,6 +70,14 @@ MOVED_PIN = register(
     "With `--target`, a pin given by its package number keeps the number, which on the new part's "
     "package is another port bit than on the program's own part. Pins given by port name (PD2) "
     "keep their port bit; give pins that way to move a program between parts.")
+SCAN_OVERRUN = register(
+    "LD712", "scan may not fit the cycle time",
+    "The compiler bounds the longest scan of the code it wrote (`ladder build` prints it: `scan: at most N "
+    "cycles = T µs of the C ms cycle`), through every call and with every loop at its bound: divisions and "
+    "shifts bit by bit, BIN2BCD, DELAY, waits for the A/D converter, the UART transmitter and an EEPROM "
+    "write. When that worst case is longer than the cycle time, a scan may overrun the cycle and every timer "
+    "runs slow by as much (LDmicro never checks this). The warning sits on the rung that takes the most and "
+    "names the loops that dominate; choose a longer cycle, a faster crystal or less work per scan.")
 BAD_OPERAND = register(
     "LD710", "operand the compiler cannot use",
     "A value the code cannot be generated for: a timer period below one cycle, a malformed "

@@ -17,12 +17,16 @@ import io
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from intelhex import IntelHex
 
 from lang.devices import Device
 from lang.diagnostics import Diagnostic
 from lang.model import Program
+
+if TYPE_CHECKING:
+    from .budget import Budget
 
 HEX_RECORD_BYTES = 16
 
@@ -40,10 +44,13 @@ class Symbol:
 class LoopBound:
     """A loop of the generated code: at most `iterations` passes through its
     head each time it is entered (None: no bound the compiler knows), and
-    what it is, for the scan-time budget's report."""
+    what it is, for the scan-time budget's report (compiler/budget.py). A
+    wait on hardware may be bounded in time instead: it is left within
+    `cycles` CPU cycles of being entered (and one more pass)."""
 
     iterations: int | None
     what: str
+    cycles: int | None = None
 
 
 @dataclass
@@ -94,6 +101,7 @@ class Build:
     device: Device
     image: Image
     warnings: list[Diagnostic]  # the compiler's and the back end's
+    budget: Budget | None = None  # the worst case of one scan (compiler/budget.py)
 
     def summary(self) -> str:
         """`PART: flash N/M bytes (P%), RAM N/M bytes (P%)` (flash in words for PIC)."""

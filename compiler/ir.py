@@ -329,9 +329,11 @@ class UartAvailable(Op):
 
 @dataclass
 class UartTake(Op):
-    """dst = the next received byte (the MCU waits for it)."""
+    """dst = the next received byte; with `wait` it may not have come yet
+    (the MCU waits for it), without it the receiver was seen holding it."""
 
     dst: Target
+    wait: bool = False
 
 
 @dataclass

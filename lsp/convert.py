@@ -3,8 +3,10 @@ and `ladder.compileOnSave`: convert the document between the text form and
 LDmicro's `.ld`, writing the file beside the source; compile it with the
 compiler (`ladder build`), the HEX file beside the source: on request, or on
 save when `lang.targets` says a back end compiles the program's part. The
-compiler's errors and warnings (LD501 is an error there) join the document's
-diagnostics until its next change."""
+compiler's errors and warnings (LD501 is an error there; LD712 when a scan
+may not fit the cycle, on the rung that takes the most) join the document's
+diagnostics until its next change. The summary ends with the scan's worst
+case (`scan: at most N cycles = T µs of the C ms cycle (P%)`)."""
 
 from __future__ import annotations
 
@@ -122,4 +124,5 @@ def build(ls, uri: str) -> dict:
         raise UserError(f"cannot write {out}: {problem.strerror or problem}") from problem
     if publisher is not None:
         publisher.set_extra(uri, result.warnings)
-    return {"ok": True, "summary": result.summary(), "hex": str(out)}
+    summary = result.summary() + (f"; {result.budget.summary()}" if result.budget is not None else "")
+    return {"ok": True, "summary": summary, "hex": str(out)}

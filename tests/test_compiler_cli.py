@@ -1,5 +1,5 @@
-"""`ladder build`: the summary line, the HEX and listing it writes, the
-target option, and located errors with exit 1."""
+"""`ladder build`: the summary lines (size, scan time), the HEX and listing
+it writes, the target option, and located errors with exit 1."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from ladder.cli import main
 from lang.targets import parts_text
 
 SUMMARY = re.compile(r"^(ATmega\w+): flash (\d+)/(\d+) bytes \((\d+\.\d)%\), RAM (\d+)/(\d+) bytes \((\d+\.\d)%\)$")
+SCAN = re.compile(r"^scan: at most ([\d,]+) cycles = ([\d.,]+) µs of the (\d+) ms cycle \((\d+\.\d)%\)")
 
 
 def test_build_writes_the_hex_and_listing_beside_the_program(tmp_path, capsys):
@@ -21,9 +22,12 @@ def test_build_writes_the_hex_and_listing_beside_the_program(tmp_path, capsys):
     shutil.copy(CORPUS / "sample" / "traffic.ld", source)
     assert main(["build", str(source)]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert len(lines) == 1
+    assert len(lines) == 2
     m = SUMMARY.match(lines[0])
     assert m and m.group(1) == "ATmega128" and m.group(3) == "131072" and m.group(6) == "4096"
+    scan = SCAN.match(lines[1])  # traffic.ld: 10 ms at 4 MHz, a scan of some hundred cycles
+    assert scan and 50 < int(scan.group(1).replace(",", "")) < 1000 and scan.group(3) == "10"
+    assert float(scan.group(2)) == pytest.approx(int(scan.group(1).replace(",", "")) / 4, rel=0.01)
     image = IntelHex(str(tmp_path / "traffic.hex"))
     assert len(image) == int(m.group(2))
     assert (tmp_path / "traffic.lst").read_text().startswith("; ATmega128")
@@ -35,7 +39,7 @@ def test_output_path_and_target(tmp_path, capsys):
     out = tmp_path / "out" / "firmware.hex"
     out.parent.mkdir()
     assert main(["build", str(source), "-o", str(out), "--target", "atmega328p"]) == 0
-    assert SUMMARY.match(capsys.readouterr().out.strip()).group(1) == "ATmega328P"
+    assert SUMMARY.match(capsys.readouterr().out.splitlines()[0]).group(1) == "ATmega328P"
     assert out.exists() and out.with_suffix(".lst").exists()
 
 

@@ -216,3 +216,48 @@ async def test_an_instruction_the_family_cannot_compile_is_an_error_once_built(c
     assert result["ok"] is False and "9SEGMENTS" in result["summary"] and not (tmp_path / "segments.hex").exists()
     built = [d for d in await doc.diagnostics() if d.code == "LD501"]
     assert [(d.severity, d.range) for d in built] == [(types.DiagnosticSeverity.Error, editing[0].range)]
+
+
+SLOW_SCAN = """LDmicro0.2
+MICRO=Microchip PIC16F877 40-PDIP
+CYCLE=1000 us
+CRYSTAL=4000000 Hz
+
+IO LIST
+    Xgo at 21
+END
+
+PROGRAM
+RUNG 1
+  CONTACTS Xgo 0 0
+  PARALLEL
+    DIV speed distance time
+    DIV rate count time
+    DIV share part total
+  END
+END
+"""
+
+
+async def test_compile_on_save_reports_the_scan_time_and_warns_when_it_cannot_fit(client, tmp_path):
+    import asyncio
+
+    source = tmp_path / "slow.ld"
+    source.write_text(SLOW_SCAN, encoding="utf-8")
+    doc = Doc(client, source.as_uri(), SLOW_SCAN, language="ldmicro")
+    assert "LD712" not in {d.code for d in await doc.diagnostics()}  # the compiler's, once it has built
+    client.text_document_did_save(types.DidSaveTextDocumentParams(text_document=td(doc.uri)))
+    for _ in range(200):
+        logged = [m.message for m in client.log_messages if "slow.hex" in m.message]
+        if logged:
+            break
+        await asyncio.sleep(0.05)
+    assert logged and logged[0].startswith("compile on save: PIC16F877: flash ")
+    assert "; scan: at most 1,314 cycles = 1,314 µs of the 1 ms cycle (131.4%)" in logged[0]
+    for _ in range(200):
+        overrun = [d for d in client.diagnostics.get(doc.uri, ()) if d.code == "LD712"]
+        if overrun:
+            break
+        await asyncio.sleep(0.05)
+    assert [(d.severity, d.range.start.line) for d in overrun] == [(types.DiagnosticSeverity.Warning, 11)]
+    assert "more than the 1 ms cycle" in overrun[0].message

@@ -53,7 +53,8 @@ class AvrBackend:
                   f" && avr-objcopy -O ihex prog.elf prog.hex\n")
         return Image(words=assembled.words, listing=header + assembled.listing, ram_bytes=layout.ram_used,
                      ram_size=part.avr["ram"]["size"], flash_size=part.flash, flash_unit="bytes",
-                     warnings=warnings, symbols=_symbols(layout), labels=assembled.symbols)
+                     warnings=warnings, symbols=_symbols(layout), labels=assembled.symbols,
+                     loops=dict(cx.e.bounds))
 
 
 def _pwm_elements(machine: Machine) -> dict:

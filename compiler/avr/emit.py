@@ -14,6 +14,7 @@ r0, r1 as scratch.
 
 from __future__ import annotations
 
+from ..image import LoopBound
 from . import asm as a
 from . import isa
 from .memory import HOME_REGISTERS, TEMP_REGISTERS
@@ -59,6 +60,7 @@ class Emitter:
         self._labels = 0
         self._loops: set[str] = set()  # labels placed as loop heads
         self._placed: set[str] = set()
+        self.bounds: dict[str, LoopBound] = {}  # loop heads and their bounds, for the scan-time budget
 
     # --- labels and control flow -------------------------------------------------
 
@@ -83,7 +85,11 @@ class Emitter:
         else:
             self.known = {r: v for r, v in self.known.items() if pending.get(r) == v}
 
-    def label(self, name: str, loop: bool = False, comment: str = "") -> None:
+    def label(self, name: str, loop: bool = False, comment: str = "", bound: LoopBound | None = None) -> None:
+        """A label; `loop`: later code may jump back to it (or call it), so
+        nothing is known there; a loop head gives its `bound`."""
+        if bound is not None:
+            self.bounds[name] = bound
         self._placed.add(name)
         if loop:
             self._loops.add(name)

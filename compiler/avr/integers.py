@@ -19,6 +19,7 @@ from lang.sim.numbers import wrap
 
 from .. import analysis, ir
 from ..analysis import value_size
+from ..image import LoopBound
 from . import bits
 from .emit import SCRATCH, ZERO, A, B
 from .memory import MemBit, RegBit
@@ -274,7 +275,7 @@ def shift(cx, op: ir.Shift) -> None:
                 _shift_once(cx, op.op, r)
         else:
             e.constant(count, SCRATCH)
-            _loop(cx, op.op, r, SCRATCH)
+            _loop(cx, op.op, r, SCRATCH, count)
     else:
         done = e.new_label()
         load(cx, op.count, B)
@@ -292,16 +293,17 @@ def shift(cx, op: ir.Shift) -> None:
             e.label(within)
         e.ins("tst", B[0])
         e.branch("breq", done)
-        _loop(cx, op.op, r, B[0])
+        _loop(cx, op.op, r, B[0], bits_)
         e.label(done)
     extend(cx, A[:max(w, n)], w, signed=op.op == "shr")
     store(cx, op.dst, A[:max(w, n)])
 
 
-def _loop(cx, kind: str, r, counter: int) -> None:
+def _loop(cx, kind: str, r, counter: int, passes: int) -> None:
+    """Shift `counter` times (1 to `passes`)."""
     e = cx.e
     top = e.new_label()
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(passes, f"a shift of {len(r)} bytes, one bit a pass"))
     _shift_once(cx, kind, r)
     e.ins("dec", counter)
     e.branch("brne", top)
@@ -373,7 +375,7 @@ def _mask_and_pointer(cx, base: int) -> None:
     e.constant(1, A[1])
     top, done = e.new_label(), e.new_label()
     e.branch("breq", done)
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(7, "the mask of a bit number"))
     e.ins("lsl", A[1])
     e.ins("dec", B[0])
     e.branch("brne", top)
@@ -408,7 +410,7 @@ def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
     e.label(within)
     e.ins("tst", B[0])
     e.branch("breq", test)
-    _loop(cx, "shr", A, B[0])
+    _loop(cx, "shr", A, B[0], 31)
     e.label(test)
     bits.jump_if(e, RegBit(A[0], 0), op.value, op.target)
     e.jump(done)
@@ -439,7 +441,7 @@ def convert(cx, op: ir.Convert) -> None:
     else:  # opposite: the bits shifted out of A at the bottom go into B from the bottom
         e.constant(8 * w, SCRATCH)
         top = e.new_label()
-        e.label(top, loop=True)
+        e.label(top, loop=True, bound=LoopBound(8 * w, f"OPPOSITE of {w} bytes, one bit a pass"))
         e.ins("lsr", A[w - 1])
         for reg in reversed(A[:w - 1]):
             e.ins("ror", reg)

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from .. import ir
 from ..errors import BAD_BAUD, BAD_PWM, PWM_FREQUENCY, fail, note
+from ..image import LoopBound
 from . import bits, integers
 from .emit import LOADED, SCRATCH, A
 from .memory import MemBit
@@ -33,6 +34,12 @@ from .part import (
 )
 
 ADC_MAX_CLOCK = 200_000  # the converter's clock for full resolution
+# ADC clocks from ADSC to the result: the first conversion after ADEN is set
+# takes 25, and it starts at the next rising edge of the ADC clock
+ADC_CONVERSION_CLOCKS = 25 + 1
+# bit times from a byte written to UDR to TXC: start, 8 data and stop bits,
+# and up to one more until the transmitter's clock starts the frame
+UART_FRAME_BITS = 10 + 1
 BAUD_TOLERANCE = 0.02  # LDmicro's limit
 PWM_TOLERANCE = 0.05
 UART_IDLE = "~uart.idle"  # no byte sent yet: the transmitter is ready
@@ -42,9 +49,9 @@ def _io_bit(e, part: Part, register: str, bit: int, value: bool) -> None:
     bits.write(e, MemBit(part.reg(register), bit, False), value)
 
 
-def _wait_while(e, part: Part, register: str, bit: int, value: bool) -> None:
+def _wait_while(e, part: Part, register: str, bit: int, value: bool, bound: LoopBound) -> None:
     top = e.new_label()
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=bound)
     bits.jump_if(e, MemBit(part.reg(register), bit, False), value, top)
 
 
@@ -68,7 +75,9 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
     if "MUX5" in adc:
         _io_bit(e, part, adc["MUX5"], MUX5, op.channel >= 8)
     _write(e, part, adc["ADCSRA"], 1 << ADEN | 1 << ADSC | adc_prescaler(cx.crystal_hz))
-    _wait_while(e, part, adc["ADCSRA"], ADSC, True)
+    prescaler = 1 << adc_prescaler(cx.crystal_hz)
+    _wait_while(e, part, adc["ADCSRA"], ADSC, True,
+                LoopBound(None, "the A/D conversion", cycles=ADC_CONVERSION_CLOCKS * prescaler))
     e.load_byte(part.reg(adc["ADCL"]), A[0], False)  # ADCL first: it latches ADCH
     e.load_byte(part.reg(adc["ADCH"]), A[1], False)
     n = integers.target_size(cx, op.dst)
@@ -234,7 +243,7 @@ def uart_send(cx, op: ir.UartSend) -> None:
     done = e.new_label()
     ready = e.new_label()
     top = e.new_label()
-    e.label(top, loop=op.wait)
+    e.label(top, loop=op.wait, bound=_transmitter_wait(cx) if op.wait else None)
     status = part.reg(uart["UCSRA"])
     e.load_byte(status, LOADED, False)
     e.ins("sbrc", LOADED, TXC)
@@ -254,6 +263,13 @@ def uart_send(cx, op: ir.UartSend) -> None:
     e.label(done)
 
 
+def _transmitter_wait(cx) -> LoopBound:
+    """The last byte leaves the transmitter within one frame."""
+    ubrr, double = baud_divisor(cx.crystal_hz, cx.baud)
+    bit_cycles = (8 if double else 16) * (ubrr + 1)
+    return LoopBound(None, "waiting for the UART transmitter", cycles=UART_FRAME_BITS * bit_cycles)
+
+
 def uart_available(cx, dst) -> None:
     status = _status(cx)
     bits.copy(cx.e, cx.bit(dst), MemBit(status.addr, RXC, False), False)
@@ -262,7 +278,9 @@ def uart_available(cx, dst) -> None:
 def uart_take(cx, op: ir.UartTake) -> None:
     e, part, uart = cx.e, cx.part, cx.part.uart
     top = e.new_label()
-    e.label(top, loop=True)
+    # a byte already seen in the receiver is taken at once; one still to come, whenever it comes
+    bound = LoopBound(None, "a UART receive waiting for a byte") if op.wait else LoopBound(1, "a UART receive")
+    e.label(top, loop=True, bound=bound)
     e.ins("wdr")
     bits.jump_if(e, MemBit(part.reg(uart["UCSRA"]), RXC, False), False, top)
     e.load_byte(part.reg(uart["UDR"]), A[0], False)
@@ -288,7 +306,8 @@ def _eeprom_read(cx, address: int, reg: int) -> None:
 
 def eeprom_load(cx, op: ir.EepromLoad) -> None:
     e, part = cx.e, cx.part
-    _wait_while(e, part, "EECR", EEWE, True)
+    write_cycles = part.avr["eeprom_write_us"] * cx.crystal_hz // 1_000_000
+    _wait_while(e, part, "EECR", EEWE, True, LoopBound(None, "waiting for an EEPROM write", cycles=write_cycles))
     st = integers.storage(cx, op.var)
     for i in range(st.size):
         _eeprom_read(cx, op.address + i, A[0])

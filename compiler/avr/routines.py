@@ -7,6 +7,7 @@ register but r2..r17.
 
 from __future__ import annotations
 
+from ..image import LoopBound
 from .emit import ZERO, A, B, Emitter
 
 R = (26, 27, 28, 29)
@@ -54,7 +55,7 @@ def _udivmod(e: Emitter, width: int, name: str) -> None:
         e.ins("clr", reg)
     e.ins("ldi", COUNTER, 8 * width)
     top, smaller = e.new_label(f"{name}_bit"), e.new_label(f"{name}_next")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(8 * width, f"a {8 * width}-bit division, one bit a pass"))
     e.ins("lsl", a[0])
     for reg in a[1:] + r:
         e.ins("rol", reg)
@@ -119,7 +120,8 @@ def bin2bcd(e: Emitter) -> None:
     for digit, step in ((A[3], 1000), (A[2], 100)):
         e.ins("clr", digit)
         top, done = e.new_label("bcd"), e.new_label("bcd")
-        e.label(top, loop=True)
+        # a 16-bit value holds 65 thousands at most; then fewer than ten of each
+        e.label(top, loop=True, bound=LoopBound(66 if step == 1000 else 10, f"BIN2BCD, counting {step}s"))
         e.ins("subi", R[0], step & 0xFF)
         e.ins("sbci", R[1], step >> 8)
         e.branch("brcs", done)
@@ -130,7 +132,7 @@ def bin2bcd(e: Emitter) -> None:
         e.ins("sbci", R[1], (-step >> 8) & 0xFF)
     e.ins("clr", A[1])
     top, done = e.new_label("bcd"), e.new_label("bcd")
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=LoopBound(10, "BIN2BCD, counting 10s"))
     e.ins("subi", R[0], 10)
     e.branch("brcs", done)
     e.ins("inc", A[1])

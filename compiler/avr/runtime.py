@@ -18,6 +18,7 @@ from .. import ir
 from ..analysis import nearest_period
 from ..analysis import uses_uart
 from ..errors import BAD_CYCLE, fail
+from ..image import LoopBound
 from ..target import Machine
 from . import bits
 from .emit import ZERO
@@ -80,7 +81,7 @@ def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
         e.constant(part.ram_start >> 8, 27)
         e.constant(layout.ram_used & 0xFF, 24)
         e.constant(layout.ram_used >> 8, 25)
-        e.label(top, loop=True)
+        e.label(top, loop=True, bound=LoopBound(layout.ram_used, "clearing RAM at start-up"))
         e.ins("st_xp", ZERO)
         e.ins("sbiw", 24, 1)
         e.branch("brne", top)
@@ -108,7 +109,7 @@ def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     select(cx, code.scan)
     if duty:
         bits.write(e, duty, False)
-    e.label("wait", loop=True)
+    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
     e.ins("wdr")
     flags = part.avr["cycle_timer"]
     flag = MemBit(part.reg(flags["flags"]), flags["OCF1A"], False)

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .. import ir
+from ..image import LoopBound
 from . import bits, integers, peripherals
 from .emit import SCRATCH, A, Emitter
 from .memory import Layout, RegBit
@@ -58,7 +59,7 @@ def _return(cx: Context, op: ir.Return) -> None:
 def _halt(cx: Context, op: ir.Halt) -> None:
     """An endless loop: the watchdog resets the MCU."""
     top = cx.e.new_label()
-    cx.e.label(top, loop=True)
+    cx.e.label(top, loop=True, bound=LoopBound(None, "LOCK"))
     cx.e.jump(top)
 
 
@@ -76,16 +77,18 @@ def _delay(cx: Context, op: ir.Delay) -> None:
         integers.load(cx, op.amount, A)
         e.ins("tst", A[3])
         e.branch("brmi", done)
+        bound = LoopBound(None, "a DELAY by a variable")
     else:
         count = round(op.amount.value * cx.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
         if not count:
             return
         integers.load(cx, ir.Const(count), A)
+        bound = LoopBound(count, "DELAY")
     e.ins("mov", SCRATCH, A[0])
     for reg in A[1:]:
         e.ins("or_", SCRATCH, reg)
     e.branch("breq", done)
-    e.label(top, loop=True)
+    e.label(top, loop=True, bound=bound)
     e.ins("wdr")
     e.ins("nop")
     e.ins("subi", A[0], 1)

@@ -120,7 +120,7 @@ def uart_recv(b: Builder, el, p: ir.Bit) -> None:
             with b.if_(IsSet(p)):
                 b.emit(ir.Move(received, ir.Const(0)))
                 for i in range(count):
-                    b.emit(ir.UartTake(ir.Byte(received, i)))
+                    b.emit(ir.UartTake(ir.Byte(received, i), wait=i > 0))
                 b.emit(ir.Move(d, received))
     else:
         saved, got = b.memory_var("saved"), b.memory_var("got", 1)

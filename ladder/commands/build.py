@@ -1,10 +1,11 @@
 """`ladder build FILE`: compile a program for a part `lang.targets` lists.
 
 On success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` (flash in
-words for PIC) and writes the Intel HEX (default: beside FILE, same stem) and
-the assembly listing beside the HEX (the back end's suffix: .lst for AVR).
-Problems are `path:line:col: error CODE message` lines and exit 1; warnings
-go to stderr and do not stop the build.
+words for PIC) and the scan's worst case, `scan: at most N cycles = T µs of
+the C ms cycle (P%)` (compiler/budget.py), and writes the Intel HEX (default:
+beside FILE, same stem) and the assembly listing beside the HEX (the back
+end's suffix: .lst for AVR). Problems are `path:line:col: error CODE message`
+lines and exit 1; warnings go to stderr and do not stop the build.
 """
 
 from __future__ import annotations
@@ -67,4 +68,6 @@ def run(args) -> int:
         print(f"{output}: error: {problem.strerror or problem}", file=sys.stderr)
         return EXIT_USAGE
     print(build.summary())
+    if build.budget is not None:
+        print(build.budget.summary())
     return EXIT_OK
