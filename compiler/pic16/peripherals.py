@@ -102,7 +102,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.ins("btfsc", STATUS, Z)
     e.goto(done)
     top = e.new_label("delay")
-    e.label(top, loop=True, bound=LoopBound(count, "DELAY"))
+    e.label(top, loop=True, bound=LoopBound(count, "DELAY") if count else LoopBound(None, "a DELAY by a variable"))
     e.ins("clrwdt")
     ints.add_constant(e, s.A, -1)
     e.load(s.A[0])
@@ -405,9 +405,12 @@ def uart_available(cx, op: ir.UartAvailable) -> None:
 
 
 def uart_take(cx, op: ir.UartTake) -> None:
+    """A byte already seen in the receiver is taken at once; one still to
+    come, whenever it comes."""
     e = cx.e
     _clear_overrun(cx)
-    _wait_while(cx, _bit(cx, "PIR1", "RCIF"), False, LoopBound(None, "waiting for a UART byte"))
+    if op.wait:
+        _wait_while(cx, _bit(cx, "PIR1", "RCIF"), False, LoopBound(None, "a UART receive waiting for a byte"))
     regs = ints.scratch(cx, "A", 4)
     e.load(cx.part.reg("RCREG"))
     e.store(regs[0])
