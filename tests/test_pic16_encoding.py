@@ -8,10 +8,13 @@
   256-word boundary): the listing reassembled by gpasm gives exactly our words
   and configuration word(s), and gpsim runs the program in the order it was
   written (each step writes its number to PORTB).
+* Random forward control flow over two to four pages (slow): gpasm and gpsim
+  again, against the order the blocks mean.
 """
 
 from __future__ import annotations
 
+import random
 import subprocess
 from collections.abc import Callable
 from functools import cache
@@ -351,3 +354,113 @@ def test_a_one_page_part_selects_no_page(tmp_path):
     writes_pclath = [w for w in assembled.words if w == 0x0080 | PCLATH or w & 0x3C7F in (0x1000 | PCLATH, 0x1400 | PCLATH)]
     assert len(writes_pclath) == 1
     check_reassembles(assembled, p.processor, config, tmp_path)
+
+
+# --- random control flow ------------------------------------------------------------------------
+
+ACTIONS = ("fall", "goto", "skipped goto", "taken goto", "call", "skipped call", "taken call", "inline subroutine",
+           "skip over one", "nops", "nops", "table")
+
+
+def random_flow(seed: int, blocks: int = 120) -> tuple[Assembler, list[int]]:
+    """Blocks that each write their number to PORTB, then jump forward, call a
+    subroutine (behind the last block or jumped around where it is), read a
+    RETLW table, skip, or run into NOPs that move what follows; FLAG bit 0 is
+    set, bit 1 clear. With the PORTB values in the order the blocks mean."""
+    rng = random.Random(seed)
+    w = Writer(8192, 2048, [])
+    a = w.asm
+    a.emit("bsf", STATUS, RP0)
+    a.emit("clrf", TRISB)
+    a.emit("bcf", STATUS, RP0)
+    a.emit("movlw", 1)
+    a.emit("movwf", FLAG)
+    plan = [(rng.choice(ACTIONS), rng.randrange(i + 1, blocks + 1), rng.randrange(256)) for i in range(blocks)]
+    behind: list[tuple[str, int]] = []  # subroutines after the last block, with the value they write
+    sub_value: dict[int, int] = {}
+    for i, (action, target, index) in enumerate(plan):
+        a.label(f"b{i}")
+        w.step(i % 250 + 1)
+        if action == "goto":
+            a.goto(f"b{target}")
+        elif action in ("skipped goto", "taken goto"):
+            a.emit("btfss" if action == "skipped goto" else "btfsc", FLAG, 0)
+            a.goto(f"b{target}")
+        elif action in ("call", "skipped call", "taken call", "inline subroutine"):
+            sub_value[i] = 0xC0 | i & 0x1F
+            if action != "call" and action != "inline subroutine":
+                a.emit("btfss" if action == "skipped call" else "btfsc", FLAG, 0)
+            a.call(f"s{i}")
+            if action == "inline subroutine":
+                a.goto(f"over{i}")
+                a.label(f"s{i}")
+                w.step(sub_value[i])
+                a.emit("return")
+                a.label(f"over{i}")
+            else:
+                behind.append((f"s{i}", sub_value[i]))
+        elif action == "table":
+            a.emit("movlw", index)
+            a.emit("movwf", INDEX)
+            a.call(f"read{i}")
+            a.emit("movwf", PORTB)
+            a.goto(f"over{i}")
+            a.label(f"read{i}")
+            a.address(f"data{i}", high=True)
+            a.emit("movwf", PCLATH)
+            a.address(f"data{i}", high=False)
+            a.emit("addwf", INDEX, 0)
+            a.emit("btfsc", STATUS, C)
+            a.emit("incf", PCLATH, 1)
+            a.emit("movwf", PCL)
+            a.table(f"data{i}", bytes((k * 7 + i) & 0xFF for k in range(256)))
+            a.label(f"over{i}")
+        elif action == "skip over one":
+            a.emit("movlw", 0xE1)
+            a.emit("btfsc", FLAG, 1)  # clear: skips
+            a.emit("movlw", 0xE2)
+            a.emit("movwf", PORTB)
+        elif action == "nops":
+            for _ in range(rng.randrange(200)):
+                a.emit("nop")
+    a.label(f"b{blocks}")
+    w.step(0xFF)
+    a.label("done")
+    a.goto("done")
+    for name, value in behind:
+        a.label(name)
+        w.step(value)
+        a.emit("return")
+    expected, i = [], 0
+    while i < blocks:
+        action, target, index = plan[i]
+        expected.append(i % 250 + 1)
+        if action in ("goto", "taken goto"):
+            i = target
+            continue
+        if action in ("call", "taken call", "inline subroutine"):
+            expected.append(sub_value[i])
+        elif action == "table":
+            expected.append((index * 7 + i) & 0xFF)
+        elif action == "skip over one":
+            expected.append(0xE1)
+        i += 1
+    return a, expected + [0xFF]
+
+
+@needs_gpsim
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(20))
+def test_random_control_flow_over_four_pages_runs_in_order(seed, tmp_path):
+    p = part("pic16f877a")
+    config = dict(p.config_words)
+    asm, expected = random_flow(seed)
+    assembled = asm.assemble(p.processor, config)
+    assert len(assembled.words) > 2048, "the program should cross a page boundary"
+    check_reassembles(assembled, p.processor, config, tmp_path)
+    image = IntelHex()
+    for address, word in [*enumerate(assembled.words), *config.items()]:
+        image[2 * address], image[2 * address + 1] = word & 0xFF, word >> 8
+    image.write_hex_file(str(tmp_path / "flow.hex"))
+    run = gpsim.run_pic(tmp_path / "flow.hex", p.processor, 20_000_000, watch=["RB0"], until_ms=10, timeout=60)
+    assert [value for _, register, value in run.writes if register == "portb"] == expected
