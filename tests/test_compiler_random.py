@@ -16,6 +16,7 @@ there.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cache
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -113,6 +114,7 @@ OUTPUTS = ("Ya", "Yb", "Yc", "Yd")
 RELAYS = ("Ra", "Rb", "Rc", "Rd")
 INTS = ("va", "vb", "vc", "vd", "vr")
 COUNTERS = ("Ca", "Cb")
+TIMERS = ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")
 
 
 def _e(_kind: str, **args) -> Element:
@@ -141,39 +143,49 @@ class Drawing:
 
 @st.composite
 def _element(draw, eol: bool, d: Drawing) -> Element:
-    kinds = [k for k in FACTORIES if INSTRUCTIONS[k].eol == eol and d.board.draws(k)]
-    kind = draw(st.sampled_from(kinds))
-    return draw(FACTORIES[kind](d))
+    kind = draw(_kinds(d.board, eol))
+    element = draw(_strategy(kind, d.board))
+    if kind in TIMERS:  # each timer a name of its own
+        element = _e(kind, **{**element.args, "name": f"T{len(d.timers)}"})
+        d.timers.append(element.args["name"])
+    return element
+
+
+# Strategies are built once per board: building them for every element drawn
+# took most of the generator's time.
+@cache
+def _kinds(board: Board, eol: bool):
+    return st.sampled_from([k for k in FACTORIES if INSTRUCTIONS[k].eol == eol and board.draws(k)])
+
+
+@cache
+def _strategy(kind: str, board: Board):
+    return FACTORIES[kind](board)
 
 
 def _simple(kind):
-    return lambda d: st.just(_e(kind))
+    # a new element each time: elements with memory (edges) are told apart by identity
+    return lambda board: st.builds(lambda: _e(kind))
 
 
-def _contact(d):
+def _contact(board):
     return st.builds(lambda n, neg: _e("CONTACTS", name=n, negated=neg),
                      st.sampled_from(INPUTS + OUTPUTS + RELAYS + ("ROverflowFlagV",)), st.integers(0, 1))
 
 
-def _coil(d):
+def _coil(board):
     return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(OUTPUTS + RELAYS),
                      st.sampled_from(" /SRT"))
 
 
-@st.composite
-def _timer(draw, d, kind):
-    name = f"T{len(d.timers)}"
-    d.timers.append(name)
-    delay = draw(st.one_of(st.integers(1, 25).map(lambda n: d.board.cycle_us * n), st.sampled_from(INTS)))
-    return _e(kind, name=name, delay=delay, adjust=0)
-
-
 def _timer_of(kind):
-    return lambda d: _timer(d, kind)
+    return lambda board: st.builds(lambda delay: _e(kind, name="T", delay=delay, adjust=0),
+                                   st.one_of(st.integers(1, 25).map(lambda n: board.cycle_us * n),
+                                             st.sampled_from(INTS)))
 
 
 def _counter(kind):
-    def make(d):
+    def make(board):
         return st.builds(lambda n, m, i, k: _e(kind, name=n, max=m, init=i, kind=k), st.sampled_from(COUNTERS),
                          st.one_of(st.integers(-5, 12).map(str), st.sampled_from(INTS)),
                          st.one_of(st.integers(-3, 5).map(str), st.sampled_from(INTS)), st.sampled_from("/\\-o"))
@@ -181,27 +193,27 @@ def _counter(kind):
 
 
 def _compare(kind):
-    return lambda d: st.builds(lambda a, b: _e(kind, op1=a, op2=b), _int_or_literal(), _int_or_literal())
+    return lambda board: st.builds(lambda a, b: _e(kind, op1=a, op2=b), _int_or_literal(), _int_or_literal())
 
 
 def _math(kind):
     # mostly a constant divisor: a variable one is often 0, which the simulator refuses
     divisor = st.one_of(st.integers(1, 300).map(str), st.integers(-300, -1).map(str), st.sampled_from(INTS))
-    return lambda d: st.builds(lambda r, a, b: _e(kind, dest=r, op1=a, op2=b), st.sampled_from(INTS),
+    return lambda board: st.builds(lambda r, a, b: _e(kind, dest=r, op1=a, op2=b), st.sampled_from(INTS),
                                _int_or_literal(), divisor if kind in ("DIV", "MOD") else _int_or_literal())
 
 
 def _shift(kind):
-    return lambda d: st.builds(lambda r, a, n: _e(kind, dest=r, op1=a, op2=n), st.sampled_from(INTS),
+    return lambda board: st.builds(lambda r, a, n: _e(kind, dest=r, op1=a, op2=n), st.sampled_from(INTS),
                                st.sampled_from(INTS), st.one_of(st.integers(0, 8).map(str), st.sampled_from(INTS)))
 
 
 def _unary(kind):
-    return lambda d: st.builds(lambda r, a: _e(kind, dest=r, op1=a), st.sampled_from(INTS), _int_or_literal())
+    return lambda board: st.builds(lambda r, a: _e(kind, dest=r, op1=a), st.sampled_from(INTS), _int_or_literal())
 
 
 def _bit_op(kind):
-    return lambda d: st.builds(lambda v, b: _e(kind, var=v, bit=b), st.sampled_from(INTS),
+    return lambda board: st.builds(lambda v, b: _e(kind, var=v, bit=b), st.sampled_from(INTS),
                                st.one_of(st.integers(-1, 33).map(str), st.sampled_from(INTS)))
 
 
@@ -214,21 +226,21 @@ def _convert(kind):
             lambda v: v & 0xF <= 9 and v >> 8 <= 9 and not v & 0xF0).map(str))
     else:
         source = st.sampled_from(INTS)
-    return lambda d: st.builds(lambda r, s: _e(kind, dest=r, src=s), st.sampled_from(INTS), source)
+    return lambda board: st.builds(lambda r, s: _e(kind, dest=r, src=s), st.sampled_from(INTS), source)
 
 
-def _seven(d):
+def _seven(board):
     return st.builds(lambda r, s, c: _e("7SEGMENTS", dest=r, src=s, common=c), st.sampled_from(INTS),
                      st.one_of(st.sampled_from(INTS), st.integers(0, 200).map(str)), st.sampled_from("CA"))
 
 
-def _bus(d):
+def _bus(board):
     return st.builds(lambda r, s, bits: _e("BUS", dest=r, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
                      st.sampled_from(INTS), st.sampled_from(INTS), st.lists(st.integers(0, 7), min_size=8,
                                                                             max_size=8))
 
 
-def _lut(d):
+def _lut(board):
     return st.builds(lambda r, i, values: _e("LOOK_UP_TABLE", dest=r, index=i, values=tuple(values)),
                      st.sampled_from(INTS), st.one_of(st.integers(0, 3).map(str), st.sampled_from(INTS),
                                                       st.integers(0, 3).map(str)),
@@ -236,73 +248,73 @@ def _lut(d):
 
 
 @st.composite
-def _pwl(draw, d):
+def _pwl(draw, board):
     xs = sorted(draw(st.sets(st.integers(-20, 40), min_size=2, max_size=5)))
     points = tuple((str(x), str(draw(st.integers(-30, 30)))) for x in xs)
     return _e("PIECEWISE_LINEAR", dest=draw(st.sampled_from(INTS)), index=draw(st.sampled_from(INTS)), points=points)
 
 
-def _shift_register(d):
+def _shift_register(board):
     return st.builds(lambda n: _e("SHIFT_REGISTER", name="sr", stages=n), st.integers(2, 4))
 
 
-def _random(d):
+def _random(board):
     return st.builds(lambda r: _e("RANDOM", name=r), st.sampled_from(INTS))
 
 
-def _seed(d):
+def _seed(board):
     return st.builds(lambda r, s: _e("SEED_RANDOM", name=r, seed=s), st.sampled_from(INTS), _int_or_literal())
 
 
-def _move(d):
+def _move(board):
     return st.builds(lambda r, s: _e("MOVE", dest=r, src=s), st.sampled_from(INTS + COUNTERS), _int_or_literal())
 
 
-def _reset(d):
+def _reset(board):
     return st.builds(lambda n: _e("RES", name=n), st.sampled_from(COUNTERS))
 
 
-def _persist(d):
+def _persist(board):
     return st.builds(lambda v: _e("PERSIST", var=v), st.sampled_from(INTS))
 
 
-def _adc(d):
-    return st.just(_e("READ_ADC", name="Aa", refs=0))
+def _adc(board):
+    return st.builds(lambda: _e("READ_ADC", name="Aa", refs=0))
 
 
-def _pwm(d):
-    frequency = d.board.crystal_hz // (256 * 64)
+def _pwm(board):
+    frequency = board.crystal_hz // (256 * 64)
     return st.builds(lambda duty: _e("SET_PWM", duty=duty, freq=frequency, name="Pa", resolution="0-100%"),
                      _int_or_literal())
 
 
-def _uart_send(d):
+def _uart_send(board):
     return st.builds(lambda v, n: _e("UART_SEND", var=v, bytes=n, wait=0), st.sampled_from(INTS), st.integers(1, 3))
 
 
-def _uart_recv(d):
+def _uart_recv(board):
     # into a 4-byte variable, so that any byte count fits
     return st.builds(lambda n: _e("UART_RECV", var="vr", bytes=n, wait=0), st.integers(1, 3))
 
 
-def _delay(d):
+def _delay(board):
     return st.builds(lambda us: _e("DELAY", delay=str(us)), st.integers(1, 50))
 
 
-def _fstring(d):
+def _fstring(board):
     return st.builds(lambda v, t: _e("FORMATTED_STRING", var=v, text=t), st.sampled_from(INTS),
                      st.sampled_from(("v=\\3\\r\\n", "\\-5 ok", "x\\1", "n: \\-2.")))
 
 
-def _t2cnt(d):
-    return st.builds(lambda r, n: _e("TIME2COUNT", name=r, delay=d.board.cycle_us * n), st.sampled_from(INTS),
+def _t2cnt(board):
+    return st.builds(lambda r, n: _e("TIME2COUNT", name=r, delay=board.cycle_us * n), st.sampled_from(INTS),
                      st.integers(1, 50))
 
 
 FACTORIES = {
     "CONTACTS": _contact, "COIL": _coil, "OSR": _simple("OSR"), "OSF": _simple("OSF"), "ODR": _simple("ODR"),
     "ODF": _simple("ODF"), "OSC": _simple("OSC"), "SHORT": _simple("SHORT"), "OPEN": _simple("OPEN"),
-    **{k: _timer_of(k) for k in ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")},
+    **{k: _timer_of(k) for k in TIMERS},
     **{k: _counter(k) for k in ("CTU", "CTD", "CTC", "CTR")},
     **{k: _compare(k) for k in ("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ")},
     **{k: _math(k) for k in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR")},
