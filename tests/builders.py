@@ -114,3 +114,22 @@ def none(program, code: str) -> None:
 def words(diagnostic: Diagnostic, *expected: str) -> None:
     for word in expected:
         assert word in diagnostic.message, f"{word!r} not in {diagnostic.message!r}"
+
+
+# an ATmega328P program with an instruction only the simulator runs (9SEGMENTS: LD501 when built)
+SIM_ONLY_LD = """LDmicro0.2
+MICRO=Atmel AVR ATmega328 28-PDIP
+CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CRYSTAL=16000000 Hz
+BAUD=9600 Hz
+
+IO LIST
+    Xa at 4 0 0
+END
+
+PROGRAM
+RUNG
+  CONTACTS Xa 0 0
+  9SEGMENTS d s C
+END
+"""

@@ -7,6 +7,7 @@ import re
 import shutil
 
 import pytest
+from builders import SIM_ONLY_LD
 from intelhex import IntelHex
 from test_compiler_harness import CORPUS
 
@@ -62,27 +63,9 @@ def test_no_part_is_an_error_and_a_missing_file_exits_2(tmp_path, capsys):
     assert main(["build", str(tmp_path / "missing.ld")]) == 2
 
 
-SEGMENTS = """LDmicro0.2
-MICRO=Atmel AVR ATmega328 28-PDIP
-CYCLE=10000 us at Timer1, YPlcCycleDuty:0
-CRYSTAL=16000000 Hz
-BAUD=9600 Hz
-
-IO LIST
-    Xa at 4 0 0
-END
-
-PROGRAM
-RUNG
-  CONTACTS Xa 0 0
-  9SEGMENTS d s C
-END
-"""
-
-
 def test_an_instruction_the_family_cannot_compile_warns_in_check_and_stops_build(tmp_path, capsys):
     source = tmp_path / "segments.ld"
-    source.write_text(SEGMENTS)
+    source.write_text(SIM_ONLY_LD)
     assert main(["check", str(source)]) == 0
     assert f"{source}:14:3: warning LD501 9SEGMENTS 'd' in rung 1 cannot be compiled for the ATmega328P: the " \
            "AVR back end does not support it" in capsys.readouterr().out

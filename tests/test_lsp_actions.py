@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from lsprotocol import types
 
+from builders import SIM_ONLY_LD
 from test_lsp_support import Doc, apply_edits, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -189,28 +190,10 @@ async def test_build_errors_and_compile_on_save(client, tmp_path):
     assert (tmp_path / "saved.hex").read_text().startswith(":")
 
 
-SIM_ONLY = """LDmicro0.2
-MICRO=Atmel AVR ATmega328 28-PDIP
-CYCLE=10000 us at Timer1, YPlcCycleDuty:0
-CRYSTAL=16000000 Hz
-BAUD=9600 Hz
-
-IO LIST
-    Xa at 4 0 0
-END
-
-PROGRAM
-RUNG
-  CONTACTS Xa 0 0
-  9SEGMENTS d s C
-END
-"""
-
-
 async def test_an_instruction_the_family_cannot_compile_is_an_error_once_built(client, tmp_path):
     source = tmp_path / "segments.ld"
-    source.write_text(SIM_ONLY, encoding="utf-8")
-    doc = Doc(client, source.as_uri(), SIM_ONLY, language="ldmicro")
+    source.write_text(SIM_ONLY_LD, encoding="utf-8")
+    doc = Doc(client, source.as_uri(), SIM_ONLY_LD, language="ldmicro")
     editing = [d for d in await doc.diagnostics() if d.code == "LD501"]
     assert [d.severity for d in editing] == [types.DiagnosticSeverity.Warning]
     result = await client.workspace_execute_command_async(types.ExecuteCommandParams(
