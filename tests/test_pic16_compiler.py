@@ -317,3 +317,14 @@ def test_oracle_program_follows_the_simulator(name, tmp_path):
     scans = int(stimulus["until_ms"] * 1000 // program.settings.cycle_us) - 1
     scans = min(scans, SCANS_BEFORE_A_FAULT.get(name, scans))
     assert differential(program, _oracle_events(program, stimulus), scans, tmp_path) == []
+
+
+@pytest.mark.parametrize("part", ["pic16f72", "pic16f628a", "pic16f876a", "pic16f819", "pic16f88", "pic16f886",
+                                  "pic16f887"])
+def test_blink_runs_on_the_other_parts(part, tmp_path):
+    """blink with its pins by port name, scan for scan with the simulator on
+    each part's gpsim model (the 16F72 runs as the 16F73, gpsim has no 16F72)."""
+    program = load("sample/blink.ld")
+    program.pins["Xbutton"] = PinAssignment("Xbutton", "RB0")
+    program.pins["Yled"] = PinAssignment("Yled", "RB1")
+    assert differential(program, BLINK, 200, tmp_path, part) == []
