@@ -77,3 +77,13 @@ def nearest_period(ticks: float, prescalers: dict[int, int], most: int) -> tuple
             if best is None or error < best[0]:
                 best = (error, select_bits, counts)
     return best
+
+
+def constant_bit(operand: ir.Var | ir.Byte, k: int, stored: Callable[[ir.Var], int]) -> tuple[int, int] | None:
+    """(byte offset in the operand, bit) that bit number `k` of the operand
+    reads: None below 0 (no bit: it reads 0), the sign bit past its width."""
+    if k < 0:
+        return None
+    width = 1 if isinstance(operand, ir.Byte) else stored(operand)
+    k = min(k, 8 * width - 1)
+    return k // 8, k % 8

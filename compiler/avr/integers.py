@@ -385,16 +385,14 @@ def _mask_and_pointer(cx, base: int) -> None:
 def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
     e = cx.e
     if isinstance(op.index, ir.Const) and not isinstance(op.a, ir.Const):
-        k = op.index.value
-        if k < 0:  # no bit: reads 0
+        st = storage(cx, op.a)
+        found = analysis.constant_bit(op.a, op.index.value, lambda var: storage(cx, var).size)
+        if found is None:  # no bit: reads 0
             if not op.value:
                 e.jump(op.target)
             return
-        st = storage(cx, op.a)
-        width = 1 if isinstance(op.a, ir.Byte) else st.size
-        k = min(k, 8 * width - 1)  # past the width: the sign bit
         base = st.addr + (op.a.index if isinstance(op.a, ir.Byte) else 0)
-        bits.jump_if(e, MemBit(base + k // 8, k % 8, st.ram), op.value, op.target)
+        bits.jump_if(e, MemBit(base + found[0], found[1], st.ram), op.value, op.target)
         return
     zero, test, done = e.new_label(), e.new_label(), e.new_label()
     load(cx, op.a, A)

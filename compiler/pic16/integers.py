@@ -629,14 +629,12 @@ def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
 
     e = cx.e
     if isinstance(op.index, ir.Const) and not isinstance(op.a, ir.Const):
-        k = op.index.value
-        if k < 0:  # no bit: reads 0
+        found = analysis.constant_bit(op.a, op.index.value, lambda var: storage(cx, var).size)
+        if found is None:  # no bit: reads 0
             if not op.value:
                 e.goto(op.target)
             return
-        width = 1 if isinstance(op.a, ir.Byte) else storage(cx, op.a).size
-        k = min(k, 8 * width - 1)  # past the width: the sign bit
-        bits.jump_if(e, FileBit(_base(cx, op.a) + k // 8, k % 8), op.value, op.target)
+        bits.jump_if(e, FileBit(_base(cx, op.a) + found[0], found[1]), op.value, op.target)
         return
     s = Scratch(cx.layout.scratch)
     zero, test = e.new_label("bit"), e.new_label("bit")
