@@ -1,15 +1,34 @@
-"""Every diagnostic code with its one-line documentation (`ladder explain CODE`).
+"""The registry of diagnostic codes: one row per code in `codes.toml`.
 
 Codes are stable: LD0xx reading a file, LD1xx names and prefixes, LD2xx
 program structure, LD3xx values and timing, LD4xx pins and parts, LD5xx what
-a layer or target cannot do. Checks register their own code beside their rule.
+a target cannot do, LD6xx simulation faults, LD7xx building. Each row gives the
+code's summary and documentation (`ladder explain`, docs/diagnostics.md), its
+default severity, the check module that reports it, and the review every error
+gets: whether LDmicro accepts a program with the problem and, if it does, the
+defect that makes it an error here. Modules name their codes with `code()` or
+`rule_code()`, so a code used anywhere has a row.
 """
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import dataclass
+from importlib import resources
 
-DOCS_URL = "https://textladder.invalid/docs/diagnostics.md#"
+GROUPS = {
+    "0": "reading a file",
+    "1": "names and prefixes",
+    "2": "program structure",
+    "3": "values and timing",
+    "4": "pins and parts",
+    "5": "what the target cannot do",
+    "6": "simulation",
+    "7": "building",
+}
+# How LDmicro 5.4 treats a program with the problem (None: not a property of a
+# program LDmicro compiles, e.g. a text-form reading error or a simulation fault).
+LDMICRO_VERDICTS = ("accepts", "complains", "refuses", "crashes")
 
 
 @dataclass(frozen=True)
@@ -17,51 +36,61 @@ class Code:
     code: str
     summary: str
     doc: str
+    severity: str
+    rule: str | None = None
+    fixable: bool = False
+    ldmicro: str | None = None
+    ldmicro_says: str | None = None
+    defect: str | None = None
 
     @property
-    def url(self) -> str:
-        return DOCS_URL + self.code.lower()
+    def group(self) -> str:
+        return GROUPS[self.code[2]]
+
+    @property
+    def configurable(self) -> bool:
+        """Whether users may change its severity: not for reading errors (the
+        program would silently miss what could not be read) nor for
+        simulation faults (the run stops whatever the setting)."""
+        return self.code[2] not in "06"
 
 
-CODES: dict[str, Code] = {}
+def _load() -> dict[str, Code]:
+    rows = tomllib.loads(resources.files(__package__).joinpath("codes.toml").read_text(encoding="utf-8"))
+    return {code: Code(code, " ".join(row.pop("summary").split()), " ".join(row.pop("doc").split()), **row)
+            for code, row in rows.items()}
 
 
-def register(code: str, summary: str, doc: str) -> str:
-    if code in CODES and CODES[code].summary != summary:
-        raise ValueError(f"diagnostic code {code} registered twice")
-    CODES[code] = Code(code, summary, doc)
-    return code
+CODES: dict[str, Code] = _load()
+_BY_RULE = {row.rule: row.code for row in CODES.values() if row.rule}
+
+
+def code(name: str) -> str:
+    """`name`, checked to have a row in the registry."""
+    if name not in CODES:
+        raise KeyError(f"diagnostic code {name} has no row in lang/codes.toml")
+    return name
+
+
+def rule_code(module: str) -> str:
+    """The code of the check rule in `module` (its row names the module)."""
+    return _BY_RULE[module.rsplit(".", 1)[1]]
+
+
+def rules() -> list[str]:
+    """The check modules, in code order."""
+    return [CODES[c].rule for c in sorted(_BY_RULE.values())]
 
 
 # reading the text form and LDmicro files
-UNREADABLE = register("LD001", "unreadable file",
-                      "The file is not text in the expected encoding, or not a ladder program at all.")
-SECTION = register("LD002", "malformed section",
-                   "A section after the diagram (I/O ASSIGNMENT, VAR LIST, SETTINGS, DETAILS) has a line "
-                   "that cannot be read.")
-UNKNOWN_ELEMENT = register("LD003", "unknown element",
-                           "The drawing has text that is no instruction of the table, or an instruction "
-                           "whose name line does not fit it (e.g. `{MOV` with a coil's glyph).")
-BROKEN_WIRE = register("LD004", "broken wire",
-                       "A wire or element is not connected on its left, or a branch stops before reaching "
-                       "a junction or the right rail.")
-BAD_JUNCTION = register("LD005", "misaligned junction",
-                        "A `+` junction has no `|` connector above or below it, or a vertical connector "
-                        "does not end in a `+` junction on a symbol line: the branches do not meet.")
-NOT_SERIES_PARALLEL = register("LD006", "not a series/parallel circuit",
-                               "The rung's wires form a shape (such as a bridge) that LDmicro cannot "
-                               "represent: every rung must be series and parallel blocks.")
-STRAY_TEXT = register("LD007", "text with no element under it",
-                      "A name or value on a name line sits above no element of the symbol line below it.")
-BAD_VALUE = register("LD008", "bad operand value",
-                     "An operand has the wrong form: a delay that is not a time, a number that is not "
-                     "an integer, a name with characters LDmicro does not allow.")
-LD_SYNTAX = register("LD009", "malformed .ld line",
-                     "A line of an LDmicro .ld file cannot be read: an unknown keyword, missing fields, "
-                     "or a PROGRAM block that is not closed.")
-TRUNCATED = register("LD010", "truncated name",
-                     "The name ends in `~`: LDmicro cut it when exporting, so the full name is lost. "
-                     "Write the whole name (look it up in the .ld file).")
-EMPTY_BRANCH = register("LD011", "branch without element",
-                        "A parallel branch is a bare wire; draw a SHORT (`+------+`) if a short circuit "
-                        "is meant.")
+UNREADABLE = code("LD001")
+SECTION = code("LD002")
+UNKNOWN_ELEMENT = code("LD003")
+BROKEN_WIRE = code("LD004")
+BAD_JUNCTION = code("LD005")
+NOT_SERIES_PARALLEL = code("LD006")
+STRAY_TEXT = code("LD007")
+BAD_VALUE = code("LD008")
+LD_SYNTAX = code("LD009")
+TRUNCATED = code("LD010")
+EMPTY_BRANCH = code("LD011")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .codes import CODES
 from .model import Span
 
 ERROR = "error"
@@ -44,3 +45,9 @@ def error(code: str, message: str, span: Span | None, *related: Related) -> Diag
 
 def warning(code: str, message: str, span: Span | None, *related: Related) -> Diagnostic:
     return Diagnostic(code, WARNING, message, span, tuple(related))
+
+
+def report(code: str, message: str, span: Span | None, *related: Related, severity: str | None = None) -> Diagnostic:
+    """A diagnostic at its code's default severity (the registry's), or at
+    `severity` where the context decides (LD501 is an error when building)."""
+    return Diagnostic(code, severity or CODES[code].severity, message, span, tuple(related))

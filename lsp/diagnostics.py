@@ -10,7 +10,6 @@ import time
 
 from lsprotocol import types
 
-from lang.codes import CODES
 from lang.diagnostics import ERROR, Diagnostic
 
 SOURCE = "ladder"
@@ -78,11 +77,6 @@ def shown(checked: list[Diagnostic], compiled: list[Diagnostic]) -> list[Diagnos
 
 def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
     positions = analysis.positions
-    code = CODES.get(diagnostic.code)
-    description = None
-    if code is not None and server.client_supports("text_document", "publish_diagnostics",
-                                                   "code_description_support"):
-        description = types.CodeDescription(href=code.url)
     related = None
     if diagnostic.related and server.client_supports("text_document", "publish_diagnostics",
                                                      "related_information"):
@@ -94,7 +88,6 @@ def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
         message=diagnostic.message,
         severity=types.DiagnosticSeverity.Error if diagnostic.severity == ERROR else types.DiagnosticSeverity.Warning,
         code=diagnostic.code,
-        code_description=description,
         source=SOURCE,
         related_information=related or None,
     )

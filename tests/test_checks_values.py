@@ -184,7 +184,7 @@ def test_timers_with_cycle_zero():
     none(program([contact("Xa"), coil("Ya")], cycle_us=0), "LD315")
 
 
-# --- LD320-LD322 formatted strings ----------------------------------------------------------------------
+# --- LD320-LD323 formatted strings ----------------------------------------------------------------------
 
 
 def _fs(var, text):
@@ -211,11 +211,16 @@ def test_two_interpolations():
     none(program([contact("Xa"), _fs("v", "\\3")], [contact("Xb"), move("v", 1)]), "LD321")
 
 
-def test_variable_and_text_disagree():
+def test_escape_without_variable_is_an_error():
     no_var = _fs("", "value \\3")
     d = one(program([contact("Xa"), no_var]), "LD322")
     assert d.severity == "error" and d.span == span_of(no_var, "text") and "names none" in d.message
-    no_escape = _fs("v", "hello")
-    d = one(program([contact("Xa"), no_escape], [contact("Xb"), move("v", 1)]), "LD322")
-    assert d.span == span_of(no_escape, "var") and "'v'" in d.message
     none(program([contact("Xa"), _fs("", "hello\\r\\n")]), "LD322")
+
+
+def test_variable_without_escape_is_a_warning():
+    # LDmicro reports it but compiles the program, which sends the text as written
+    no_escape = _fs("v", "hello")
+    d = one(program([contact("Xa"), no_escape], [contact("Xb"), move("v", 1)]), "LD323")
+    assert d.severity == "warning" and d.span == span_of(no_escape, "var") and "'v'" in d.message
+    none(program([contact("Xa"), no_escape], [contact("Xb"), move("v", 1)]), "LD322")

@@ -18,7 +18,7 @@ from lang.targets import family_of
 from lang.values import is_literal, literal_value
 
 from .. import ir
-from ..errors import BAD_OPERAND, NOT_COMPILED, fail
+from ..errors import NOT_COMPILED, fail
 from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
 from .builder import LOWERINGS, Builder
 
@@ -47,19 +47,19 @@ class Jumps:
             number = literal_value(label)
             return rung_label(min(max(number, 1), self.count + 1) - 1)
         if label not in self.labels:
-            raise fail(BAD_OPERAND, f"GOTO: LABEL '{label}' not found", element)
+            raise fail(code("LD207"), f"GOTO: LABEL '{label}' not found", element)
         return rung_label(self.labels[label])
 
     def gosub_target(self, element: Element) -> str:
         label = str(element.args["label"])
         if label not in self.subprogs:
-            raise fail(BAD_OPERAND, f"GOSUB: SUBPROG '{label}' not found", element)
+            raise fail(code("LD208"), f"GOSUB: SUBPROG '{label}' not found", element)
         return rung_label(self.subprogs[label] + 1)
 
     def after_endsub(self, element: Element) -> str:
         label = str(element.args["label"])
         if label not in self.endsubs:
-            raise fail(BAD_OPERAND, f"SUBPROG: ENDSUB '{label}' not found", element)
+            raise fail(code("LD205"), f"SUBPROG: ENDSUB '{label}' not found", element)
         return rung_label(self.endsubs[label] + 1)
 
 

@@ -162,10 +162,8 @@ def formatted_string(b: Builder, el, p: ir.Bit) -> None:
     name = str(el.args.get("var") or "")
     if fmt.digits and not name:
         raise fail(BAD_OPERAND, "a variable is interpolated into the formatted string, but none is specified", el)
-    if name and not fmt.digits:
-        raise fail(BAD_OPERAND, "no variable is interpolated into the formatted string, but a variable name "
-                                "is specified; include a string like '\\-3'", el)
-    value = b.operand(name) if name else ir.Const(0)
+    # a variable the text never inserts is not read (LD323 warns), as in LDmicro's code
+    value = b.operand(name) if name and fmt.digits else ir.Const(0)
     steps, count = fmt.steps, len(fmt.steps)
     one, busy, lead = b.memory_bit("one"), b.memory_bit("busy"), b.memory_bit("lead")
     seq, conv = b.memory_var("seq", 1 if count < 128 else 2), b.memory_var("conv")

@@ -10,7 +10,9 @@ from lang.sim import numbers
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import BAD_OPERAND, fail
+from lang.codes import code
+
+from ..errors import fail
 from .builder import Builder, Holds, IsSet, lowers
 
 SEED_MULTIPLIER = 69069
@@ -60,7 +62,7 @@ def shift(b: Builder, el, p: ir.Bit) -> None:
     a, n = b.operand(el.args["op1"]), b.operand(el.args["op2"])
     width = operand_width(b, el.args["op1"], d.size)
     if isinstance(n, ir.Const) and not 0 <= n.value <= 8 * width:
-        raise fail(BAD_OPERAND, f"shift count {n.value} out of range of '{el.args['op1']}': "
+        raise fail(code("LD302"), f"shift count {n.value} out of range of '{el.args['op1']}': "
                                 f"0 to {8 * width} inclusive", el)
     _when(b, p, ir.Shift(el.kind.lower(), d, a, n, width))
 
@@ -120,7 +122,7 @@ def look_up_table(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
     values = tuple(b.literal(v) for v in el.args.get("values", ()))
     if not values:
-        raise fail(BAD_OPERAND, "look-up table with no values", el)
+        raise fail(code("LD308"), "look-up table with no values", el)
     _when(b, p, ir.Table(d, values, b.operand(el.args["index"])))
 
 
@@ -129,9 +131,9 @@ def piecewise_linear(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
     points = [(b.literal(x), b.literal(y)) for x, y in el.args.get("points", ())]
     if not points:
-        raise fail(BAD_OPERAND, "piecewise linear table with zero elements", el)
+        raise fail(code("LD305"), "piecewise linear table with zero elements", el)
     if any(q[0] <= r[0] for r, q in pairwise(points)):
-        raise fail(BAD_OPERAND, "x values in a piecewise linear table must be strictly increasing", el)
+        raise fail(code("LD306"), "x values in a piecewise linear table must be strictly increasing", el)
     token = el.args["index"]
     with b.if_(IsSet(p)):
         # segments from the last down, each one that holds the index
@@ -141,7 +143,7 @@ def piecewise_linear(b: Builder, el, p: ir.Bit) -> None:
             (x0, y0), (x1, y1) = points[i - 1], points[i]
             dx, dy = x1 - x0, y1 - y0
             if not -32768 < dx * dy < 32767:
-                raise fail(BAD_OPERAND, "numerical problem with the piecewise linear table: make the "
+                raise fail(code("LD307"), "numerical problem with the piecewise linear table: make the "
                                         "entries smaller or the points closer", el)
             with b.if_(Holds(b.operand(token), "<=", ir.Const(x1))):
                 b.emit(ir.Arith("sub", d, b.operand(token), ir.Const(x0)))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from lang.codes import CODES
+from lang.codes_doc import ldmicro_note
 
 from ._common import EXIT_OK, EXIT_USAGE
 
@@ -18,17 +19,16 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    import lang.checks  # noqa: F401  (the checks and the simulator register their codes)
-    import compiler.errors  # noqa: F401
-    import lang.sim.errors  # noqa: F401
-
     if args.code is None:
         for code in sorted(CODES.values(), key=lambda c: c.code):
-            print(f"{code.code}  {code.summary}")
+            print(f"{code.code}  {code.severity:<7}  {code.summary}")
         return EXIT_OK
     code = CODES.get(args.code.upper())
     if code is None:
         print(f"ladder explain: unknown code {args.code!r}; `ladder explain` lists them", file=sys.stderr)
         return EXIT_USAGE
-    print(f"{code.code}: {code.summary}\n\n{code.doc}")
+    print(f"{code.code}: {code.summary} ({code.severity}; {code.group})\n\n{code.doc}")
+    note = ldmicro_note(code)
+    if note:
+        print(f"\n{note}")
     return EXIT_OK

@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
+from ..codes import rule_code
 from ..values import is_literal
-from ..diagnostics import warning
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD109", "READ ADC name does not start with A",
-    "READ ADC reads the analog pin assigned to its name. LDmicro makes that name an A/D input "
-    "whatever its first letter, but by convention (and for the I/O list and the pin checks) it "
-    "starts with A.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -20,7 +15,7 @@ def check(program, index):
     for rung, element in index.of_kind("READ_ADC"):
         name = token(element.args.get("name"))
         if name and not is_literal(name) and not name.startswith("A"):
-            found.append(warning(
+            found.append(report(
                 CODE,
                 f"READ ADC '{name}' in {rung_no(rung)}: A/D input names start with A (e.g. 'A{name}')",
                 arg_span(element, "name"),

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import COUNTERS, TIMERS, label, rung_no
 
-CODE = register(
-    "LD108", "A/D name written by another instruction",
-    "A names hold the result of READ ADC and are bound to an analog input pin. Any instruction may "
-    "read them as integers, but only READ ADC should write them: a MOV or ADD into an A name "
-    "overwrites the reading and still claims an ADC pin. Use a general variable for computed values.",
-)
+CODE = rule_code(__name__)
 
 _SKIP = frozenset(("READ_ADC", "RES") + TIMERS + COUNTERS)  # those have their own rules
 
@@ -23,7 +18,7 @@ def check(program, index):
             continue
         for use in uses:
             if use.writes and use.element.kind not in _SKIP:
-                found.append(warning(
+                found.append(report(
                     CODE,
                     f"{label(use.element)} in {rung_no(use.rung)} writes '{name}', an A/D input "
                     "that only READ ADC should write; use a general variable",

@@ -2,18 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import Related, error
+from ..codes import rule_code
+from ..diagnostics import Related, report
 from ..model import Parallel
 from .common import describe, node_span, node_text, rung_no, terminal
 
-CODE = register(
-    "LD202", "element after a parallel that ends in an end-of-line instruction",
-    "When a branch of a parallel block ends in an end-of-line instruction (a coil, MOV, RES...), the "
-    "block has no output: LDmicro does not even compute it, so nothing may follow the block in its "
-    "series. Move the following elements into the branches that need them, or into a rung of "
-    "their own.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -28,7 +22,7 @@ def check(program, index):
             continue
         after = items[position + 1]
         related = [Related(end.span, f"this {describe(end)} ends a branch of the parallel")] if end.span else []
-        found.append(error(
+        found.append(report(
             CODE,
             f"{node_text(after)} in {rung_no(rung)} follows a parallel block whose branch ends in "
             f"{describe(end)}: nothing may follow such a block",

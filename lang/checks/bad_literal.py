@@ -4,19 +4,12 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from ..values import is_literal, literal_value
 from .common import arg_span, label, rung_no
 
-CODE = register(
-    "LD304", "malformed constant",
-    "A constant is a decimal number, 0x hex, 0b binary, 0o or leading-0 octal, or one character in "
-    "single quotes ('A', or one escape such as '\\n' or '\\x41'). Anything else that starts like a "
-    "number is malformed: '09' (not octal), '12ab', 'AB' in quotes. LDmicro: \"Expected "
-    "single-character or one simple-escape-sequence in single-quotes: <%s>!\". Table entries (LUT "
-    "values, PWL points) must be constants.",
-)
+CODE = rule_code(__name__)
 
 
 @lru_cache(maxsize=4096)
@@ -47,7 +40,7 @@ def check(program, index):
     for literal in index.literals:
         reason = _problem(literal.text)
         if reason:
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"malformed constant in {label(literal.element)}, {rung_no(literal.rung)}: {reason}",
                 arg_span(literal.element, literal.field),
@@ -56,7 +49,7 @@ def check(program, index):
         for position, value in enumerate(element.args.get("values") or ()):
             reason = _table_problem(value)
             if reason:
-                found.append(error(
+                found.append(report(
                     CODE,
                     f"LUT in {rung_no(rung)}, entry {position}: {reason}",
                     arg_span(element, "values"),
@@ -66,7 +59,7 @@ def check(program, index):
             for axis, value in zip("xy", point):
                 reason = _table_problem(value)
                 if reason:
-                    found.append(error(
+                    found.append(report(
                         CODE,
                         f"PWL in {rung_no(rung)}, point {position} {axis}: {reason}",
                         arg_span(element, "points"),

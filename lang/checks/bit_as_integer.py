@@ -2,18 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from .common import label, rung_no
 
-CODE = register(
-    "LD110", "bit name used as an integer variable",
-    "Names starting with X, Y or M are bits: an input pin, an output pin, a Modbus coil. Used as the "
-    "operand of MOV, ADD, a comparison and the like, LDmicro still types them as pins or coils "
-    "(ldmicro-formats §4.2), so an ordinary variable named like that claims a pin. Rename the "
-    "variable, or use a contact or coil for the bit.",
-)
+CODE = rule_code(__name__)
 
 _WHAT = {"X": "an input pin", "Y": "an output pin", "M": "a Modbus coil"}
 # operands that take any integer name (those with a prefix rule of their own are left out)
@@ -33,7 +27,7 @@ def check(program, index):
             continue
         for use in uses:
             if (use.element.kind, use.field) in _GENERAL:
-                found.append(warning(
+                found.append(report(
                     CODE,
                     f"'{name}' is used as an integer by {label(use.element)} in {rung_no(use.rung)}, "
                     f"but a name starting with {name[0]} is {what} (a bit); rename the variable",

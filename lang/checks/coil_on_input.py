@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, label, rung_no, token
 
-CODE = register(
-    "LD102", "coil writes an input",
-    "An X name is an input pin: the program can read it with a contact but never drive it. A coil, "
-    "set, reset or toggle coil on an X name is refused by LDmicro (a coil must be Y, R or M). Use an "
-    "output (Y) or an internal relay (R).",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -19,7 +14,7 @@ def check(program, index):
     for rung, element in index.of_kind("COIL"):
         name = token(element.args.get("name"))
         if name.startswith("X"):
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"{label(element)} '{name}' in {rung_no(rung)} writes an input pin: "
                 "X names can only be read; write an output (Y) or a relay (R)",

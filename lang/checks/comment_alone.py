@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no
 
-CODE = register(
-    "LD203", "comment not alone in its rung",
-    "A comment is a rung of its own: LDmicro's editor keeps it alone, and its compiler skips every "
-    "rung that starts with a comment, so instructions beside a comment never run. Move the "
-    "instructions to a rung of their own.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -20,7 +15,7 @@ def check(program, index):
         items = program.rungs[rung].circuit.items
         if len(items) == 1 and items[0] is element:
             continue
-        found.append(error(
+        found.append(report(
             CODE,
             f"the comment in {rung_no(rung)} must be alone in its rung; the rung also holds other "
             "elements, which would never run",

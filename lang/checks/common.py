@@ -6,7 +6,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..instructions import INSTRUCTIONS
-from ..diagnostics import Related, warning
+from ..diagnostics import Related, report
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..values import format_delay, is_literal, literal_value
 
@@ -378,7 +378,7 @@ def misnamed(index, code: str, kinds, letter: str, noun: str):
     for rung, element in index.of_kind(*kinds):
         name = token(element.args.get("name"))
         if name and not is_literal(name) and not name.startswith(letter):
-            found.append(warning(
+            found.append(report(
                 code,
                 f"{element.kind} {noun} '{name}' in {rung_no(rung)}: {noun} names start with {letter} "
                 f"(e.g. '{letter}{name}')",

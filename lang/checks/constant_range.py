@@ -4,22 +4,14 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from ..values import is_literal
 from .common import (
     COUNTERS, arg_span, fits, is_decimal, label, literal_or_none, range_text, rung_no, token, var_size,
 )
 
-CODE = register(
-    "LD301", "constant out of range for its variable",
-    "Variables are signed integers of 1 to 4 bytes (2 unless the VAR LIST says otherwise). A "
-    "constant moved into a variable, used in arithmetic with it, compared with it, or given as a "
-    "counter's limit or start value must fit that size: -128..127 for 1 byte, -32768..32767 for 2, "
-    "and so on (constants written in hex, binary, octal or as characters may also use the unsigned "
-    "range, 0..255 for 1 byte). Otherwise the value is cut to the variable's size. LDmicro: "
-    "\"Variable %s=%d out of range\" / \"Constant %s=%d out of variable '%s' range\".",
-)
+CODE = rule_code(__name__)
 
 # (kind, constant's field) -> (the field naming the variable it must fit, its role)
 _TARGETS: dict[tuple[str, str], tuple[str, str]] = {("MOVE", "src"): ("dest", "source")}
@@ -63,7 +55,7 @@ def check(program, index):
         allowed = _outside(literal.text, size)
         if allowed is None:
             continue
-        found.append(warning(
+        found.append(report(
             CODE,
             f"constant {literal.text} ({label(literal.element)} {role}, {rung_no(literal.rung)}) does not "
             f"fit '{name}', a {size}-byte variable: {allowed}",

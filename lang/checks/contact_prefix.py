@@ -2,17 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD101", "contact on a name that is not a bit",
-    "A contact reads one bit: its name must start with X (input pin), Y (output pin), R (internal "
-    "relay), P (PWM pin), I (Modbus discrete input) or M (Modbus coil). Timers, counters and integer "
-    "variables are tested with a comparison (EQU, GEQ, ...) or IF BIT SET instead. LDmicro stops with "
-    "an internal error when it builds the I/O list of such a program.",
-)
+CODE = rule_code(__name__)
 
 _ALLOWED = "XYRPIM"
 
@@ -28,7 +22,7 @@ def check(program, index):
             hint = f"'{name}' is {what}, an integer; compare it (e.g. GRT/EQU) instead"
         else:
             hint = f"'{name}' is an integer variable; test it with a comparison or IF BIT SET"
-        found.append(error(
+        found.append(report(
             CODE,
             f"contact '{name}' in {rung_no(rung)} must name a bit (X, Y, R, P, I or M): {hint}",
             arg_span(element, "name"),

@@ -2,15 +2,10 @@
 
 from __future__ import annotations
 
-from ..codes import register
+from ..codes import rule_code
 from .common import COUNTERS, misnamed
 
-CODE = register(
-    "LD105", "counter name does not start with C",
-    "Counters (CTU, CTD, CTC, CTR) keep their count in a variable whose name starts with C; "
-    "LDmicro's counter dialog keeps that letter. Another first letter gives the counter a name that "
-    "reads as something else.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):

@@ -2,17 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import TIMERS, rung_no, timer_text
 
-CODE = register(
-    "LD315", "timers with a cycle time of 0",
-    "With a PLC cycle time of 0 the program runs free, as fast as it can, so a scan has no fixed "
-    "length and timers, which count scans, measure no time: LDmicro gives every timer a period of "
-    "one scan. LDmicro: \"PLC Cycle Time is '0'. TON, TOF, RTO, RTL, TCY timers does not work "
-    "correctly!\" Set a cycle time.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -22,7 +16,7 @@ def check(program, index):
     if not timers:
         return []
     rung, element = timers[0]
-    return [warning(
+    return [report(
         CODE,
         f"the PLC cycle time is 0, so {timer_text(element)} in {rung_no(rung)} and every other timer "
         "measure no time (each counts one scan); set a cycle time",

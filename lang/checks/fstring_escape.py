@@ -2,18 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, scan_format, token
 
-CODE = register(
-    "LD320", "bad escape in a formatted string",
-    "In the text of a formatted string, a backslash starts an escape: \\1 to \\5 (or \\-1 to \\-5, "
-    "with a sign) insert the variable with that many digits, \\r \\n \\t \\b \\f \\v \\a \\e send "
-    "control characters, \\xAB sends the byte 0xAB, \\\\ a backslash. Anything else is refused. "
-    "LDmicro: \"Bad escape sequence following \\; for a literal backslash, use \\\\\", \"Bad escape: "
-    "correct form is \\xAB.\", \"Bad escape '\\%c'\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -21,7 +14,7 @@ def check(program, index):
     for rung, element in index.of_kind("FORMATTED_STRING"):
         text = token(element.args.get("text"))
         for sequence, reason in scan_format(text)[1]:
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"formatted string in {rung_no(rung)}: bad escape '{sequence}': {reason}",
                 arg_span(element, "text"),

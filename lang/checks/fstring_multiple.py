@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, scan_format, token
 
-CODE = register(
-    "LD321", "formatted string interpolates more than once",
-    "A formatted string sends one variable, so its text may hold one \\1..\\5 (or \\-1..\\-5) "
-    "escape only. LDmicro: \"Multiple escapes (\\0-9) present in format string, not allowed.\" "
-    "Use one formatted string per value.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -19,7 +14,7 @@ def check(program, index):
     for rung, element in index.of_kind("FORMATTED_STRING"):
         interpolations = scan_format(token(element.args.get("text")))[0]
         if len(interpolations) > 1:
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"formatted string in {rung_no(rung)} inserts its variable {len(interpolations)} times "
                 f"({', '.join(interpolations)}); only one \\1..\\5 escape is allowed",

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD209", "GOSUB to a number",
-    "Unlike GOTO, GOSUB cannot target a rung number: it needs the name of a SUBPROG. LDmicro: "
-    "\"GOSUB: SUBPROG as number '...' not allowed !\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -18,7 +14,7 @@ def check(program, index):
     for rung, element in index.of_kind("GOSUB"):
         name = token(element.args.get("label"))
         if name.isdigit():
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"GOSUB '{name}' in {rung_no(rung)}: GOSUB needs a SUBPROG name, not a rung number",
                 arg_span(element, "label"),

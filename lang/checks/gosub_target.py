@@ -4,15 +4,11 @@ from __future__ import annotations
 
 from difflib import get_close_matches
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD208", "GOSUB to a missing SUBPROG",
-    "GOSUB runs the subroutine that starts at the SUBPROG of the same name. LDmicro: \"GOSUB: "
-    "SUBPROG '...' not found!\". Names are case-sensitive.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -24,7 +20,7 @@ def check(program, index):
             continue  # a number is LD209
         close = get_close_matches(name, subs, n=1)
         hint = f" (did you mean '{close[0]}'?)" if close else ""
-        found.append(error(
+        found.append(report(
             CODE,
             f"GOSUB '{name}' in {rung_no(rung)}: there is no SUBPROG '{name}'{hint}",
             arg_span(element, "label"),

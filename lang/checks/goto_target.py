@@ -4,15 +4,11 @@ from __future__ import annotations
 
 from difflib import get_close_matches
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD207", "GOTO to a missing LABEL",
-    "GOTO continues the scan at the rung holding the LABEL of the same name (or at a rung number). "
-    "LDmicro: \"GOTO: LABEL '...' not found!\". Labels are case-sensitive.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -24,7 +20,7 @@ def check(program, index):
             continue  # a rung number (LDmicro clamps it) or a known label
         close = get_close_matches(name, labels, n=1)
         hint = f" (did you mean '{close[0]}'?)" if close else ""
-        found.append(error(
+        found.append(report(
             CODE,
             f"GOTO '{name}' in {rung_no(rung)}: there is no LABEL '{name}'{hint}",
             arg_span(element, "label"),

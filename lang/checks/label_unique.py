@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import Related, error
+from ..codes import rule_code
+from ..diagnostics import Related, report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD210", "duplicate LABEL",
-    "A LABEL name marks one rung as a GOTO target, so it must be unique. LDmicro: \"LABEL: Only one "
-    "LABEL '...' is allowed!\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -24,7 +20,7 @@ def check(program, index):
         first_rung, first_element = first[name]
         span = arg_span(first_element, "label")
         related = [Related(span, f"the first LABEL '{name}'")] if span else []
-        found.append(error(
+        found.append(report(
             CODE,
             f"LABEL '{name}' in {rung_no(rung)}: there is already a LABEL '{name}' in {rung_no(first_rung)}",
             arg_span(element, "label"),

@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from .common import arg_span, label, rung_no
 
-CODE = register(
-    "LD303", "constant as a destination",
-    "The destination of MOV, arithmetic, BIN2BCD, SWAP, SRAND, the segment decoders and every "
-    "other operand an instruction writes must be a variable, not a number. LDmicro: \"Move "
-    "instruction: '5' not a valid destination.\" (and the same for the other instructions).",
-)
+CODE = rule_code(__name__)
 
 # (kind, field) of every operand an instruction writes
 _WRITES = frozenset(
@@ -25,7 +20,7 @@ _WRITES = frozenset(
 
 def check(program, index):
     return [
-        error(
+        report(
             CODE,
             f"{label(literal.element)} in {rung_no(literal.rung)}: '{literal.text}' is not a valid "
             f"destination; the {literal.field} must be a variable",

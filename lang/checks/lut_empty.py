@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no, token
 
-CODE = register(
-    "LD308", "look-up table with no values",
-    "A LUT instruction reads entry [index] of its table; with no entries every index is out of "
-    "range. List the values in the DETAILS section (a text export does not carry them).",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -19,5 +15,5 @@ def check(program, index):
         if not element.args.get("values"):
             table = token(element.args.get("table"))
             name = f" '{table}'" if table else ""
-            found.append(error(CODE, f"LUT table{name} in {rung_no(rung)} has no values", element.span))
+            found.append(report(CODE, f"LUT table{name} in {rung_no(rung)} has no values", element.span))
     return found

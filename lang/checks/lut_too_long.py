@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD309", "look-up table longer than 64 values",
-    "LDmicro keeps at most 64 entries in a look-up table (its loader does not check the count, and "
-    "a longer table overruns its memory). Split the table, or compute the values.",
-)
+CODE = rule_code(__name__)
 
 LIMIT = 64
 
@@ -22,7 +18,7 @@ def check(program, index):
         if count > LIMIT:
             table = token(element.args.get("table"))
             name = f" '{table}'" if table else ""
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"LUT table{name} in {rung_no(rung)} has {count} values; at most {LIMIT} are allowed",
                 arg_span(element, "values"),

@@ -2,18 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import label, read_never_written, rung_no
 
-CODE = register(
-    "LD131", "variable read but never written",
-    "A variable (or output, timer, counter, A/D reading) that instructions read but that no "
-    "instruction ever writes keeps its start value 0, which is usually a misspelt name. LDmicro's "
-    "simulator stops on it: \"Variable '...' not assigned to, e.g. with a MOV statement, an ADD "
-    "statement, etc.\" Inputs (X), Modbus inputs and registers (I, M, H, written from outside), "
-    "hardware registers (#) and compiler names ($) are exempt; internal relays have LD130.",
-)
+CODE = rule_code(__name__)
 
 _EXEMPT = ("X", "I", "M", "H", "R", "$", "#")
 
@@ -23,7 +16,7 @@ def check(program, index):
     for name, first_read in read_never_written(index):
         if name.startswith(_EXEMPT):
             continue
-        found.append(warning(
+        found.append(report(
             CODE,
             f"'{name}' is read by {label(first_read.element)} in {rung_no(first_read.rung)} "
             "but nothing ever writes it: it is always 0",

@@ -2,19 +2,13 @@
 
 from __future__ import annotations
 
-from ..codes import register
+from ..codes import rule_code
 from ..values import is_literal
-from ..diagnostics import error
+from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from .common import COUNTERS, TIMERS, arg_span, label, rung_no, token
 
-CODE = register(
-    "LD112", "operand with the wrong name prefix",
-    "Some operands must be pins of one kind: the A, B and Z inputs of QUAD ENCOD are X inputs, its "
-    "direction flag a Y output or R relay, the PULSER coil a Y output or R relay, the STEPPER and "
-    "N PULSE coils Y outputs. LDmicro refuses the program otherwise (\"Connect QUAD ENCOD input A "
-    "to input pin XqAn.\" and the like).",
-)
+CODE = rule_code(__name__)
 
 # contacts, coils, timers, counters, RES and SET PWM have rules of their own
 _OWN_RULE = frozenset(("CONTACTS", "COIL", "RES", "SET_PWM") + TIMERS + COUNTERS)
@@ -35,7 +29,7 @@ def check(program, index):
                 if not name or is_literal(name) or name[0] in prefixes:
                     continue
                 allowed = " or ".join(_LETTERS.get(p, p) for p in prefixes)
-                found.append(error(
+                found.append(report(
                     CODE,
                     f"{label(element)} operand '{field}' = '{name}' in {rung_no(rung)} must start with {allowed}",
                     arg_span(element, field),

@@ -2,23 +2,18 @@
 
 from __future__ import annotations
 
-from ..codes import register
+from ..codes import rule_code
 from ..devices import find_device, is_known_ldmicro_name
-from ..diagnostics import warning
+from ..diagnostics import report
 
-CODE = register(
-    "LD408", "part without pin data",
-    "The selected part is one LDmicro supports, but textladder has no pin data for it, so pins, "
-    "peripherals and target support are not checked (and it cannot be compiled here). The program "
-    "can still be simulated.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     mcu = program.settings.mcu
     if not mcu or find_device(mcu) is not None or not is_known_ldmicro_name(mcu):
         return []
-    return [warning(
+    return [report(
         CODE,
         f"no pin data for '{mcu}': pins and peripherals are not checked for this part",
         program.settings.mcu_span,

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import adc_names, pin_text, used_pins
 
-CODE = register(
-    "LD404", "A/D input on a pin without ADC",
-    "A names (and any name READ ADC reads) must sit on a pin with an A/D converter channel. "
-    "LDmicro: \"Must assign pins for all ADC inputs\". Choose one of the part's analog pins.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -23,7 +19,7 @@ def check(program, index):
         if not pin.is_io:
             continue  # LD403 says it
         choices = ", ".join(sorted(n for n in device.adc if device.pin(n) is not None)) or "none"
-        found.append(error(
+        found.append(report(
             CODE,
             f"A/D input '{name}' is assigned to {pin_text(assignment)} ({pin.name}), which has no A/D "
             f"channel on the {device.title}; analog pins: {choices}",

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import pin_text, pwm_names, used_pins
 
-CODE = register(
-    "LD405", "PWM output on a pin without PWM",
-    "P names (and any name SET PWM drives) must sit on a pin a hardware PWM unit drives (OC0A, "
-    "CCP1...). LDmicro: \"Pin '...': PWM output not available!\". Choose one of the part's PWM pins.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -21,7 +17,7 @@ def check(program, index):
         if pin is None or name not in pwm or pin.name in device.pwm or not pin.is_io:
             continue
         choices = ", ".join(sorted(n for n in device.pwm if device.pin(n) is not None)) or "none"
-        found.append(error(
+        found.append(report(
             CODE,
             f"PWM output '{name}' is assigned to {pin_text(assignment)} ({pin.name}), which has no PWM "
             f"on the {device.title}; PWM pins: {choices}",

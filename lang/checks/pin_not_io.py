@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import adc_names, pin_text, used_pins
 
-CODE = register(
-    "LD403", "pin is not an I/O pin",
-    "Power, ground, reset, crystal and reference pins (VCC, GND, AREF...) cannot be inputs or "
-    "outputs. Only an A/D input may use an analog-only pin (ADC6 and ADC7 of the 32-pin AVRs). "
-    "LDmicro: \"Can only assign pin number to input/output pins\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -25,7 +20,7 @@ def check(program, index):
             analog = adc_names(index)
         if name in analog and pin.name in device.adc:
             continue
-        found.append(error(
+        found.append(report(
             CODE,
             f"'{name}' is assigned to {pin_text(assignment)}, which is {pin.name} on the "
             f"{device.title}, not an input/output pin",

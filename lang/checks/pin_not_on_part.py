@@ -2,22 +2,17 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import pin_text, used_pins
 
-CODE = register(
-    "LD402", "pin not on the part",
-    "The I/O assignment gives a pin number the selected part's package does not have, or a port "
-    "bit name (such as PD2 or RB0) it does not have. Choose a pin of this part, or check the "
-    "part (MICRO) setting.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     device = index.device
     return [
-        error(
+        report(
             CODE,
             f"'{name}' is assigned to {pin_text(assignment)}, which the {device.title} "
             f"({device.package}) does not have",

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import Related, error
+from ..codes import rule_code
+from ..diagnostics import Related, report
 from .common import is_assigned, pin_text
 
-CODE = register(
-    "LD401", "pin assigned twice",
-    "Each pin of the microcontroller can serve one I/O name. Two names on one pin would drive or "
-    "read the same wire for two purposes. Give one of them another pin (names the program no "
-    "longer uses are ignored, as LDmicro drops them).",
-)
+CODE = rule_code(__name__)
 
 
 def _key(device, assignment):
@@ -37,7 +32,7 @@ def check(program, index):
         related = []
         if first.span is not None:
             related.append(Related(first.span, f"'{first_name}' is assigned to {pin_text(first)} here"))
-        found.append(error(
+        found.append(report(
             CODE,
             f"'{name}' is assigned to {pin_text(assignment)}, which '{first_name}' already uses",
             assignment.span,

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import UART_KINDS, pin_text, used_pins
 
-CODE = register(
-    "LD406", "I/O on the UART pins while the UART is used",
-    "When the program uses the UART (UART SEND/RECV, formatted strings), its receive and transmit "
-    "pins belong to the UART and cannot also be X inputs or Y outputs. LDmicro: \"UART in use; "
-    "pins %d and %d reserved for that.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -23,7 +18,7 @@ def check(program, index):
     for name, assignment, pin in used_pins(program, index):
         if pin is None or pin.name not in reserved or name[:1] not in ("X", "Y"):
             continue
-        found.append(error(
+        found.append(report(
             CODE,
             f"'{name}' is assigned to {pin_text(assignment)} ({pin.name}), the UART {reserved[pin.name].upper()} "
             "pin, but the program uses the UART",

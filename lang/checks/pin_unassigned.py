@@ -2,17 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import adc_names, is_assigned, pwm_names
 
-CODE = register(
-    "LD407", "I/O name without a pin",
-    "With a part selected, every X input, Y output, A/D input and PWM output needs a pin in the "
-    "I/O assignment; LDmicro refuses to compile otherwise (\"Must assign pins for all I/O. '...' is "
-    "not assigned.\"). Without a part (simulation only) pins are not needed. The bare name P of a "
-    "classic SET PWM (an old file with no PWM name) is exempt: it means the part's PWM pin.",
-)
+CODE = rule_code(__name__)
 
 # A classic two-field SET_PWM has no name; LDmicro's loader calls it "P", and
 # classic LDmicro drove the part's one PWM pin without an assignment (the
@@ -42,7 +36,7 @@ def check(program, index):
             continue
         first = uses[0]
         what = _WHAT.get(name[0]) or ("A/D input" if name in analog else "PWM output")
-        found.append(error(
+        found.append(report(
             CODE,
             f"{what} '{name}' has no pin: assign it a pin of the {index.device.title} "
             f"(first used in rung {first.rung + 1})",

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import BUS_PIN_SUFFIXES, is_assigned, pin_text
 
-CODE = register(
-    "LD411", "pin assigned to an unused name",
-    "The I/O assignment gives a pin to a name no instruction uses; LDmicro silently drops such "
-    "entries. Usually the name was renamed in the program but not in the assignment.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -22,7 +18,7 @@ def check(program, index):
             continue
         if any(suffix in name for suffix in BUS_PIN_SUFFIXES):
             continue
-        found.append(warning(
+        found.append(report(
             CODE,
             f"'{name}' is assigned to {pin_text(assignment)} but the program does not use it",
             assignment.span,

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no, token
 
-CODE = register(
-    "LD305", "piecewise-linear table with no points",
-    "A PWL instruction interpolates between the (x, y) points of its table; with no points there "
-    "is nothing to interpolate. LDmicro: \"Piecewise linear lookup table with zero elements!\". "
-    "List the points in the DETAILS section.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -20,7 +15,7 @@ def check(program, index):
         if not element.args.get("points"):
             table = token(element.args.get("table"))
             name = f" '{table}'" if table else ""
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"PWL table{name} in {rung_no(rung)} has no points",
                 element.span,

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, table_numbers
 
-CODE = register(
-    "LD306", "PWL x values not strictly increasing",
-    "The x values of a piecewise-linear table must grow from each point to the next: the "
-    "instruction finds the segment of its index by comparing with them in order. LDmicro: \"x "
-    "values in piecewise linear table must be strictly increasing.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -23,7 +18,7 @@ def check(program, index):
             continue
         for i in range(1, len(xs)):
             if xs[i] <= xs[i - 1]:
-                found.append(error(
+                found.append(report(
                     CODE,
                     f"PWL in {rung_no(rung)}: point {i} has x = {xs[i]}, not greater than "
                     f"x = {xs[i - 1]} of point {i - 1}; x values must be strictly increasing",

@@ -2,17 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, table_numbers
 
-CODE = register(
-    "LD307", "PWL segment too steep or too long for 16-bit math",
-    "PWL computes y[i-1] + (x - x[i-1]) * dy / dx in 16-bit arithmetic, so for every segment the "
-    "product dx * dy must stay within -32768..32766. LDmicro: \"Numerical problem with piecewise "
-    "linear lookup table. Either make the table entries smaller, or space the points together more "
-    "closely.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -27,7 +21,7 @@ def check(program, index):
             dx, dy = xs[i] - xs[i - 1], ys[i] - ys[i - 1]
             product = dx * dy
             if product >= 32767 or product <= -32768:
-                found.append(error(
+                found.append(report(
                     CODE,
                     f"PWL in {rung_no(rung)}: the segment from point {i - 1} to point {i} has "
                     f"dx * dy = {dx} * {dy} = {product}, beyond 16-bit math; make the entries smaller "

@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, mark_related, mark_text, rung_no
 from .varflags import analyse
 
-CODE = register(
-    "LD123", "PWM output name already used otherwise",
-    "A PWM output's name may be used elsewhere only by RES (which switches it off) and by other "
-    "SET PWM instructions. LDmicro refuses a SET PWM whose name an earlier instruction (a timer, a "
-    "counter, a MOV...) already used: \"PWM: variable can only be used for RES elsewhere\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -21,7 +16,7 @@ def check(program, index):
         if conflict.kind != "pwm":
             continue
         mark = conflict.mark
-        found.append(error(
+        found.append(report(
             CODE,
             f"SET PWM '{mark.name}' in {rung_no(mark.rung)}: the name is already used by "
             f"{mark_text(conflict.earlier[0])}; a PWM output's name can only be used elsewhere by RES",

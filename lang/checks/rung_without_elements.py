@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import warning
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no
 
-CODE = register(
-    "LD213", "rung without elements",
-    "A .ld file can hold a RUNG ... END block with nothing in it (LDmicro's own samples have one). "
-    "LDmicro loads and compiles it as a rung that does nothing, unlike an empty rung drawn in the "
-    "editor (PLACEHOLDER, LD212), which it refuses. Delete it.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     return [
-        warning(CODE, f"{rung_no(number)} has no elements and does nothing; delete it", rung.span)
+        report(CODE, f"{rung_no(number)} has no elements and does nothing; delete it", rung.span)
         for number, rung in enumerate(program.rungs)
         if not rung.circuit.items
     ]

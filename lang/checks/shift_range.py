@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from ..values import is_literal
 from .common import arg_span, literal_or_none, rung_no, token, var_size
 
-CODE = register(
-    "LD302", "shift count out of range",
-    "SHL, SHR, SR0, ROL and ROR shift within the size of their first operand, so a constant count "
-    "must be between 0 and 8 times that size in bytes (0..16 for a 2-byte variable). LDmicro: "
-    "\"Shift constant %s=%d out of range of the '%s' variable: 0 to %d inclusive.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -27,7 +22,7 @@ def check(program, index):
         size = var_size(program, source)
         if size is None or 0 <= count <= 8 * size:
             continue
-        found.append(error(
+        found.append(report(
             CODE,
             f"{element.kind} in {rung_no(rung)}: shift count {count} is out of range for '{source}' "
             f"({size} bytes): 0 to {8 * size} inclusive",

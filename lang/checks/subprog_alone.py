@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD204", "SUBPROG or ENDSUB not alone in its rung",
-    "SUBPROG and ENDSUB mark where a subroutine starts and ends; each must be the only element of "
-    "its rung. LDmicro: \"SUBPROG: '...' declaration must be a single inside the rung\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -20,7 +16,7 @@ def check(program, index):
         if len(items) == 1 and items[0] is element:
             continue
         name = token(element.args.get("label"))
-        found.append(error(
+        found.append(report(
             CODE,
             f"{element.kind} '{name}' in {rung_no(rung)} must be the only element of its rung",
             element.span or arg_span(element, "label"),

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD205", "SUBPROG and ENDSUB not paired",
-    "A subroutine runs from the rung after SUBPROG name to the ENDSUB of the same name, which must "
-    "come after it. LDmicro: \"SUBPROG: ENDSUB '...' not found!\" and \"ENDSUB: SUBPROG '...' not "
-    "found!\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -24,7 +19,7 @@ def check(program, index):
         name = token(element.args.get("label"))
         ends[name] = max(ends.get(name, rung), rung)
         if name not in starts or starts[name] > rung:
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"ENDSUB '{name}' in {rung_no(rung)} has no SUBPROG '{name}' before it",
                 arg_span(element, "label"),
@@ -34,7 +29,7 @@ def check(program, index):
         if starts.get(name) != rung:
             continue  # a duplicate: LD206
         if name not in ends or ends[name] < rung:
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"SUBPROG '{name}' in {rung_no(rung)} has no ENDSUB '{name}' after it",
                 arg_span(element, "label"),

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import Related, error
+from ..codes import rule_code
+from ..diagnostics import Related, report
 from .common import arg_span, rung_no, token
 
-CODE = register(
-    "LD206", "subroutine declared twice",
-    "Each subroutine name may have one SUBPROG and one ENDSUB. LDmicro: \"SUBPROG: Only one SUBPROG "
-    "'...' is allowed!\" and \"ENDSUB: Only one ENDSUB '...' is allowed!\".",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -25,7 +21,7 @@ def check(program, index):
             first_rung, first_element = first[name]
             span = arg_span(first_element, "label")
             related = [Related(span, f"the first {kind} '{name}'")] if span else []
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"{kind} '{name}' in {rung_no(rung)}: there is already a {kind} '{name}' in "
                 f"{rung_no(first_rung)}; only one is allowed",

@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, label, mark_related, mark_text, rung_no
 from .varflags import analyse
 
-CODE = register(
-    "LD124", "table name already used otherwise",
-    "The table name of a look-up table or piecewise-linear table names data in flash; LDmicro "
-    "refuses a table whose name an earlier instruction used as a variable, timer or counter: "
-    "\"TABLE: variable can be used only with TABLE\". Give the table a name of its own.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -21,7 +16,7 @@ def check(program, index):
         if conflict.kind != "table":
             continue
         mark = conflict.mark
-        found.append(error(
+        found.append(report(
             CODE,
             f"{label(mark.element)} table '{mark.name}' in {rung_no(mark.rung)}: the name is already used by "
             f"{mark_text(conflict.earlier[0])}; a table name can be used only for tables",

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no
 
-CODE = register(
-    "LD502", "READ ADC on a part without ADC",
-    "The selected part has no A/D converter, so READ ADC cannot be compiled for it. LDmicro: \"No "
-    "ADC or ADC not supported for selected micro.\" Choose a part with analog inputs.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -18,6 +14,6 @@ def check(program, index):
     if device is None or device.adc:
         return []
     return [
-        error(CODE, f"READ ADC in {rung_no(rung)}: the {device.title} has no A/D converter", element.span)
+        report(CODE, f"READ ADC in {rung_no(rung)}: the {device.title} has no A/D converter", element.span)
         for rung, element in index.of_kind("READ_ADC")
     ]

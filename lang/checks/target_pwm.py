@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import rung_no
 
-CODE = register(
-    "LD504", "SET PWM on a part without PWM",
-    "The selected part has no hardware PWM output LDmicro can use, so SET PWM cannot be compiled "
-    "for it. LDmicro: \"PWM function used but not supported for this micro.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -18,6 +14,6 @@ def check(program, index):
     if device is None or device.pwm:
         return []
     return [
-        error(CODE, f"SET PWM in {rung_no(rung)}: the {device.title} has no PWM output", element.span)
+        report(CODE, f"SET PWM in {rung_no(rung)}: the {device.title} has no PWM output", element.span)
         for rung, element in index.of_kind("SET_PWM")
     ]

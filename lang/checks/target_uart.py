@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import UART_KINDS, describe, rung_no
 
-CODE = register(
-    "LD503", "UART instruction on a part without UART",
-    "The selected part has no UART, so UART SEND, UART RECV, their ready/available tests and "
-    "formatted strings cannot be compiled for it. LDmicro: \"UART function used but not supported "
-    "for this micro.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -19,6 +14,6 @@ def check(program, index):
     if device is None or device.uart:
         return []
     return [
-        error(CODE, f"{describe(element)} in {rung_no(rung)}: the {device.title} has no UART", element.span)
+        report(CODE, f"{describe(element)} in {rung_no(rung)}: the {device.title} has no UART", element.span)
         for rung, element in index.of_kind(*UART_KINDS)
     ]

@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
 
-CODE = register(
-    "LD313", "timer adjust as large as the period",
-    "An adjust value (in PLC cycles) at least as large as the timer's whole period makes no sense "
-    "as a correction. LDmicro: \"Timer '...': Adjusting the timer delay to a value greater than or "
-    "near than the timer delay is meaningless. Decrease the adjust value!\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     return [
-        error(
+        report(
             CODE,
             f"{timer_text(element)} in {rung_no(rung)}: the adjust {adjust} is not smaller than the "
             f"period of {period} cycle(s) ({delay_text(delay)}); decrease the adjust value",

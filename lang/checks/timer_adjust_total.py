@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
 
-CODE = register(
-    "LD312", "timer adjust leaves no delay",
-    "The adjust value (in PLC cycles) is added to a timer's period; old LDmicro0.1 files get -1 for "
-    "TON, TOF and RTO. When the adjusted period is 0 cycles or less the timer cannot work. LDmicro: "
-    "\"Timer '...': Total timer delay cannot be zero or negative. Increase the adjust value!\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     return [
-        error(
+        report(
             CODE,
             f"{timer_text(element)} in {rung_no(rung)}: the delay {delay_text(delay)} is {period} cycle(s), "
             f"and the adjust {adjust} leaves {adjusted}; increase the adjust value or the delay",

@@ -2,20 +2,16 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, rung_no, timer_periods, timer_text
 
-CODE = register(
-    "LD310", "timer delay zero or negative",
-    "A timer's delay must be a positive time. LDmicro: \"Timer '...': Delay cannot be zero or "
-    "negative.\"",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     return [
-        error(
+        report(
             CODE,
             f"{timer_text(element)} in {rung_no(rung)}: the delay ({delay} us) must be greater than zero",
             arg_span(element, "delay"),

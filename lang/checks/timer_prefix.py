@@ -2,15 +2,10 @@
 
 from __future__ import annotations
 
-from ..codes import register
+from ..codes import rule_code
 from .common import TIMERS, misnamed
 
-CODE = register(
-    "LD104", "timer name does not start with T",
-    "Timers (TON, TOF, RTO, RTL, TCY, THI, TLO) keep their count in a variable whose name starts "
-    "with T; LDmicro's timer dialog forces that letter. Another first letter gives the timer a name "
-    "that reads as something else (an input, a counter, a plain variable).",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):

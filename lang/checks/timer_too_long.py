@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
 
-CODE = register(
-    "LD314", "timer delay too long",
-    "A delay is held in microseconds in a signed 32-bit number (at most 2147483647 us, about 35.79 "
-    "minutes), and the period in cycles must fit a 32-bit timer variable. LDmicro: \"Timer period "
-    "too long.\" Use a slower cycle time, or count longer times with a counter.",
-)
+CODE = rule_code(__name__)
 
 MAX = (1 << 31) - 1
 
@@ -26,7 +21,7 @@ def check(program, index):
             reason = f"the period of {max(period, adjusted)} cycles does not fit a 32-bit timer"
         else:
             continue
-        found.append(error(
+        found.append(report(
             CODE,
             f"{timer_text(element)} in {rung_no(rung)}: {reason}",
             arg_span(element, "delay"),

@@ -2,23 +2,17 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
 
-CODE = register(
-    "LD311", "timer delay shorter than the cycle time",
-    "Timers count PLC cycles: the period is the delay divided by the cycle time, rounded down. A "
-    "delay shorter than one cycle gives a period of 0 cycles. LDmicro: \"Timer period too short "
-    "(needs faster cycle time). Or increase timer period.\" Lengthen the delay or shorten the "
-    "cycle time.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
     cycle = program.settings.cycle_us
     return [
-        error(
+        report(
             CODE,
             f"{timer_text(element)} in {rung_no(rung)}: the delay {delay_text(delay)} is shorter than "
             f"the PLC cycle time {delay_text(cycle)}; lengthen the delay or shorten the cycle",

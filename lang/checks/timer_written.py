@@ -2,18 +2,12 @@
 
 from __future__ import annotations
 
-from ..codes import register
-from ..diagnostics import error
+from ..codes import rule_code
+from ..diagnostics import report
 from .common import arg_span, label, mark_related, mark_text, rung_no
 from .varflags import PWM, analyse
 
-CODE = register(
-    "LD122", "timer or PWM name written by another instruction",
-    "After a TON, TOF, TCY, RTL, THI, TLO or SET PWM, LDmicro refuses any general instruction that "
-    "writes the same name (MOV, arithmetic, READ ADC, a LUT destination, a label of that name...): "
-    "the timer's count or the PWM state would be overwritten. RTO is the exception: writing an RTO's "
-    "count after it is accepted, and so are counters. Reads (comparisons) are always fine.",
-)
+CODE = rule_code(__name__)
 
 
 def check(program, index):
@@ -24,7 +18,7 @@ def check(program, index):
         mark = conflict.mark
         owner = conflict.earlier[0]
         what = "PWM" if owner.flag == PWM else owner.flag
-        found.append(error(
+        found.append(report(
             CODE,
             f"{label(mark.element)} in {rung_no(mark.rung)} uses '{mark.name}', which is "
             f"{mark_text(owner)}; that name can only be used elsewhere by RES "

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..codes import TRUNCATED
-from ..diagnostics import error
+from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from .common import arg_span, label, rung_no
 
@@ -19,7 +19,7 @@ _OTHER_FIELDS = {key: fields for key, fields in _OTHER_FIELDS.items() if fields}
 
 
 def _error(value: str, rung: int, element, field: str):
-    return error(
+    return report(
         CODE,
         f"'{value}' ({label(element)}, {rung_no(rung)}) is a name LDmicro's text export cut short "
         "with '~': the full name is lost; write the whole name (it is in the .ld file)",
@@ -45,7 +45,7 @@ def check(program, index):
                     found.append(_error(value, rung, element, field))
     for name, assignment in program.pins.items():
         if name.endswith("~"):
-            found.append(error(
+            found.append(report(
                 CODE,
                 f"'{name}' in the I/O assignment is a name LDmicro's text export cut short with '~': "
                 "write the whole name",

@@ -133,11 +133,9 @@ def formatted_string(gen: Gen, el, p: str) -> None:
     if fmt.digits and not var:
         raise CompileError(BAD_OPERAND, "a variable is interpolated into the formatted string, "
                                         "but none is specified")
-    if var and not fmt.digits:
-        raise CompileError(BAD_OPERAND, "no variable is interpolated into the formatted string, but "
-                                        "a variable name is specified; include a string like '\\-3'")
     sender = gen.constant(make_sender(fmt), "FS")
-    value = gen.operand(var) if var else "0"
+    # a variable the text never inserts is not read (LD323 warns), as in LDmicro's code
+    value = gen.operand(var) if var and fmt.digits else "0"
     state = [gen.memory("one"), gen.memory("busy"), gen.memory("seq", "int"),
              gen.memory("conv", "int"), gen.memory("lead")]
     gen.emit(f"{p}, {', '.join(state)} = {sender}(now, {p}, {value}, {', '.join(state)}, U)")
