@@ -16,6 +16,7 @@ import importlib
 from dataclasses import replace
 
 from lang.checks import check_program
+from lang.config import NONE, Severities
 from lang.devices import Device, find_device
 from lang.diagnostics import ERROR, Diagnostic
 from lang.model import Program
@@ -53,20 +54,24 @@ def retarget(program: Program, device: Device) -> Program:
     return replace(program, settings=replace(program.settings, mcu=device.ldmicro_name or device.part))
 
 
-def build(program: Program, target: str | None = None) -> Build:
-    """Compile; CompileError with located diagnostics when it cannot."""
+def build(program: Program, target: str | None = None, severities: Severities = NONE) -> Build:
+    """Compile; CompileError with located diagnostics when it cannot (or
+    when the project's `severities` make a warning an error)."""
     device = target_device(program, target)
     backend = BACKENDS[device.family]
     moved = _moved_pins(program, device)
     program = retarget(program, device)
-    problems = [d for d in check_program(program, for_build=True) if d.severity == ERROR]
+    problems = [d for d in check_program(program, True, severities) if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
     code = optimise(lower_program(program, device, backend.delay_loop_cycles))
     image = backend.compile(code, machine_for(program, device))
     budget = scan_budget(program, device, image)
     overrun = overrun_warning(program, budget)
-    return Build(program, device, image, moved + image.warnings + ([overrun] if overrun else []), budget)
+    warnings = severities.apply(moved + image.warnings + ([overrun] if overrun else []), building=True)
+    if any(d.severity == ERROR for d in warnings):
+        raise CompileError([d for d in warnings if d.severity == ERROR])
+    return Build(program, device, image, warnings, budget)
 
 
 def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:

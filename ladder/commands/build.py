@@ -13,7 +13,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from lang import codes
+from lang import codes, config
 from lang.targets import parts_text
 
 from ._common import (
@@ -56,7 +56,10 @@ def run(args) -> int:
         report(args.file, loaded.diagnostics, stream=sys.stdout)
         return EXIT_PROBLEMS
     try:
-        build = compiler.build(loaded.program, args.target)
+        build = compiler.build(loaded.program, args.target, config.find(Path(args.file)))
+    except config.ConfigError as bad:
+        print(f"ladder build: {bad}", file=sys.stderr)
+        return EXIT_USAGE
     except CompileError as problem:
         report(args.file, problem.diagnostics, stream=sys.stdout)
         return EXIT_PROBLEMS

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from lang import codes
+import sys
+from pathlib import Path
+
+from lang import codes, config
 
 from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report
 
@@ -32,7 +35,11 @@ def run(args) -> int:
             status = EXIT_USAGE
             continue
         if not has_errors(diagnostics):
-            diagnostics += check_program(loaded.program)
+            try:
+                diagnostics += check_program(loaded.program, severities=config.find(Path(path)))
+            except config.ConfigError as bad:
+                print(f"ladder check: {bad}", file=sys.stderr)
+                return EXIT_USAGE
         report(path, diagnostics)
         if has_errors(diagnostics) and status == EXIT_OK:
             status = EXIT_PROBLEMS

@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib
 
 from ..codes import rules
+from ..config import NONE, Severities
 from ..diagnostics import Diagnostic
 from ..model import Program
 from .index import ProgramIndex
@@ -30,13 +31,15 @@ def position(diagnostic: Diagnostic) -> tuple:
     return (span.line, span.col, diagnostic.code, diagnostic.message)
 
 
-def check_program(program: Program, for_build: bool = False) -> list[Diagnostic]:
-    """Every rule's diagnostics for the program, sorted by position;
-    `for_build` when it is about to be compiled (`ladder build`, compile on
-    save), where a rule may be stricter (LD501)."""
+def check_program(program: Program, for_build: bool = False, severities: Severities = NONE) -> list[Diagnostic]:
+    """Every rule's diagnostics for the program at the project's chosen
+    severities, sorted by position; `for_build` when it is about to be
+    compiled (`ladder build`, compile on save), where a rule may be stricter
+    (LD501) and no error is lowered."""
     index = ProgramIndex(program, for_build)
     found: list[Diagnostic] = []
     for rule in RULES:
         found.extend(rule.check(program, index))
+    found = severities.apply(found, building=for_build)
     found.sort(key=position)
     return found
