@@ -18,25 +18,42 @@ class Related:
 
 
 @dataclass(frozen=True)
+class Rename:
+    """Rename a name everywhere it is used (drawing, I/O, VAR LIST, DETAILS)."""
+
+    old: str
+    new: str
+
+
+@dataclass(frozen=True)
+class SetPart:
+    """Select another part (the MICRO setting)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class Fix:
+    """A change that removes the diagnostic; the editor offers it as a quick
+    fix and `ladder check --fix` applies a diagnostic's first one."""
+
+    title: str
+    change: Rename | SetPart
+
+
+@dataclass(frozen=True)
 class Diagnostic:
     code: str  # stable code, e.g. "LD101"; documented by `ladder explain CODE`
     severity: str  # ERROR or WARNING
     message: str
     span: Span | None
     related: tuple[Related, ...] = field(default=())
+    fixes: tuple[Fix, ...] = field(default=(), compare=False)
 
     def format(self, path: str) -> str:
         """`path:line:col: severity CODE message`, 1-based line and column."""
         line, col = (self.span.line + 1, self.span.col + 1) if self.span else (1, 1)
         return f"{path}:{line}:{col}: {self.severity} {self.code} {self.message}"
-
-
-class LadderError(Exception):
-    """A file that cannot be read at all (it carries the located diagnostics)."""
-
-    def __init__(self, diagnostics: list[Diagnostic]):
-        super().__init__("; ".join(d.message for d in diagnostics))
-        self.diagnostics = diagnostics
 
 
 def error(code: str, message: str, span: Span | None, *related: Related) -> Diagnostic:
@@ -47,7 +64,8 @@ def warning(code: str, message: str, span: Span | None, *related: Related) -> Di
     return Diagnostic(code, WARNING, message, span, tuple(related))
 
 
-def report(code: str, message: str, span: Span | None, *related: Related, severity: str | None = None) -> Diagnostic:
+def report(code: str, message: str, span: Span | None, *related: Related, severity: str | None = None,
+           fixes: tuple[Fix, ...] = ()) -> Diagnostic:
     """A diagnostic at its code's default severity (the registry's), or at
     `severity` where the context decides (LD501 is an error when building)."""
-    return Diagnostic(code, severity or CODES[code].severity, message, span, tuple(related))
+    return Diagnostic(code, severity or CODES[code].severity, message, span, tuple(related), fixes)

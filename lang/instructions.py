@@ -18,7 +18,6 @@ from .drawing import Box, Text, box, text
 LAYERS = ("parse", "check", "sim", "avr", "pic16")
 ALL = frozenset(LAYERS)
 DRAWN_ONLY = frozenset({"parse", "check"})
-NO_PIC = frozenset({"parse", "check", "sim", "avr"})
 SIM_ONLY = frozenset({"parse", "check", "sim"})
 
 
@@ -357,7 +356,7 @@ define(
 # --- analog, PWM, EEPROM ----------------------------------------------------------------------
 
 define(
-    "READ_ADC", "read A/D converter", (var("name", "write"), integer("refs", 0, drawn=False)),
+    "READ_ADC", "read A/D converter", (var("name", "write", "A"), integer("refs", 0, drawn=False)),
     text("{name}"), text("{{READ ADC}}"),
     "While its input is 1, reads the analog input pin assigned to the A name into "
     "that variable (0 to 1023 on 10-bit converters).",

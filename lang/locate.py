@@ -167,19 +167,6 @@ class Locator:
                 break
         return Span(span.end_line, span.col, span.end_line, span.end_col)
 
-    def element_key(self, element: Element) -> tuple[int, int] | None:
-        """(rung index, index among the rung's elements in evaluation order):
-        the simulator's ElementKey."""
-        if element.span is None:
-            return None
-        index = self.rung_at(element.span.end_line)
-        if index is None:
-            return None
-        for position, other in enumerate(self.program.rungs[index].elements()):
-            if other is element:
-                return index, position
-        return None
-
     # --- sections of a text file ------------------------------------------------------
 
     @cached_property

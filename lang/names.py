@@ -12,31 +12,9 @@ from .checks.common import GENERATED, describe
 from .checks.index import ProgramIndex, Use
 from .instructions import INSTRUCTIONS, Field
 from .model import Program
+from .roles import BIT_PREFIXES, GENERAL, PIN_PREFIXES, ROLES, role
 from .values import is_literal
 
-# First letter of a name -> (short role, what it means); ldmicro-formats.md §4.2
-ROLES: dict[str, tuple[str, str]] = {
-    "X": ("digital input", "a digital input pin (1 bit); it needs a pin to be compiled"),
-    "Y": ("digital output", "a digital output pin (1 bit); it needs a pin to be compiled"),
-    "R": ("internal relay", "an internal relay: a bit in memory"),
-    "M": ("Modbus coil", "a Modbus coil (a bit)"),
-    "I": ("Modbus discrete input", "a Modbus discrete input (a bit)"),
-    "P": ("PWM output", "a PWM output pin"),
-    "T": ("timer", "a timer accumulator: an integer counting PLC cycles"),
-    "C": ("counter", "a counter accumulator (an integer)"),
-    "A": ("A/D input", "an A/D converter reading (an integer) bound to an analog pin"),
-    "H": ("Modbus holding register", "a Modbus holding register (an integer)"),
-    "#": ("hardware register", "a hardware register (#PORTx, #PINx, #TRISx, #<address>, #<var> indirect)"),
-    "$": ("compiler-internal name", "a name the compiler reserves for itself"),
-}
-GENERAL = ("integer variable", "a general-purpose signed integer variable (1 to 4 bytes, 2 by default)")
-BIT_PREFIXES = "XYRMIP"
-PIN_PREFIXES = "XYAP"  # names that take a pin of the part
-
-
-def role(name: str) -> tuple[str, str]:
-    """(short role, sentence) for a name, from its first letter."""
-    return ROLES.get(name[:1], GENERAL)
 
 
 def is_name(text: str) -> bool:
@@ -209,14 +187,3 @@ def pin_candidates(program: Program, name: str = "") -> list[tuple[int, str, str
 def unassigned_io_names(program: Program, index: ProgramIndex) -> list[str]:
     """X, Y, A and P names the program uses that have no I/O row yet."""
     return sorted(n for n in index.uses if n[:1] in PIN_PREFIXES and len(n) > 1 and n not in program.pins)
-
-
-def similar_parts(name: str, limit: int = 3) -> list[str]:
-    """Known part names closest to a misspelt one."""
-    import difflib
-
-    from .devices import part_names
-
-    known = [n for n, _ in part_candidates()] + part_names()
-    lowered = {k.lower(): k for k in known}
-    return [lowered[m] for m in difflib.get_close_matches(name.lower(), list(lowered), n=limit, cutoff=0.5)]

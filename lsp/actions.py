@@ -9,12 +9,11 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-from lang import edits, names
-from lang.checks import part_unknown
+from lang import edits
+from lang.fixes import fix_edits
 
 from .documents import LADDER
-from .navigation import rename_edits, workspace_edit
-from .server import UserError
+from .navigation import workspace_edit
 
 QUICKFIX = "quickfix"
 REWRITE = "refactor.rewrite"
@@ -61,45 +60,24 @@ def _action(title: str, kind, edit: types.WorkspaceEdit | None = None, command=N
 # --- quick fixes ------------------------------------------------------------------------------
 
 def quick_fixes(ls, analysis, diagnostics) -> list[types.CodeAction]:
+    """The fixes the checks attached to the client's diagnostics (lang.fixes
+    turns each into edits, as `ladder check --fix` does)."""
     actions = []
     for diagnostic in diagnostics or ():
-        if diagnostic.source not in (None, "ladder"):
+        if diagnostic.source not in (None, "ladder") or analysis.has_errors:
             continue
-        line, col = analysis.positions.from_client(diagnostic.range.start)
-        if diagnostic.code == part_unknown.CODE:
-            actions += _part_fixes(ls, analysis, diagnostic)
-            continue
-        hit = analysis.locator.hit(line, col)
-        if hit is None or hit.element is None or hit.field is None:
-            continue
-        value = hit.element.args.get(hit.field)
-        allowed = names.allowed_prefixes(hit.element.kind, hit.field)
-        if not isinstance(value, str) or not allowed or value[:1] in allowed or not names.is_name(value):
-            continue
-        if analysis.has_errors:
-            continue
-        for position, candidate in enumerate(edits.prefixed(value, allowed)):
-            try:
-                change = workspace_edit(ls, analysis, *rename_edits(analysis, value, candidate))
-            except UserError:
+        for found in analysis.checks:
+            if found.code != diagnostic.code or found.span is None or \
+                    analysis.positions.range(found.span) != diagnostic.range:
                 continue
-            role = names.role(candidate)[0]
-            actions.append(_action(f"Rename '{value}' to '{candidate}' ({role})", QUICKFIX, change,
-                                   diagnostics=[diagnostic], preferred=position == 0))
-    return actions
-
-
-def _part_fixes(ls, analysis, diagnostic) -> list[types.CodeAction]:
-    mcu = analysis.program.settings.mcu or ""
-    span = getattr(analysis.program.settings, "mcu_span", None)
-    if not mcu or span is None:
-        return []
-    actions = []
-    for position, name in enumerate(names.similar_parts(mcu)):
-        edit = types.TextEdit(range=analysis.positions.range(span), new_text=name)
-        change = types.WorkspaceEdit(changes={analysis.uri: [edit]})
-        actions.append(_action(f"Change the part to '{name}'", QUICKFIX, change, diagnostics=[diagnostic],
-                               preferred=position == 0))
+            for position, fix in enumerate(found.fixes):
+                try:
+                    change = workspace_edit(ls, analysis, *fix_edits(fix, analysis.program, analysis.text,
+                                                                       analysis.kind))
+                except edits.EditError:
+                    continue
+                actions.append(_action(fix.title, QUICKFIX, change, diagnostics=[diagnostic],
+                                       preferred=position == 0))
     return actions
 
 

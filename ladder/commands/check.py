@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from lang import codes, config
+from lang.fixes import fix_all
+from lang.loader import Loaded, parse
+from lang.values import encode_text
 
-from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report
+from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_bytes
 
 
 def register(subparsers) -> None:
@@ -16,6 +20,9 @@ def register(subparsers) -> None:
         description="Check ladder programs. Exit 0 when clean (warnings allowed), 1 when errors were found, "
                     "2 when a file cannot be read.")
     parser.add_argument("files", nargs="+", metavar="FILE")
+    parser.add_argument("--fix", action="store_true",
+                        help="make the fixes that need no choice (a timer named 'delay' becomes 'Tdelay'), "
+                             "write the file back and report what remains")
     add_encoding(parser)
     parser.set_defaults(func=run)
 
@@ -36,11 +43,27 @@ def run(args) -> int:
             continue
         if not has_errors(diagnostics):
             try:
-                diagnostics += check_program(loaded.program, severities=config.find(Path(path)))
+                severities = config.find(Path(path))
             except config.ConfigError as bad:
                 print(f"ladder check: {bad}", file=sys.stderr)
                 return EXIT_USAGE
+            if args.fix:
+                loaded = _fixed(path, loaded, severities) or loaded
+                diagnostics = list(loaded.diagnostics)
+            diagnostics += check_program(loaded.program, severities=severities)
         report(path, diagnostics)
         if has_errors(diagnostics) and status == EXIT_OK:
             status = EXIT_PROBLEMS
     return status
+
+
+def _fixed(path: str, loaded: Loaded, severities) -> Loaded | None:
+    """The file after `--fix`, written back and read again (None: nothing fixed)."""
+    text, applied = fix_all(loaded.text, loaded.kind, severities)
+    if not applied:
+        return None
+    write_bytes(path, encode_text(text, loaded.encoding))
+    for title in applied:
+        print(f"{path}: fixed: {title}", file=sys.stderr)
+    program, problems = parse(text, loaded.kind)
+    return replace(loaded, program=program, diagnostics=problems, text=text)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..values import is_literal
 from ..diagnostics import report
-from .common import arg_span, rung_no, token
+from .common import arg_span, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 
@@ -19,5 +19,6 @@ def check(program, index):
                 CODE,
                 f"READ ADC '{name}' in {rung_no(rung)}: A/D input names start with A (e.g. 'A{name}')",
                 arg_span(element, "name"),
+                fixes=prefix_fixes(index, element, "name"),
             ))
     return found

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, label, rung_no, token
+from .common import arg_span, label, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 
@@ -19,5 +19,6 @@ def check(program, index):
                 f"{label(element)} '{name}' in {rung_no(rung)} writes an input pin: "
                 "X names can only be read; write an output (Y) or a relay (R)",
                 arg_span(element, "name"),
+                fixes=prefix_fixes(index, element, "name"),
             ))
     return found

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..values import is_literal
 from ..diagnostics import report
-from .common import arg_span, label, rung_no, token
+from .common import arg_span, label, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 
@@ -21,5 +21,6 @@ def check(program, index):
             f"{label(element)} '{name}' in {rung_no(rung)} must name an output bit "
             "(Y output, R relay or M Modbus coil)",
             arg_span(element, "name"),
+            fixes=prefix_fixes(index, element, "name"),
         ))
     return found

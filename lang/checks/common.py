@@ -6,8 +6,9 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..instructions import INSTRUCTIONS
-from ..diagnostics import Related, report
+from ..diagnostics import Fix, Related, Rename, report
 from ..model import Element, Parallel, Series, Span, iter_elements
+from ..roles import ROLES, role
 from ..values import format_delay, is_literal, literal_value
 
 # Instructions that must end their branch (coils, MOV, RES...).
@@ -371,6 +372,22 @@ def read_never_written(index):
                 yield name, first_read
 
 
+def prefix_fixes(index, element: Element, field_name: str) -> tuple[Fix, ...]:
+    """Renames of an operand's name to each first letter its instruction
+    allows, in the table's order: a role letter is replaced (`Xlamp` on a
+    coil: `Ylamp`, `Rlamp`, `Mlamp`), anything else gets one in front
+    (`delay` on a timer: `Tdelay`). Names the program already uses are not
+    offered: the rename would merge two things."""
+    name = token(element.args.get(field_name))
+    spec = INSTRUCTIONS.get(element.kind)
+    field = next((f for f in spec.fields if f.name == field_name), None) if spec else None
+    if field is None or not field.prefixes or not name or is_literal(name):
+        return ()
+    body = name[1:] if name[0] in ROLES and len(name) > 1 else name
+    return tuple(Fix(f"Rename '{name}' to '{p + body}' ({role(p)[0]})", Rename(name, p + body))
+                 for p in field.prefixes if p + body != name and p + body not in index.uses)
+
+
 def misnamed(index, code: str, kinds, letter: str, noun: str):
     """Warnings for the elements of `kinds` whose name does not start with
     `letter` (a timer not named T..., a counter not named C...)."""
@@ -383,5 +400,6 @@ def misnamed(index, code: str, kinds, letter: str, noun: str):
                 f"{element.kind} {noun} '{name}' in {rung_no(rung)}: {noun} names start with {letter} "
                 f"(e.g. '{letter}{name}')",
                 arg_span(element, "name"),
+                fixes=prefix_fixes(index, element, "name"),
             ))
     return found

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, rung_no, token
+from .common import arg_span, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 
@@ -26,5 +26,6 @@ def check(program, index):
             CODE,
             f"contact '{name}' in {rung_no(rung)} must name a bit (X, Y, R, P, I or M): {hint}",
             arg_span(element, "name"),
+            fixes=prefix_fixes(index, element, "name"),
         ))
     return found

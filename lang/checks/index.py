@@ -217,9 +217,6 @@ class ProgramIndex:
     def has_kind(self, *kinds: str) -> bool:
         return any(kind in self.by_kind for kind in kinds)
 
-    def is_written(self, name: str) -> bool:
-        return any(use.writes for use in self.uses.get(name, ()))
-
     @cached_property
     def device(self):
         """The selected part's pin data, or None (no part, or no data for it)."""
@@ -230,7 +227,3 @@ class ProgramIndex:
 
         return find_device(mcu)
 
-
-def all_series(index: ProgramIndex) -> list[tuple[int, Series]]:
-    """(rung index, Series) for every series of the program, rung circuits included."""
-    return index.series

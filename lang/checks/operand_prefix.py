@@ -6,12 +6,12 @@ from ..codes import rule_code
 from ..values import is_literal
 from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
-from .common import COUNTERS, TIMERS, arg_span, label, rung_no, token
+from .common import COUNTERS, TIMERS, arg_span, label, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 
-# contacts, coils, timers, counters, RES and SET PWM have rules of their own
-_OWN_RULE = frozenset(("CONTACTS", "COIL", "RES", "SET_PWM") + TIMERS + COUNTERS)
+# contacts, coils, timers, counters, RES, SET PWM and READ ADC have rules of their own
+_OWN_RULE = frozenset(("CONTACTS", "COIL", "RES", "SET_PWM", "READ_ADC") + TIMERS + COUNTERS)
 _FIELDS = {
     key: tuple((f.name, f.prefixes) for f in spec.fields if f.prefixes)
     for key, spec in INSTRUCTIONS.items()
@@ -33,5 +33,6 @@ def check(program, index):
                     CODE,
                     f"{label(element)} operand '{field}' = '{name}' in {rung_no(rung)} must start with {allowed}",
                     arg_span(element, field),
+                    fixes=prefix_fixes(index, element, field),
                 ))
     return found

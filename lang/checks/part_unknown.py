@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..devices import find_device, is_known_ldmicro_name
-from ..diagnostics import report
+from ..devices import find_device, is_known_ldmicro_name, similar_parts
+from ..diagnostics import Fix, SetPart, report
 
 CODE = rule_code(__name__)
 
@@ -13,4 +13,6 @@ def check(program, index):
     mcu = program.settings.mcu
     if not mcu or find_device(mcu) is not None or is_known_ldmicro_name(mcu):
         return []
-    return [report(CODE, f"unknown part '{mcu}'; `ladder parts` lists the parts", program.settings.mcu_span)]
+    fixes = tuple(Fix(f"Change the part to '{name}'", SetPart(name)) for name in similar_parts(mcu))
+    return [report(CODE, f"unknown part '{mcu}'; `ladder parts` lists the parts", program.settings.mcu_span,
+                   fixes=fixes)]

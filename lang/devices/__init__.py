@@ -22,6 +22,7 @@ the whole document for them.
 
 from __future__ import annotations
 
+import difflib
 import json
 import re
 from dataclasses import dataclass, field
@@ -221,3 +222,10 @@ def is_known_ldmicro_name(name: str) -> bool:
     gives None, this gives True) from a name nobody knows.
     """
     return _norm(name) in _ldmicro_names()
+
+
+def similar_parts(name: str, limit: int = 3) -> list[str]:
+    """Known part names closest to a misspelt one (LDmicro's names first)."""
+    known = [d.ldmicro_name for d in all_devices() if d.ldmicro_name] + part_names()
+    lowered = {k.lower(): k for k in known}
+    return [lowered[m] for m in difflib.get_close_matches(name.lower(), list(lowered), n=limit, cutoff=0.5)]
