@@ -12,7 +12,7 @@ from .checks.common import GENERATED, describe
 from .checks.index import ProgramIndex, Use
 from .instructions import INSTRUCTIONS, Field
 from .model import Program
-from .roles import BIT_PREFIXES, GENERAL, PIN_PREFIXES, ROLES, role
+from .roles import BIT_PREFIXES, PIN_PREFIXES, role
 from .values import is_literal
 
 

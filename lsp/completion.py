@@ -25,6 +25,7 @@ from lang import edits, names
 from lang.instructions import INSTRUCTIONS
 from lang.locate import Locator, rail_column, word_at
 from lang.model import Span
+from lang.roles import role
 from lang.textform.sections import DIAGRAM, IO
 
 from .documents import LD
@@ -88,9 +89,9 @@ def _names(analysis, line, col, text, kind, field) -> list[types.CompletionItem]
     edit_range = analysis.positions.range(Span.at(line, start, end))
     items = []
     for name in found:
-        role, _ = names.role(name)
+        short = role(name)[0]
         items.append(types.CompletionItem(
-            label=name, kind=types.CompletionItemKind.Variable, detail=role,
+            label=name, kind=types.CompletionItemKind.Variable, detail=short,
             text_edit=types.TextEdit(range=edit_range, new_text=name)))
     return items
 
@@ -117,7 +118,7 @@ def _io_row(analysis, line, col, text) -> list[types.CompletionItem] | None:
     if column == 0:
         start, end, _ = _word_range(analysis, line, col, text)
         edit_range = analysis.positions.range(Span.at(line, start, end))
-        return [types.CompletionItem(label=n, kind=types.CompletionItemKind.Variable, detail=names.role(n)[0],
+        return [types.CompletionItem(label=n, kind=types.CompletionItemKind.Variable, detail=role(n)[0],
                                      text_edit=types.TextEdit(range=edit_range, new_text=n))
                 for n in names.unassigned_io_names(analysis.program, analysis.index)]
     if column not in (2, 3):

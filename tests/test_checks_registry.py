@@ -4,7 +4,6 @@ results sorted, and fast enough for the language server."""
 
 from __future__ import annotations
 
-import importlib
 import os
 import pkgutil
 import re

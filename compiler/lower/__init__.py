@@ -10,6 +10,7 @@ scan (counter start values, TOF accumulators, random seeds) is `Code.init`.
 from __future__ import annotations
 
 from lang.checks.common import describe
+from lang.codes import code
 from lang.devices import Device
 from lang.model import Element, Program, Series
 from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
