@@ -14,7 +14,6 @@ them out.
 from __future__ import annotations
 
 import io
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -22,6 +21,7 @@ from typing import TYPE_CHECKING
 from intelhex import IntelHex
 
 from lang.devices import Device
+from lang.files import write_whole
 from lang.diagnostics import Diagnostic
 from lang.model import Program
 
@@ -118,14 +118,6 @@ class Build:
         listing suffix). Each appears whole or not at all: it is written to
         a temporary file in the same folder and renamed."""
         hex_path = Path(hex_path)
-        _write_whole(hex_path, self.image.hex())
-        _write_whole(self.listing_path(hex_path), self.image.listing)
+        write_whole(hex_path, self.image.hex().encode("ascii"))
+        write_whole(self.listing_path(hex_path), self.image.listing.encode("utf-8"))
 
-
-def _write_whole(path: Path, text: str) -> None:
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        temporary.write_text(text, encoding="utf-8")
-        os.replace(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)

@@ -9,8 +9,16 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+from importlib import metadata
 
 COMMANDS = ("check", "fmt", "convert", "dump", "explain", "parts", "new", "sim", "test", "build", "lsp")
+
+
+def _version() -> str:
+    try:
+        return metadata.version("textladder")
+    except metadata.PackageNotFoundError:  # run from a checkout that is not installed
+        return "(not installed)"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -18,6 +26,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="ladder",
         description="Ladder logic as plain text: check, format, convert, simulate and compile LDmicro programs.",
     )
+    parser.add_argument("--version", action="version", version=f"ladder {_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     subparsers.required = True
     for name in COMMANDS:

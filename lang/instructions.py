@@ -29,6 +29,7 @@ class Field:
     access: str = "read"  # read | write | rw | "" (not a variable)
     default: object = None  # what a short legacy .ld line or an undrawn detail leaves
     drawn: bool = True  # shown in the text drawing (else kept in DETAILS)
+    optional: bool = False  # a trailing .ld operand some files leave out: absent is None, written back absent
 
 
 @dataclass(frozen=True)
@@ -172,7 +173,12 @@ for _key, (_title, _pre, _doc) in _TIMERS.items():
     )
 
 define(
-    "TIME2COUNT", "time to count converter", (var("name"), Field("delay", "delay", access="")),
+    "TIME2COUNT", "time to count converter",
+    # LDmicro 5.4 writes an adjust as for timers (older releases wrote none) but its
+    # loader never reads it back, so it is 0 in every program LDmicro compiles:
+    # kept as the file has it (None: absent), not used
+    (var("name"), Field("delay", "delay", access=""),
+     Field("adjust", "int", access="", drawn=False, optional=True)),
     text("{name}"), text("[T2CNT {delay:delay}]"),
     "While its input is 1, stores in its variable the number of scan cycles that "
     "makes the given time, for use as a variable timer delay.",

@@ -35,7 +35,6 @@ docs/):
 from __future__ import annotations
 
 import re
-import warnings
 from pathlib import Path
 
 from lark import Lark, Token, Tree
@@ -64,7 +63,6 @@ __all__ = [
     "write_ld_bytes",
     "element_line",
     "line_limit_diagnostics",
-    "LdLineTooLong",
     "MAX_LINE_BYTES",
     "MAX_LIST_LINE_BYTES",
 ]
@@ -247,7 +245,9 @@ class _Reader:
         self.column_zero(tok)
         if kind == "version":
             number = value[len("LDmicro"):].strip()
-            if number not in ("0.1", "0.2"):
+            # LDmicro reads every header but 0.1 as 0.2; some 5.x releases write a bare
+            # `LDmicro`, kept as the empty version so the file is written back as it was
+            if number not in ("0.1", "0.2", ""):
                 self.warn(LD_SYNTAX, f"unknown file version '{value}': read as LDmicro0.2", span)
                 number = "0.2"
             self.version = number
@@ -612,10 +612,12 @@ class _ElementLine:
         for index, field in enumerate(fields):
             if index < len(self.toks):
                 args[field.name] = self.take(field, self.toks[index])
+            elif field.optional:
+                args[field.name] = None
             elif field.default is not None:
                 args[field.name] = self.legacy_default(field)
             else:
-                required = [f.name for f in fields if f.default is None]
+                required = [f.name for f in fields if f.default is None and not f.optional]
                 self.missing(f"{len(required)} operand{'s' if len(required) != 1 else ''} "
                              f"({' '.join(required)})")
         self.extra(len(fields))
@@ -815,23 +817,20 @@ class _ElementLine:
 # ==================================================================================
 
 
-class LdLineTooLong(UserWarning):
-    """A written `.ld` line is longer than LDmicro's reader takes (§3.1)."""
-
-
 def write_ld(program: Program, version: str | None = None, *, encoding: str = "cp1252",
              diagnostics: list[Diagnostic] | None = None) -> str:
     """The `.ld` text LDmicro 5.4 writes for this program, with LF line ends.
 
-    `version` "0.2" or "0.1" (default: the program's Settings.ld_version).
+    `version` "0.2", "0.1" or "" (a bare `LDmicro` header, read as 0.2;
+    default: the program's Settings.ld_version).
     `encoding` is the code page the 0.1 character codes are counted in.
     Lines longer than LDmicro reads (511 bytes; 63 in the three lists) are
     written anyway; each is reported as a warning diagnostic appended to
-    `diagnostics`, or, when no list is given, as an `LdLineTooLong` warning.
+    `diagnostics` (commands pass a list and print them).
     """
     version = program.settings.ld_version if version is None else version
-    if version not in ("0.1", "0.2"):
-        raise ValueError(f"unknown .ld version {version!r}: use '0.1' or '0.2'")
+    if version not in ("0.1", "0.2", ""):
+        raise ValueError(f"unknown .ld version {version!r}: use '0.1', '0.2' or ''")
     s = program.settings
     out: list[str] = [f"LDmicro{version}"]
     # (line index, limit, span) of every line that must respect §3.1
@@ -872,13 +871,8 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
             _write_node(item, 1, out, spans, version, encoding, in_parallel=False)
         out.append("END")
     text = "\n".join(out) + "\n"
-    problems = line_limit_diagnostics(out, encoding, list_lines, spans)
-    if problems:
-        if diagnostics is not None:
-            diagnostics.extend(problems)
-        else:
-            for problem in problems:
-                warnings.warn(problem.message, LdLineTooLong, stacklevel=2)
+    if diagnostics is not None:
+        diagnostics.extend(line_limit_diagnostics(out, encoding, list_lines, spans))
     return text
 
 
@@ -992,7 +986,8 @@ def element_line(element: Element, version: str = "0.2", encoding: str = "cp1252
             value = a[field.name]
             parts.append(escape_ld(str(value), True) if field.name in ("z", "dir") else _str(value))
         return " ".join(parts)
-    return " ".join([key] + [_str(a[field.name]) for field in ins.fields])
+    # a trailing operand a file may leave out (None) is left out again
+    return " ".join([key] + [_str(a[field.name]) for field in ins.fields if a.get(field.name) is not None])
 
 
 def line_limit_diagnostics(lines: list[str], encoding: str = "cp1252",

@@ -96,8 +96,9 @@ class Settings:
     i2c_rate: int = 100000
     compiled: str | None = None
     compiler: str | None = None
-    # LDmicro file dialect the program came from ("0.1" or "0.2"); it decides
-    # defaults such as the timer adjust of old files and how a .ld is written
+    # LDmicro file dialect the program came from ("0.1", "0.2", or "" for a bare
+    # `LDmicro` header, read as 0.2); it decides defaults such as the timer
+    # adjust of old files and how a .ld is written
     ld_version: str = "0.2"
     # where the part is named (the header line, the MICRO= line), for diagnostics
     mcu_span: Span | None = field(default=None, compare=False, repr=False)

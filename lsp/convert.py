@@ -17,6 +17,7 @@ from urllib.parse import urlparse
 from lsprotocol import types
 
 from lang.devices import find_device
+from lang.files import write_whole
 from lang.loader import load_file
 from lang.targets import compiled
 from lang.values import encode_text
@@ -52,7 +53,16 @@ def convert(ls, uri: str, target: str) -> dict:
         from lang.ldfile import write_ld
 
         out = source.with_suffix(".ld")
-        data = encode_text(write_ld(program).replace("\n", "\r\n"), ls.settings.encoding)
+        long_lines: list = []
+        text = write_ld(program, diagnostics=long_lines)
+        try:
+            data = encode_text(text.replace("\n", "\r\n"), ls.settings.encoding)
+        except UnicodeEncodeError as problem:
+            raise UserError(f"{problem.object[problem.start]!r} cannot be written in {ls.settings.encoding}, "
+                            "the code page of the .ld file; rename it or choose another ladder.encoding") from None
+        if long_lines:
+            ls.window_show_message(types.ShowMessageParams(
+                type=types.MessageType.Warning, message="; ".join(d.message for d in long_lines)))
     else:
         from lang.textform.writer import render_program
 
@@ -61,7 +71,7 @@ def convert(ls, uri: str, target: str) -> dict:
     if out == source:
         raise UserError(f"{source.name} is already a {'.ld' if target == 'ld' else '.ladder'} file")
     try:
-        out.write_bytes(data)
+        write_whole(out, data)
     except OSError as problem:
         raise UserError(f"cannot write {out}: {problem.strerror or problem}") from problem
     return {"path": str(out)}

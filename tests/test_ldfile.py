@@ -17,7 +17,6 @@ from lang.codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
 from lang.diagnostics import ERROR, WARNING
 from lang.instructions import INSTRUCTIONS, LD_KEYWORDS
 from lang.ldfile import (
-    LdLineTooLong,
     element_line,
     read_ld,
     read_ld_bytes,
@@ -466,10 +465,9 @@ def test_long_lines_are_reported_not_silent():
     assert "x" * 600 in text  # written anyway
     assert len(diagnostics) == 2 and all(d.severity == WARNING for d in diagnostics)
     assert "511" in diagnostics[1].message and "63" in diagnostics[0].message
-    with pytest.warns(LdLineTooLong):
-        write_ld(program)
     with warnings.catch_warnings():
-        warnings.simplefilter("error")
+        warnings.simplefilter("error")  # never a raw Python warning, with or without a list
+        write_ld(program)
         write_ld(load(EXPORT / "catalog.ld"))
 
 
@@ -495,7 +493,9 @@ def test_newer_timers_default_adjust_is_zero(kind):
 
 def test_timer_delay_is_microseconds_or_a_variable():
     assert one("TON Tx delayVar 0").args["delay"] == "delayVar"
-    assert one("TIME2COUNT Tx 250").args == {"name": "Tx", "delay": 250}
+    # LDmicro 5.4 writes TIME2COUNT's adjust, older files have none: both are kept as they are
+    assert one("TIME2COUNT Tx 250").args == {"name": "Tx", "delay": 250, "adjust": None}
+    assert one("TIME2COUNT Tx 250 0").args == {"name": "Tx", "delay": 250, "adjust": 0}
     assert one("DELAY 10").args == {"delay": "10"}
 
 

@@ -61,8 +61,15 @@ def test_sim_errors_are_located_and_exit_1(capsys, tmp_path):
     program.write_text("LDmicro0.2\nCYCLE=10000\n\nPROGRAM\nRUNG\n  DIV q 1 z\nEND\n", encoding="ascii")
     status, _, err = run(capsys, "sim", str(program), "--cycles", "2")
     assert status == 1 and "LD610" in err and str(program) in err
-    status, _, err = run(capsys, "sim", str(tmp_path / "missing.ld"))
-    assert status == 1
+    assert "division by zero: DIV q := 1 / z with z = 0" in err
+
+
+def test_a_missing_file_is_a_usage_error_in_every_command(capsys, tmp_path):
+    missing = str(tmp_path / "missing.ld")
+    for argv in (["check", missing], ["fmt", missing], ["sim", missing], ["build", missing], ["dump", missing],
+                 ["convert", missing, str(tmp_path / "out.ladder")], ["test", str(tmp_path / "missing.scn")]):
+        status, out, err = run(capsys, *argv)
+        assert status == 2 and "missing" in out + err, argv
 
 
 def test_scenario_files_pass(capsys, tmp_path):

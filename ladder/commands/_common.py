@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from lang.diagnostics import ERROR, Diagnostic
+from lang.files import write_whole
 from lang.loader import Loaded, load_file
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE = 0, 1, 2
@@ -35,5 +36,12 @@ def has_errors(diagnostics: list[Diagnostic]) -> bool:
     return any(d.severity == ERROR for d in diagnostics)
 
 
-def write_bytes(path: str, data: bytes) -> None:
-    Path(path).write_bytes(data)
+def write_output(path: str | Path, data: bytes) -> bool:
+    """Write a file whole (lang.files); False after `path: error: cannot
+    write: reason`, the one message every command gives."""
+    try:
+        write_whole(path, data)
+    except OSError as problem:
+        print(f"{problem.filename or path}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
+        return False
+    return True

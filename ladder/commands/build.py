@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 from lang import codes, config
-from lang.targets import parts_text
+from lang.devices import find_device
+from lang.targets import compiled, parts_text
 
 from ._common import (
     EXIT_OK,
@@ -46,6 +47,13 @@ def run(args) -> int:
     import compiler
     from compiler.errors import CompileError
 
+    if args.target is not None:
+        device = find_device(args.target)
+        if device is None or not compiled(device):
+            known = "unknown part" if device is None else "a part ladder build does not compile"
+            print(f"ladder build: error: --target {args.target}: {known}; it compiles for {parts_text()}",
+                  file=sys.stderr)
+            return EXIT_USAGE
     loaded = load(args.file, args.encoding)
     if loaded is None:
         return EXIT_USAGE
@@ -68,7 +76,7 @@ def run(args) -> int:
     try:
         build.write(output)
     except OSError as problem:
-        print(f"{output}: error: {problem.strerror or problem}", file=sys.stderr)
+        print(f"{problem.filename or output}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
         return EXIT_USAGE
     print(build.summary())
     if build.budget is not None:

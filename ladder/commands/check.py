@@ -8,10 +8,10 @@ from pathlib import Path
 
 from lang import codes, config
 from lang.fixes import fix_all
-from lang.loader import Loaded, parse
+from lang.loader import Loaded, kind_of, parse
 from lang.values import encode_text
 
-from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_bytes
+from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_output
 
 
 def register(subparsers) -> None:
@@ -19,7 +19,7 @@ def register(subparsers) -> None:
         "check", help="report problems as path:line:col: severity CODE message",
         description="Check ladder programs. Exit 0 when clean (warnings allowed), 1 when errors were found, "
                     "2 when a file cannot be read.")
-    parser.add_argument("files", nargs="+", metavar="FILE")
+    parser.add_argument("files", nargs="+", metavar="FILE", help="a program, or - to read one from stdin")
     parser.add_argument("--fix", action="store_true",
                         help="make the fixes that need no choice (a timer named 'delay' becomes 'Tdelay'), "
                              "write the file back and report what remains")
@@ -32,7 +32,11 @@ def run(args) -> int:
 
     status = EXIT_OK
     for path in args.files:
-        loaded = load(path, args.encoding)
+        if path == "-" and args.fix:
+            print("ladder check: error: --fix rewrites files; it cannot fix stdin", file=sys.stderr)
+            return EXIT_USAGE
+        loaded = _stdin() if path == "-" else load(path, args.encoding)
+        path = "<stdin>" if path == "-" else path
         if loaded is None:
             status = EXIT_USAGE
             continue
@@ -57,12 +61,21 @@ def run(args) -> int:
     return status
 
 
+def _stdin() -> Loaded:
+    """A program piped in (like `ladder fmt -`): its kind from its first line."""
+    text = sys.stdin.read()
+    kind = kind_of("-", text)
+    program, problems = parse(text, kind)
+    return Loaded(program, problems, kind, text, "utf-8")
+
+
 def _fixed(path: str, loaded: Loaded, severities) -> Loaded | None:
     """The file after `--fix`, written back and read again (None: nothing fixed)."""
     text, applied = fix_all(loaded.text, loaded.kind, severities)
     if not applied:
         return None
-    write_bytes(path, encode_text(text, loaded.encoding))
+    if not write_output(path, encode_text(text, loaded.encoding)):
+        return None
     for title in applied:
         print(f"{path}: fixed: {title}", file=sys.stderr)
     program, problems = parse(text, loaded.kind)

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import difflib
 import sys
-from pathlib import Path
 
 from lang.loader import LD_KIND
 from lang.textform.formatter import format_text
 from lang.values import encode_text
 
-from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, load, report
+from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, load, report, write_output
 
 
 def register(subparsers) -> None:
@@ -63,5 +62,6 @@ def run(args) -> int:
                 print(f"{path}: would be reformatted", file=sys.stderr)
             status = max(status, EXIT_PROBLEMS) if args.check else status
             continue
-        Path(path).write_bytes(encode_text(formatted, loaded.encoding))
+        if not write_output(path, encode_text(formatted, loaded.encoding)):
+            status = EXIT_USAGE
     return status

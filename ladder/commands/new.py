@@ -6,10 +6,11 @@ import sys
 from pathlib import Path
 
 from lang.devices import find_device
+from lang.ldfile import write_ld_bytes
 from lang.model import Element, PinAssignment, Program, Rung, Series, Settings
 from lang.textform.writer import render_program
 
-from ._common import EXIT_OK, EXIT_USAGE
+from ._common import EXIT_OK, EXIT_USAGE, write_output
 
 
 def register(subparsers) -> None:
@@ -17,7 +18,7 @@ def register(subparsers) -> None:
                                    description="Write a minimal valid program (a push button lighting a "
                                                "lamp) for a part; `ladder parts` lists the parts.")
     parser.add_argument("--part", required=True, help="part name, e.g. atmega328p or pic16f877a")
-    parser.add_argument("file", metavar="FILE")
+    parser.add_argument("file", metavar="FILE", help="FILE.ladder (the text form) or FILE.ld (LDmicro's format)")
     parser.add_argument("--force", action="store_true", help="overwrite an existing file")
     parser.set_defaults(func=run)
 
@@ -26,11 +27,13 @@ def starter_program(part: str) -> Program | None:
     device = find_device(part)
     if device is None:
         return None
-    # plain I/O pins: no crystal, reset, UART, ADC or PWM role to clash with later
+    # I/O pins with no crystal or reset role, those with no UART, ADC or PWM
+    # role to clash with later first (an 8-pin PIC has none of those)
     busy = ("XTAL", "TOSC", "OSC", "RESET", "MCLR")
-    free = [pin for pin in device.io_pins()
-            if not pin.functions and not any(word in pin.label for word in busy)]
-    inputs, outputs = free[0], free[1]
+    free = sorted((pin for pin in device.io_pins() if not any(word in pin.label for word in busy)),
+                  key=lambda pin: bool(pin.functions))
+    inputs = free[0]
+    outputs = next(pin for pin in free[1:] if "Input Only" not in pin.label)
     comment = Element("COMMENT", {"text": f"{device.title}: Xbutton lights Ylamp"})
     contact = Element("CONTACTS", {"name": "Xbutton", "negated": 0, "set1": 0})
     coil = Element("COIL", {"name": "Ylamp", "type": " "})
@@ -50,5 +53,8 @@ def run(args) -> int:
     if target.exists() and not args.force:
         print(f"ladder new: {args.file} exists; use --force to overwrite it", file=sys.stderr)
         return EXIT_USAGE
-    target.write_text(render_program(program), encoding="utf-8")
-    return EXIT_OK
+    if target.suffix.lower() == ".ld":
+        data = write_ld_bytes(program)
+    else:
+        data = render_program(program).encode("utf-8")
+    return EXIT_OK if write_output(target, data) else EXIT_USAGE

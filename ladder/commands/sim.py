@@ -6,9 +6,12 @@ time then name; a signal that is not 0 after the first scan prints at time 0.
 
 from __future__ import annotations
 
+import io
 import sys
 
-EXIT_OK, EXIT_ERROR, EXIT_USAGE = 0, 1, 2
+from ._common import EXIT_OK, EXIT_USAGE, write_output
+from ._common import EXIT_PROBLEMS as EXIT_ERROR
+
 DEFAULT_DURATION_US = 10_000_000
 
 
@@ -68,7 +71,7 @@ def run(args) -> int:
         program, diagnostics = load_path(args.file, args.encoding)
     except OSError as problem:
         print(f"{args.file}: error: {problem.strerror or problem}", file=sys.stderr)
-        return EXIT_ERROR
+        return EXIT_USAGE
     errors = [d for d in diagnostics if d.severity == ERROR]
     if errors:
         for d in errors:
@@ -96,8 +99,10 @@ def run(args) -> int:
     if args.plot and scans:
         print(diagram(trace))
     if args.vcd:
-        with open(args.vcd, "w", encoding="ascii") as out:
-            write_vcd(trace, out)
+        out = io.StringIO()
+        write_vcd(trace, out)
+        if not write_output(args.vcd, out.getvalue().encode("ascii")):
+            return EXIT_USAGE
     return status
 
 

@@ -3,12 +3,14 @@ simulator; print each failure with a timing diagram; exit 1 on any failure."""
 
 from __future__ import annotations
 
+import io
 import sys
 import time
 from pathlib import Path
 from xml.etree import ElementTree
 
-EXIT_OK, EXIT_FAILED = 0, 1
+from ._common import EXIT_OK, EXIT_USAGE, write_output
+from ._common import EXIT_PROBLEMS as EXIT_FAILED
 
 
 def register(subparsers) -> None:
@@ -26,9 +28,11 @@ def run(args) -> int:
     failed = sum(1 for suite in suites for case in suite["cases"] if case["failures"] or case["error"])
     total = sum(len(suite["cases"]) for suite in suites)
     print(f"{total - failed} passed, {failed} failed")
-    if args.junit:
-        _write_junit(suites, args.junit)
-    return EXIT_FAILED if failed else EXIT_OK
+    status = EXIT_USAGE if any(suite.get("unreadable") for suite in suites) else \
+        EXIT_FAILED if failed else EXIT_OK
+    if args.junit and not write_output(args.junit, _junit(suites)):
+        return EXIT_USAGE
+    return status
 
 
 def _run_file(path: str) -> dict:
@@ -38,9 +42,13 @@ def _run_file(path: str) -> dict:
     try:
         scenarios = parse_scenarios(Path(path).read_text(encoding="utf-8"), path)
     except (OSError, UnicodeDecodeError) as problem:
+        suite["unreadable"] = True
         return _broken(suite, path, f"{path}: error: {getattr(problem, 'strerror', None) or problem}")
     except ScenarioError as problem:
         return _broken(suite, path, str(problem))
+    if not scenarios:
+        return _broken(suite, path, f"{path}: error: no scenario in this file (each starts with a "
+                                    "`scenario NAME` line)")
     for scenario in scenarios:
         started = time.perf_counter()
         case = {"name": scenario.name, "failures": [], "error": None}
@@ -89,7 +97,9 @@ def _print_case(path: str, case: dict) -> None:
     sys.stdout.flush()
 
 
-def _write_junit(suites: list[dict], out: str) -> None:
+def _junit(suites: list[dict]) -> bytes:
+    """JUnit XML: one test case per scenario, with one <error> or one
+    <failure> holding every failed expectation (CI readers count one each)."""
     root = ElementTree.Element("testsuites")
     for suite in suites:
         failures = sum(1 for c in suite["cases"] if c["failures"])
@@ -101,6 +111,10 @@ def _write_junit(suites: list[dict], out: str) -> None:
                                           time=f"{case.get('seconds', 0.0):.3f}")
             if case["error"]:
                 ElementTree.SubElement(item, "error", message=case["error"].splitlines()[0]).text = case["error"]
-            for text in case["failures"]:
-                ElementTree.SubElement(item, "failure", message=text.splitlines()[0]).text = text
+            elif case["failures"]:
+                count = len(case["failures"])
+                message = case["failures"][0].splitlines()[0] + (f" (and {count - 1} more)" if count > 1 else "")
+                ElementTree.SubElement(item, "failure", message=message).text = "\n\n".join(case["failures"])
+    out = io.BytesIO()
     ElementTree.ElementTree(root).write(out, encoding="utf-8", xml_declaration=True)
+    return out.getvalue()

@@ -47,7 +47,10 @@ def divide(gen: Gen, el, p: str) -> None:
     fn = "cdiv" if el.kind == "DIV" else "cmod"
     gen.namespace[fn] = getattr(numbers, fn)
     with gen.block(f"if {p}:"):
-        gen.emit(f"if {b} == 0: " + gen.fault(DIVIDE_BY_ZERO, repr(f"{el.kind} by zero ({el.args['op2']} = 0)")))
+        sign = "/" if el.kind == "DIV" else "%"
+        what = f"{el.kind} {el.args['dest']} := {el.args['op1']} {sign} {el.args['op2']}"
+        gen.emit(f"if {b} == 0: " + gen.fault(DIVIDE_BY_ZERO, repr(f"division by zero: {what} with "
+                                                                  f"{el.args['op2']} = 0")))
         gen.emit(f"{d} = {gen.wrap(f'{fn}({a}, {b})', name)}")
 
 

@@ -77,6 +77,15 @@ def parse_string(text: str) -> bytes:
     return bytes(out)
 
 
+def show_bytes(data: bytes) -> str:
+    """Bytes as a scenario file writes them (`"OK\\r\\n"`), or `nothing`."""
+    if not data:
+        return "nothing"
+    named = {ord(text): f"\\{key}" for key, text in _ESCAPES.items() if len(text) == 1 and key not in "\\\""}
+    named.update({ord("\\"): "\\\\", ord('"'): '\\"'})
+    return '"' + "".join(named.get(b) or (chr(b) if 32 <= b < 127 else f"\\x{b:02X}") for b in data) + '"'
+
+
 @dataclass
 class Action:
     line: int
@@ -101,7 +110,7 @@ class Check:
 
     def describe(self) -> str:
         if self.name == "uart":
-            return f"uart {'contains ' if self.op == 'contains' else ''}{self.expected!r}"
+            return f"UART output {'containing ' if self.op == 'contains' else ''}{show_bytes(self.expected)}"
         if self.op == "in":
             return f"{self.name} in {self.expected[0]}..{self.expected[1]}"
         return f"{self.name} {self.op} {self.expected}"
@@ -138,7 +147,8 @@ class Failure:
     chart: str = ""
 
     def format(self, path: str) -> str:
-        text = f"{path}:{self.line}: at {self.time_ms} ms: {self.what}: expected {self.expected}, got {self.actual}"
+        outcome = f"expected {self.expected}, got {self.actual}" if self.expected else self.actual
+        text = f"{path}:{self.line}: at {self.time_ms} ms: {self.what}: {outcome}"
         return text + ("\n" + self.chart if self.chart else "")
 
 
@@ -261,8 +271,8 @@ def run_scenario(scenario: Scenario, sim: Simulator) -> list[Failure]:
         try:
             sim.step()
         except SimulationError as problem:
-            failures.append(Failure(scenario.line, format_time(now, cycle), "simulation", "no error",
-                                    "; ".join(d.message for d in problem.diagnostics)))
+            failures.append(Failure(scenario.line, format_time(now, cycle), "the simulation stopped", "",
+                                    "; ".join(f"{d.severity} {d.code} {d.message}" for d in problem.diagnostics)))
             break
         trace.record(sim)
         for check in scenario.checks:
@@ -309,7 +319,7 @@ def _evaluate(check: Check, sim: Simulator, now: int, cycle: int, trace: Trace, 
         return
     check.failed = True
     failures.append(Failure(check.line, format_time(now, cycle), check.name, check.describe(),
-                            repr(actual) if check.name == "uart" else str(actual),
+                            show_bytes(actual) if check.name == "uart" else str(actual),
                             _chart(trace, check, trace.names, now)))
 
 

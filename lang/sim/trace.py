@@ -113,10 +113,15 @@ def _int_row(trace: Trace, name: str, spans) -> str:
 
 
 def _axis(trace: Trace, spans, label: int) -> str:
+    """Times at the start, middle and end columns, each left out when it would
+    run into the one before (a short plot has room for fewer)."""
     cells = [" "] * len(spans)
-    for c in (0, len(spans) // 2, len(spans) - 1):
+    free = 0  # the first cell a label may take
+    for c in sorted({0, len(spans) // 2, len(spans) - 1}):
         text = format_time(spans[c][0], trace.cycle_us)
-        position = min(c, max(0, len(spans) - len(text)))
-        for i, ch in enumerate(text):
-            cells[position + i] = ch
+        position = max(0, min(c, len(spans) - len(text)))
+        if position < free:
+            continue
+        cells[position:position + len(text)] = text
+        free = position + len(text) + 1
     return "time (ms)".ljust(label) + " " + "".join(cells)
