@@ -10,14 +10,18 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+import sys
+import threading
 import traceback
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException, JsonRpcInternalError
+from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 
 from .documents import Documents
 from .settings import Settings
+from .transport import LadderProtocol, ResyncReader
 
 log = logging.getLogger("ladder.lsp")
 
@@ -54,7 +58,9 @@ class Raw:
 
 class LadderServer(LanguageServer):
     def __init__(self):
-        super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
+        super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
+                         protocol_cls=LadderProtocol)
+        self._reader: ResyncReader | None = None
         self.settings = Settings()
         self.documents = Documents(self)
         self.protocol._converter.register_unstructure_hook(Raw, lambda raw: raw.value)
@@ -169,6 +175,8 @@ class LadderServer(LanguageServer):
 
         if source is FeatureRequestError:
             return  # already answered with an error (and logged by the feature wrapper)
+        if isinstance(error, (ValueError, UnicodeDecodeError)) and self._reader is not None:
+            self._reader.lost()  # a body that is no JSON: its frame was cut wrong
         log.error("server error (%s): %s", getattr(source, "__name__", source), error)
         self.log(f"ladder-lsp: {error}", types.MessageType.Error)
 
@@ -181,6 +189,22 @@ class LadderServer(LanguageServer):
                 return False
             node = getattr(node, name, None)
         return bool(node)
+
+
+    def start_io(self, stdin=None, stdout=None):
+        """pygls's stdio loop with the resynchronising reader."""
+        self._stop_event = threading.Event()
+        self._reader = ResyncReader(StdinAsyncReader(stdin or sys.stdin.buffer, self.thread_pool))
+        self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+        try:
+            asyncio.run(run_async(stop_event=self._stop_event, reader=self._reader, protocol=self.protocol,
+                                  logger=log, error_handler=self.report_server_error))
+        except BrokenPipeError:
+            log.error("the client closed the connection")
+        except (KeyboardInterrupt, SystemExit):
+            pass
+        finally:
+            self.shutdown()
 
 
 def create_server() -> LadderServer:
