@@ -15,6 +15,7 @@ from pathlib import Path
 from .codes import CODES, GROUPS, Code
 
 FIXTURES = Path(__file__).resolve().parents[1] / "tests" / "diagnostics"
+_SHOWN_LINES = 60  # a longer example (10,000 rungs for LD214) is shown by its start
 
 _INTRO = """\
 # Diagnostics
@@ -71,7 +72,10 @@ def _section(code: Code, fixtures: Path) -> str:
     if verdict:
         lines += [verdict, ""]
     example = fixture_of(code.code, fixtures)
-    lines += [f"Example (`tests/diagnostics/{example.name}`):", "", "```", example.read_text(encoding="utf-8").rstrip("\n"),
+    shown = example.read_text(encoding="utf-8").rstrip("\n").split("\n")
+    if len(shown) > _SHOWN_LINES:
+        shown = shown[:_SHOWN_LINES] + [f"... ({len(shown) - _SHOWN_LINES} more lines)"]
+    lines += [f"Example (`tests/diagnostics/{example.name}`):", "", "```", *shown,
               "```", "", "```console", expected_of(example).read_text(encoding="utf-8").rstrip("\n"), "```", ""]
     return "\n".join(lines)
 

@@ -73,7 +73,6 @@ MAX_LINE_BYTES = 511
 MAX_LIST_LINE_BYTES = 63
 MAX_NAME_BYTES = 63  # MAX_NAME_LEN 64
 MAX_ENTRIES = 63  # MAX_ELEMENTS_IN_SUBCKT 64: the loader fails at the 64th entry
-MAX_RUNGS = 9999
 MAX_LUT_VALUES = 64
 
 _GRAMMAR_PATH = Path(__file__).with_name("ld.lark")
@@ -430,9 +429,6 @@ class _Reader:
     def rung(self, tree: Tree) -> None:
         head = tree.children[0]
         number = len(self.program.rungs) + 1
-        if number == MAX_RUNGS + 1:
-            self.err(LD_SYNTAX, f"more than {MAX_RUNGS} rungs: LDmicro loads only the first "
-                     f"{MAX_RUNGS}", self.line_span(head))
         items, end = self.body(tree, head, in_parallel=False, what=f"RUNG {number}")
         span = self.line_span(head)
         circuit = Series(items, self.block_span(head, end))

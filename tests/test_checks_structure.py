@@ -170,3 +170,18 @@ def test_rung_without_elements():
     assert d.severity == "warning" and d.span == prog.rungs[1].span and "rung 2" in d.message
     none(prog, "LD212")
     none(program([contact("Xa"), coil("Ya")]), "LD213")
+
+
+def test_more_rungs_than_ldmicro_loads_is_the_same_warning_in_both_formats(tmp_path):
+    from lang.loader import load_file
+    from lang.textform.writer import render_program
+
+    big = program(*[[contact("Xa"), coil("Ra")] for _ in range(10000)])
+    source = tmp_path / "big.ladder"
+    source.write_text(render_program(big), encoding="utf-8")
+    loaded = load_file(source)
+    from lang.checks import check_program
+
+    found_in_text = [d for d in check_program(loaded.program) if d.code == "LD214"]
+    assert len(found_in_text) == 1 and found_in_text[0].severity == "warning"
+    none(program(*[[contact("Xa"), coil("Ra")] for _ in range(9999)]), "LD214")
