@@ -161,3 +161,25 @@ def test_a_written_file_keeps_its_mode(capsys, tmp_path, program):
     program.write_text(program.read_text(encoding="utf-8").replace("||\n", "   ||\n", 1), encoding="utf-8")
     run(capsys, "fmt", program)
     assert program.stat().st_mode & 0o777 == 0o640
+
+
+def _rails(text: str) -> set[int]:
+    return {len(line) for line in text.splitlines() if line.rstrip().endswith("||")}
+
+
+def test_fmt_gives_a_hand_typed_diagram_one_width(capsys, tmp_path):
+    source = tmp_path / "jagged.ladder"
+    source.write_text("LDmicro export text.\n\nLADDER DIAGRAM:\n"
+                      "    ||      Xa          Ya     ||\n0001||-----] [--------( )------||\n\n"
+                      "    ||      Xlongername         T1               Ylongeroutput    ||\n"
+                      "0002||-----] [-------------[TON 100 ms]-----------( )-------||\n\n"
+                      "   2||------[END]--||\n", encoding="utf-8")
+    assert run(capsys, "fmt", source)[0] == 0
+    once = source.read_text(encoding="utf-8")
+    assert len(_rails(once)) == 1
+    assert run(capsys, "fmt", "--check", source)[0] == 0  # a second pass changes nothing
+
+
+def test_the_new_template_has_one_width(capsys, program):
+    assert len(_rails(program.read_text(encoding="utf-8"))) == 1
+    assert run(capsys, "fmt", "--check", program)[0] == 0

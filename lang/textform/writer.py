@@ -42,9 +42,13 @@ def _needed_width(element: Element) -> int:
 
 
 def diagram_width(program: Program) -> int:
-    """LDmicro's C: the widest rung, end-of-line elements counted as one."""
+    """LDmicro's C: the widest rung, end-of-line elements counted as one, and
+    enough cells for the longest comment line (so no comment pushes its rung
+    past the right rail)."""
     widths = [natural_width(rung.circuit) for rung in program.rungs if not rung.is_comment]
-    return max(widths, default=1)
+    comments = [-(-(len(part) + 3 + COMMENT_MARGIN) // CELL) for rung in program.rungs if rung.is_comment
+                for part in str(rung.circuit.items[0].args.get("text", "")).split("\n")]
+    return max(widths + comments, default=1)
 
 
 def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
@@ -132,7 +136,8 @@ def _render_comment(text: str, number: int, columns: int) -> list[str]:
 def render_diagram(program: Program, columns: int | None = None) -> list[str]:
     """The LADDER DIAGRAM block. `columns` keeps a file's existing width
     (its END rung shows it); by default the widest rung sets it."""
-    columns = columns or diagram_width(program)
+    # a file narrower than its widest rung (typed by hand) gets the width that rung needs
+    columns = max(columns or 0, diagram_width(program))
     width = CELL * columns
     blank = "    ||" + " " * width + "||"
     lines = [blank]
