@@ -13,7 +13,7 @@ import copy
 import re
 from dataclasses import dataclass
 
-from .instructions import INSTRUCTIONS
+from .instructions import DEFAULT_LINES, INSTRUCTIONS
 from .locate import Locator
 from .model import Element, Node, Parallel, Program, Rung, Series, rung_circuit
 from .textform.formatter import existing_width
@@ -45,40 +45,6 @@ class TextEdit:
     end_col: int
     text: str
 
-
-# LDmicro's editor defaults for a new element, as .ld lines (ldmicro-formats.md §2)
-DEFAULT_LINES = {
-    "CONTACTS": "CONTACTS Xnew 0 0", "COIL": "COIL Ynew 0 0 0 0",
-    "TON": "TON Tnew 100000 0", "TOF": "TOF Tnew 100000 0", "RTO": "RTO Tnew 100000 0",
-    "RTL": "RTL Tnew 100000 0", "TCY": "TCY Tnew 100000 0", "THI": "THI Tnew 100000 0",
-    "TLO": "TLO Tnew 100000 0", "TIME2COUNT": "TIME2COUNT Tnew 100000", "TIME2DELAY": "TIME2DELAY delay 10",
-    "DELAY": "DELAY 10", "RES": "RES Tnew",
-    "CTU": "CTU Cnew 10 0 /", "CTD": "CTD Cnew -10 0 /", "CTC": "CTC Cnew 9 0 /", "CTR": "CTR Cnew -9 0 /",
-    "EQU": "EQU var 1", "NEQ": "NEQ var 1", "GRT": "GRT var 1", "GEQ": "GEQ var 1", "LES": "LES var 1",
-    "LEQ": "LEQ var 1", "IF_BIT_SET": "IF_BIT_SET var bit", "IF_BIT_CLEAR": "IF_BIT_CLEAR var bit",
-    "MOVE": "MOVE dest src", "NEG": "NEG dest src", "NOT": "NOT dest src",
-    "SET_BIT": "SET_BIT var bit", "CLEAR_BIT": "CLEAR_BIT var bit",
-    "BIN2BCD": "BIN2BCD dest src", "BCD2BIN": "BCD2BIN dest src", "SWAP": "SWAP dest src",
-    "OPPOSITE": "OPPOSITE dest src", "RANDOM": "RANDOM Rand", "SEED_RANDOM": "SEED_RANDOM Rand newSeed",
-    "SHIFT_REGISTER": "SHIFT_REGISTER reg 7",
-    "LOOK_UP_TABLE": "LOOK_UP_TABLE dest index 4 0 10 20 30 40 tabName",
-    "PIECEWISE_LINEAR": "PIECEWISE_LINEAR yvar xvar 2 0 0 10 100 name",
-    "READ_ADC": "READ_ADC ADCnew 0", "SET_PWM": "SET_PWM duty_cycle 1000 PWMoutpin 0-100%",
-    "PERSIST": "PERSIST saved", "UART_SEND": "UART_SEND var 1 0", "UART_RECV": "UART_RECV var 1 0",
-    "FORMATTED_STRING": "FORMATTED_STRING var value:\\x20\\\\3\\\\r\\\\n",
-    "GOTO": "GOTO loop", "LABEL": "LABEL loop", "SUBPROG": "SUBPROG sub", "ENDSUB": "ENDSUB sub",
-    "GOSUB": "GOSUB sub", "7SEGMENTS": "7SEGMENTS dest src C", "9SEGMENTS": "9SEGMENTS dest src C",
-    "14SEGMENTS": "14SEGMENTS dest src C", "16SEGMENTS": "16SEGMENTS dest src A",
-    "STRING": "STRING dest var frmtString", "BUS": "BUS dest src 7 6 5 4 3 2 1 0",
-    "SPI": "SPI SPI1 send recv Master 0 8 MSB 1000000", "SPI_WR": "SPI_WR SPI1 send recv Master 0 8 MSB 1000000",
-    "I2C_RD": "I2C_RD I2C1 send recv Master 0 0 MSB 100000", "I2C_WR": "I2C_WR I2C1 send recv Master 0 0 MSB 100000",
-    "QUAD_ENCOD": "QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0",
-    "PULSER": "PULSER D1 D0 accel_decel counter Ypulse", "STEPPER": "STEPPER step stepMax P 100 1 Ystep",
-    "NPULSE": "NPULSE counter 1000 YNpulse", "RSFR": "RSFR sfr dest", "WSFR": "WSFR sfr src",
-    "SSFR": "SSFR sfr 1", "CSFR": "CSFR sfr 1", "TSFR": "TSFR sfr 1", "TCSFR": "TCSFR sfr 1",
-}
-for _key in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR", "SHL", "SHR", "SR0", "ROL", "ROR"):
-    DEFAULT_LINES[_key] = f"{_key} dest src 1"
 
 # what completion and the code actions offer, in menu order
 COMMON = ("CONTACTS", "COIL", "TON", "TOF", "RTO", "CTU", "CTD", "RES", "OSR", "OSF", "MOVE", "ADD", "SUB",

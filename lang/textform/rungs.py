@@ -274,8 +274,7 @@ class _RungReader:
                 self.problem(codes.BAD_VALUE, str(bad), row, start, end)
                 return None
             if found is None:
-                shown = glyph if not top_text.strip() else f"{top_text.strip()} / {glyph}"
-                self.problem(codes.UNKNOWN_ELEMENT, f"no instruction is drawn like {shown!r}", row, start, end)
+                self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
                 return None
             key, values = found
             drawn = dict(values)
@@ -387,3 +386,16 @@ def _find_word(text: str, word: str, lo: int, hi: int) -> int:
             return position
         position = text.find(word, position + 1, hi)
     return -1
+
+
+def unknown_message(glyph: str, top: str) -> str:
+    """LD003's message: a known glyph with nothing above it lacks its name;
+    anything else gets the closest drawings."""
+    from ..reference import suggestion
+
+    if not top.strip():
+        named = recognise(glyph, "Xname".center(len(glyph)))
+        if named is not None:
+            return f"this {INSTRUCTIONS[named[0]].title} has no name: write it on the line above {glyph.strip('-')!r}"
+    shown = glyph if not top.strip() else f"{top.strip()} / {glyph}"
+    return f"no instruction is drawn like {shown!r}" + suggestion(glyph, top)
