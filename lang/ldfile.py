@@ -43,6 +43,7 @@ from lark.exceptions import LarkError
 from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
 from .diagnostics import Diagnostic, error, warning
 from .instructions import INSTRUCTIONS, LD_KEYWORDS, Field, Instruction
+from .trampoline import run
 from .model import (
     Element,
     Node,
@@ -441,6 +442,9 @@ class _Reader:
 
     def body(self, tree: Tree, head: Token, in_parallel: bool, what: str
              ) -> tuple[list[Node], Token | None]:
+        return run(self._body(tree, head, in_parallel, what))
+
+    def _body(self, tree: Tree, head: Token, in_parallel: bool, what: str):
         items: list[Node] = []
         end: Token | None = None
         entries = 0
@@ -466,11 +470,11 @@ class _Reader:
                     self.err(LD_SYNTAX, "PARALLEL directly inside a PARALLEL: LDmicro cannot "
                              "load it; put the inner PARALLEL in a SERIES",
                              self.line_span(ptok))
-                branches, pend = self.body(child, ptok, in_parallel=True, what="PARALLEL")
+                branches, pend = yield self._body(child, ptok, True, "PARALLEL")
                 items.append(Parallel(branches, self.block_span(ptok, pend)))
             elif child.data == "series":
                 stok = child.children[0]
-                inner, send = self.body(child, stok, in_parallel=False, what="SERIES")
+                inner, send = yield self._body(child, stok, False, "SERIES")
                 items.append(Series(inner, self.block_span(stok, send)))
         if end is None:
             self.err(LD_SYNTAX, f"{what} is not closed: END missing "

@@ -183,3 +183,30 @@ def test_fmt_gives_a_hand_typed_diagram_one_width(capsys, tmp_path):
 def test_the_new_template_has_one_width(capsys, program):
     assert len(_rails(program.read_text(encoding="utf-8"))) == 1
     assert run(capsys, "fmt", "--check", program)[0] == 0
+
+
+def _nested(depth: int) -> str:
+    """A rung whose parallel holds a series holding a parallel... `depth` deep."""
+    lines, indent = ["LDmicro0.2", "", "PROGRAM", "RUNG 1"], "  "
+    for level in range(depth):
+        lines += [indent + "PARALLEL", indent + "  SERIES", indent + f"    CONTACTS Xa{level} 0 0"]
+        indent += "    "
+    lines.append(indent + "CONTACTS Xz 0 0")
+    for level in reversed(range(depth)):
+        indent = indent[:-4]
+        lines += [indent + "  END", indent + f"  CONTACTS Xb{level} 0 0", indent + "END"]
+    return "\n".join(lines + ["  COIL Yout 0 0 0 0", "END", ""])
+
+
+def test_two_hundred_nested_parallels_pass_every_command(capsys, tmp_path):
+    source = tmp_path / "deep.ld"
+    source.write_text(_nested(200), encoding="ascii")
+    text = tmp_path / "deep.ladder"
+    for argv in (["check", source], ["convert", source, text], ["check", text], ["fmt", text],
+                 ["convert", text, tmp_path / "back.ld"], ["sim", text, "--cycles", "2"], ["dump", source]):
+        status, _, err = run(capsys, *argv)
+        assert status == 0 and "Traceback" not in err, (argv, err[-300:])
+    def elements(text):
+        return [(e.kind, e.args) for _, e in read_ld(text)[0].elements()]
+
+    assert elements((tmp_path / "back.ld").read_text(encoding="cp1252")) == elements(_nested(200))

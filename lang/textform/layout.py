@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..model import Element, Node, Series
+from ..trampoline import run
 
 
 @dataclass
@@ -43,22 +44,32 @@ def cells_of(element: Element) -> int:
 def natural_width(node: Node) -> int:
     """Width in cells with end-of-line elements counted as one (how LDmicro
     measures the widest rung)."""
+    return run(_natural_width(node))
+
+
+def _natural_width(node: Node):
     if isinstance(node, Element):
         return cells_of(node)
-    if isinstance(node, Series):
-        return sum(natural_width(item) for item in node.items)
-    return max(natural_width(branch) for branch in node.branches)
+    widths = []
+    for child in node.items if isinstance(node, Series) else node.branches:
+        widths.append((yield _natural_width(child)))
+    return sum(widths) if isinstance(node, Series) else max(widths)
 
 
 def height(node: Node) -> int:
+    return run(_height(node))
+
+
+def _height(node: Node):
     if isinstance(node, Element):
         return 1
-    if isinstance(node, Series):
-        return max((height(item) for item in node.items), default=1)
-    return sum(height(branch) for branch in node.branches)
+    heights = []
+    for child in node.items if isinstance(node, Series) else node.branches:
+        heights.append((yield _height(child)))
+    return max(heights, default=1) if isinstance(node, Series) else sum(heights)
 
 
-def _width(node: Node, so_far: int, columns: int) -> int:
+def _width(node: Node, so_far: int, columns: int):
     """Width while drawing: end-of-line elements stretch to the last column."""
     if isinstance(node, Element):
         if node.spec.eol:
@@ -67,18 +78,33 @@ def _width(node: Node, so_far: int, columns: int) -> int:
     if isinstance(node, Series):
         total = 0
         for item in node.items:
-            total += _width(item, so_far + total, columns)
+            total += yield _width(item, so_far + total, columns)
         return total
-    return max(_width(branch, so_far, columns) for branch in node.branches)
+    widths = []
+    for branch in node.branches:
+        widths.append((yield _width(branch, so_far, columns)))
+    return max(widths)
 
 
 def layout(circuit: Series, columns: int) -> Grid:
-    grid = Grid(columns, height=height(circuit))
-    _place(circuit, 0, 0, grid)
+    heights: dict[int, int] = {}
+    grid = Grid(columns, height=run(_measure(circuit, heights)))
+    run(_place(circuit, 0, 0, grid, heights))
     return grid
 
 
-def _place(node: Node, col: int, row: int, grid: Grid) -> int:
+def _measure(node: Node, heights: dict[int, int]):
+    """Every block's height, once (placing a deep rung asks for them again and again)."""
+    if isinstance(node, Element):
+        return 1
+    found = []
+    for child in node.items if isinstance(node, Series) else node.branches:
+        found.append((yield _measure(child, heights)))
+    heights[id(node)] = max(found, default=1) if isinstance(node, Series) else sum(found)
+    return heights[id(node)]
+
+
+def _place(node: Node, col: int, row: int, grid: Grid, heights: dict[int, int]):
     if isinstance(node, Element):
         if node.spec.eol:
             while col < grid.columns - 1:
@@ -88,17 +114,17 @@ def _place(node: Node, col: int, row: int, grid: Grid) -> int:
         return col + cells_of(node)
     if isinstance(node, Series):
         for item in node.items:
-            col = _place(item, col, row, grid)
+            col = yield _place(item, col, row, grid, heights)
         return col
-    width = _width(node, col, grid.columns)
-    total_height = height(node)
+    width = yield _width(node, col, grid.columns)
+    total_height = heights[id(node)]
     top = row
     for branch in node.branches:
-        end = _place(branch, col, top, grid)
+        end = yield _place(branch, col, top, grid, heights)
         while end - col < width:
             grid.put(None, end, top)
             end += 1
-        top += height(branch)
+        top += heights.get(id(branch), 1)
     end_col = col + width
     if end_col != grid.columns:
         _connect(grid, end_col - 1, end_col - 1, row, total_height)
