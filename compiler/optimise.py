@@ -268,7 +268,8 @@ def _jumps(ops: list[ir.Op]) -> list[ir.Op]:
 
 def _falls_to(ops: list[ir.Op], start: int, label: str) -> bool:
     """Whether falling through from `start` reaches `label` before any code."""
-    for op in ops[start:]:
+    for index in range(start, len(ops)):  # by index: a slice would copy the rest, quadratic overall
+        op = ops[index]
         if isinstance(op, ir.Label):
             if op.name == label:
                 return True

@@ -234,7 +234,8 @@ def _line(text: str, pc: int, words: list[int], comment: str) -> str:
 
 def _falls_into(items: list[Item], start: int, label: str) -> bool:
     """Whether the labels and comments from `start` on include `label`."""
-    for item in items[start:]:
+    for index in range(start, len(items)):  # by index: a slice would copy the rest, quadratic overall
+        item = items[index]
         if isinstance(item, Label):
             if item.name == label:
                 return True
