@@ -28,7 +28,7 @@ class Publisher:
         self.publish(uri)
 
     def schedule(self, uri: str) -> None:
-        delay = self.server.settings.diagnostics_delay_ms
+        delay = self.server.settings.delay_ms(self.last_duration_ms)
         self.cancel(uri)
         if delay <= 0:
             self.publish(uri)
@@ -109,6 +109,7 @@ def register(server) -> None:
         publisher.clear(uri)
 
     def configured(ls, _):
+        ls.documents.reconfigure()
         for uri in list(publisher.published):
             publisher.schedule(uri)
 

@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import logging
 from functools import cached_property
-from pathlib import PurePath
+from pathlib import Path, PurePath
 from urllib.parse import unquote, urlparse
 
-from lang import codes
+from lsprotocol import types
+
+from lang import codes, config
+from lang.config import NONE, Severities
 from lang.checks import check_program
 from lang.checks.index import ProgramIndex
 from lang.diagnostics import ERROR, WARNING, Diagnostic
@@ -69,6 +72,7 @@ class Analysis:
         self.problems = problems  # the reader's
         self._codec = codec
         self.too_large = False
+        self.severities = NONE  # the project's and the editor's choices (lang/config.py)
         # per-rung results of the features (semantic tokens, symbols, folding):
         # (feature, id(rung)) -> (rung, value), carried over to the next analysis
         # for the rungs it kept (same object: same text at the same place)
@@ -105,7 +109,7 @@ class Analysis:
         program that was read without errors."""
         if self.too_large or self.has_errors or any(p.code == codes.UNREADABLE for p in self.problems):
             return []
-        return check_program(self.program)
+        return check_program(self.program, severities=self.severities)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -135,6 +139,7 @@ class Documents:
         self._readers: dict[str, IncrementalReader] = {}
         # feature -> fn(value, lines moved): how a per-rung result follows its rung
         self.shifters: dict[str, object] = {}
+        self._config_errors: set[str] = set()
 
     def _document(self, uri: str):
         try:
@@ -198,10 +203,32 @@ class Documents:
         program, problems = reader.read(text)
         analysis = Analysis(uri, document.version, kind, text, program, problems,
                             self.server.workspace.position_codec)
+        analysis.severities = self.severities(uri)
         if cached is not None and cached.memo:
             analysis.memo = self._carry(cached.memo, program, reader.moved)
         self._analyses[uri] = analysis
         return analysis
+
+    def reconfigure(self) -> None:
+        """Settings changed: every kept analysis checks again with the new severities."""
+        self._config_errors.clear()
+        for uri, analysis in self._analyses.items():
+            analysis.severities = self.severities(uri)
+            analysis.__dict__.pop("checks", None)
+
+    def severities(self, uri: str) -> Severities:
+        """The settings file's choices for the document's folder, with the
+        editor's `ladder.diagnostics` on top; a file that cannot be used is
+        reported in the log once and left out."""
+        path = path_of(uri)
+        try:
+            found = config.find(Path(path)) if uri.startswith("file:") and path else NONE
+        except config.ConfigError as bad:
+            if str(bad) not in self._config_errors:
+                self._config_errors.add(str(bad))
+                self.server.log(f"ladder: {bad}", types.MessageType.Warning)
+            found = NONE
+        return found.merged(self.server.settings.severities)
 
     def _carry(self, memo: dict, program: Program, moved: dict) -> dict:
         """The per-rung results that still hold: rungs kept as they were, and

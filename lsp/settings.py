@@ -5,16 +5,28 @@
 from __future__ import annotations
 
 import codecs
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-DEFAULT_DELAY_MS = 150
+from lang.config import NONE, ConfigError, Severities, parse
+
+# the debounce when diagnosticsDelayMs is not set: none while a check is quick,
+# this much once checking takes longer (a big document), so typing stays smooth
+ADAPTIVE_DELAY_MS = 150
+QUICK_CHECK_MS = 20
 
 
 @dataclass
 class Settings:
     compile_on_save: bool = True
     encoding: str = "cp1252"
-    diagnostics_delay_ms: int = DEFAULT_DELAY_MS
+    diagnostics_delay_ms: int | None = None  # None: adaptive
+    severities: Severities = field(default=NONE)  # `ladder.diagnostics`, over the project's
+
+    def delay_ms(self, last_check_ms: float) -> int:
+        """The debounce to use after a change, given how long the last check took."""
+        if self.diagnostics_delay_ms is not None:
+            return self.diagnostics_delay_ms
+        return 0 if last_check_ms < QUICK_CHECK_MS else ADAPTIVE_DELAY_MS
 
     def update(self, section: object) -> list[str]:
         """Apply a `ladder` settings object; returns complaints about values
@@ -39,10 +51,18 @@ class Settings:
                 problems.append(f"ladder.encoding: unknown encoding {value!r}")
         if "diagnosticsDelayMs" in section:
             value = section["diagnosticsDelayMs"]
-            if isinstance(value, (int, float)) and not isinstance(value, bool) and 0 <= value <= 10000:
+            if value is None:
+                self.diagnostics_delay_ms = None
+            elif isinstance(value, (int, float)) and not isinstance(value, bool) and 0 <= value <= 10000:
                 self.diagnostics_delay_ms = int(value)
             else:
-                problems.append("ladder.diagnosticsDelayMs must be a number of milliseconds (0..10000)")
+                problems.append("ladder.diagnosticsDelayMs must be a number of milliseconds (0..10000), "
+                                "or null for the adaptive default")
+        if "diagnostics" in section:
+            try:
+                self.severities = parse(section["diagnostics"] or {}, "ladder.diagnostics")
+            except ConfigError as bad:
+                problems.append(str(bad))
         return problems
 
 
@@ -57,6 +77,6 @@ def ladder_section(settings: object) -> object:
               if isinstance(key, str) and key.startswith("ladder.")}
     if dotted:
         return dotted
-    if any(key in settings for key in ("compileOnSave", "encoding", "diagnosticsDelayMs")):
+    if any(key in settings for key in ("compileOnSave", "encoding", "diagnosticsDelayMs", "diagnostics")):
         return settings
     return None

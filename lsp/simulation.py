@@ -167,7 +167,7 @@ class Simulations:
             return
         if session.reload_handle is not None:
             session.reload_handle.cancel()
-        delay = self.server.settings.diagnostics_delay_ms / 1000
+        delay = self.server.settings.delay_ms(self.server.extensions["diagnostics"].last_duration_ms) / 1000
         if delay <= 0 and not session.busy:
             self.reload(uri)
             return

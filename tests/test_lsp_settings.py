@@ -61,3 +61,22 @@ async def test_settings_pushed_by_the_client(client):
     assert any("diagnosticsDelayMs" in m for m in messages) and any("no-such-codec" in m for m in messages)
     doc.change(line, 10, line, 11, "-")
     assert await doc.diagnostics() == []
+
+
+async def test_severities_from_the_project_and_the_editor(client, tmp_path):
+    """`[tool.ladder.diagnostics]` of the nearest pyproject.toml, with the
+    editor's `ladder.diagnostics` on top."""
+    (tmp_path / "pyproject.toml").write_text('[tool.ladder.diagnostics]\nLD130 = "error"\n', encoding="utf-8")
+    uri = (tmp_path / "p.ladder").as_uri()
+    doc = Doc(client, uri, example_text().replace("Xstop", "Rnever", 1))  # a relay never written: LD130
+    found = await doc.diagnostics()
+    assert [(d.code, d.severity) for d in found if d.code == "LD130"] == [("LD130", types.DiagnosticSeverity.Error)]
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
+        settings={"ladder": {"diagnostics": {"LD130": "off"}}}))
+    for _ in range(100):
+        await asyncio.sleep(0.05)
+        if "LD130" not in [d.code for d in client.diagnostics.get(uri, [])]:
+            break
+    assert "LD130" not in [d.code for d in client.diagnostics[uri]]
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
+        settings={"ladder": {"diagnostics": {}}}))
