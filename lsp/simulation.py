@@ -5,7 +5,7 @@ changes it answers with the state and pushes a `ladder/simulationState`
 notification; in real time the server scans on a timer and pushes at most 10
 states a second. Editing the document reloads the program into the running
 simulator (names that still exist keep their values). While a simulation
-runs, inlay hints show each name's value after it.
+runs, inlay hints show the names' values after the end of each line (never inside the drawing).
 
 `set` and `toggle` change a value without running a scan; the next step (or
 the real-time timer) shows its effect, as in a PLC whose inputs change
@@ -245,19 +245,24 @@ class Simulations:
         return self.publish(session, session.uri, reached=reached)
 
 
-def _rung_hints(analysis, rung, first, last, values, seen):
-    found = []
+def _rung_hints(analysis, rung, first, last, values, seen) -> list[types.InlayHint]:
+    """One hint per line, after its end (past the right rail), with the live
+    value of each name the line shows, left to right: a hint inside the
+    drawing would push the rest of the line and break the rails."""
+    by_line: dict[int, dict[int, str]] = {}
     for element in rung.elements():
         for field, span in element.arg_spans.items():
-            if not first <= span.line <= last or (span.line, span.end_col) in seen:
-                continue
             name = element.args.get(field)
-            if not isinstance(name, str) or name not in values:
-                continue
-            seen.add((span.line, span.end_col))
-            found.append(types.InlayHint(
-                position=analysis.positions.to_client(span.line, span.end_col),
-                label=f"={values[name]}", kind=types.InlayHintKind.Parameter, padding_left=False))
+            if first <= span.line <= last and isinstance(name, str) and name in values:
+                by_line.setdefault(span.line, {})[span.col] = f"{name}={values[name]}"
+    found = []
+    for line, names in sorted(by_line.items()):
+        if line in seen:
+            continue
+        seen.add(line)
+        found.append(types.InlayHint(
+            position=analysis.positions.to_client(line, len(analysis.line(line))),
+            label="  ".join(names[col] for col in sorted(names)), padding_left=True))
     return found
 
 

@@ -125,9 +125,10 @@ async def test_inlay_hints_and_hover_show_values(client):
                                                       end=types.Position(line=40, character=0))))
     shown = {}
     for hint in hints:
-        line = doc.lines[hint.position.line][:hint.position.character]
-        shown[line.split()[-1]] = hint.label
-    assert shown["Rrun"] == "=1" and shown["Xstop"] == "=0"
+        line = doc.lines[hint.position.line]
+        assert hint.position.character == len(line) and line.endswith("||")  # after the rail, never inside
+        shown.update(pair.split("=") for pair in hint.label.split())
+    assert shown["Rrun"] == "1" and shown["Xstop"] == "0"
     text = hover_text(await client.text_document_hover_async(types.HoverParams(
         text_document=td(doc.uri), position=doc.find("Rrun"))))
     assert "Rrun = 1" in text
