@@ -12,19 +12,19 @@ from __future__ import annotations
 import json
 import multiprocessing
 import os
-import random
 import queue
+import random
 import subprocess
 import sys
 import threading
 import time
 
-from fuzzing import ROOT, options
-
 from corpus import EXPORTS
+from fuzzing import ROOT, options
+from mutations import mutate
+
 from lang.checks import check_program
 from lang.textform.reader import read_text
-from mutations import mutate
 
 URI = "file:///fuzz/program.ladder"
 TEXTS = [path.read_text(encoding="cp1252") for path in sorted(EXPORTS.glob("*.txt"))[:8]]
@@ -76,7 +76,7 @@ class Session:
                 return
             while b"\r\n\r\n" in self.buffer:
                 head, rest = self.buffer.split(b"\r\n\r\n", 1)
-                size = int(next(l for l in head.split(b"\r\n") if l.startswith(b"Content-Length")).split(b":")[1])
+                size = int(next(ln for ln in head.split(b"\r\n") if ln.startswith(b"Content-Length")).split(b":")[1])
                 if len(rest) < size:
                     break
                 message, self.buffer = json.loads(rest[:size]), rest[size:]

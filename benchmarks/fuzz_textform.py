@@ -8,12 +8,12 @@ from __future__ import annotations
 import random
 import sys
 
-from fuzzing import fuzz, options
-
 from corpus import EXPORTS
+from fuzzing import fuzz, options
+from mutations import mutate
+
 from lang.checks import check_program
 from lang.textform.reader import read_text
-from mutations import mutate
 
 TEXTS = [path.read_text(encoding="cp1252") for path in sorted(EXPORTS.glob("*.txt"))]
 

@@ -22,9 +22,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from lsprotocol import types  # noqa: E402
+from parse_bench import big_program  # noqa: E402
 from pytest_lsp import client_capabilities, make_test_lsp_client  # noqa: E402
 
-from parse_bench import big_program  # noqa: E402
 from lang.textform.writer import render_program  # noqa: E402
 
 URI = "file:///tmp/lsp-bench/big.ladder"
@@ -96,7 +96,7 @@ async def main(rounds: int) -> None:
 
     # a new line inside rung 1001 and its removal: 1,000 rungs move
     samples = []
-    for n in range(max(4, rounds // 4)):
+    for _n in range(max(4, rounds // 4)):
         blank = lines[target + 2]
         samples.append(await change(target + 2, 0, target + 2, 0, blank))
         samples.append(await change(target + 2, 0, target + 3, 0, ""))

@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING
 from intelhex import IntelHex
 
 from lang.devices import Device
-from lang.files import write_whole
 from lang.diagnostics import Diagnostic
+from lang.files import write_whole
 from lang.model import Program
 
 if TYPE_CHECKING:

@@ -14,9 +14,9 @@ simulation faults), and a build never lowers an error (docs/diagnostics.md,
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Mapping
 
 from .codes import CODES
 from .diagnostics import ERROR, Diagnostic
@@ -51,7 +51,7 @@ class Severities:
                 kept.append(replace(diagnostic, severity=choice))
         return kept
 
-    def merged(self, other: "Severities") -> "Severities":
+    def merged(self, other: Severities) -> Severities:
         """These choices with `other`'s on top (the editor's setting over the file's)."""
         return Severities({**self.chosen, **other.chosen}, other.source or self.source)
 

@@ -43,7 +43,6 @@ from lark.exceptions import LarkError
 from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
 from .diagnostics import Diagnostic, error, warning
 from .instructions import INSTRUCTIONS, LD_KEYWORDS, Field, Instruction
-from .trampoline import run
 from .model import (
     Element,
     Node,
@@ -55,6 +54,7 @@ from .model import (
     Span,
     rung_circuit,
 )
+from .trampoline import run
 from .values import decode_bytes, encode_text, escape_ld, is_literal, literal_value, unescape_ld
 
 __all__ = [

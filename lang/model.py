@@ -9,8 +9,8 @@ equals the same program read from a `.ld` file.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Iterator, Union
 
 
 @dataclass(frozen=True, order=True)
@@ -23,10 +23,10 @@ class Span:
     end_col: int
 
     @staticmethod
-    def at(line: int, col: int, end_col: int | None = None) -> "Span":
+    def at(line: int, col: int, end_col: int | None = None) -> Span:
         return Span(line, col, line, col + 1 if end_col is None else end_col)
 
-    def union(self, other: "Span | None") -> "Span":
+    def union(self, other: Span | None) -> Span:
         if other is None:
             return self
         start = min((self.line, self.col), (other.line, other.col))
@@ -54,17 +54,17 @@ class Element:
 
 @dataclass
 class Series:
-    items: list["Node"]
+    items: list[Node]
     span: Span | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass
 class Parallel:
-    branches: list["Node"]
+    branches: list[Node]
     span: Span | None = field(default=None, compare=False, repr=False)
 
 
-Node = Union[Element, Series, Parallel]
+Node = Element | Series | Parallel
 
 
 @dataclass

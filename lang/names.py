@@ -16,7 +16,6 @@ from .roles import BIT_PREFIXES, PIN_PREFIXES, role
 from .values import is_literal
 
 
-
 def is_name(text: str) -> bool:
     """An operand that names a variable, not a constant."""
     return bool(text) and not is_literal(text) and text != "(none)"

@@ -13,7 +13,6 @@ from __future__ import annotations
 from pathlib import Path
 from urllib.parse import urlparse
 
-
 from lsprotocol import types
 
 from lang.devices import find_device

@@ -18,9 +18,9 @@ from urllib.parse import unquote, urlparse
 from lsprotocol import types
 
 from lang import codes, config
-from lang.config import NONE, Severities
 from lang.checks import check_program
 from lang.checks.index import ProgramIndex
+from lang.config import NONE, Severities
 from lang.diagnostics import ERROR, WARNING, Diagnostic
 from lang.incremental import IncrementalReader
 from lang.locate import Locator

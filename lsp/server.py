@@ -208,8 +208,19 @@ class LadderServer(LanguageServer):
 
 
 def create_server() -> LadderServer:
-    from . import (actions, completion, convert, diagnostics, formatting, hover, lifecycle, navigation,
-                   semantic, simulation, symbols)
+    from . import (
+        actions,
+        completion,
+        convert,
+        diagnostics,
+        formatting,
+        hover,
+        lifecycle,
+        navigation,
+        semantic,
+        simulation,
+        symbols,
+    )
 
     server = LadderServer()
     for module in (lifecycle, diagnostics, hover, formatting, completion, navigation, symbols, semantic,

@@ -205,7 +205,7 @@ class Simulations:
                 last = now
                 if session.busy:
                     continue
-                self.run(session, lambda: session.sim.run_for(elapsed))
+                self.run(session, lambda elapsed=elapsed: session.sim.run_for(elapsed))
                 if session.error:
                     session.realtime = False
                 self.publish(session, session.uri)

@@ -17,7 +17,6 @@ import pytest
 from lang import ldfile
 from lang.checks import check_program
 
-
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus"
 FILES = sorted(CORPUS.rglob("*.ld"))
 

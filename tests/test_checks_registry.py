@@ -13,13 +13,12 @@ import time
 from pathlib import Path
 
 import pytest
-
 from builders import coil, contact, counter, el, move, par, program, timer
 
 import lang
 import lang.checks
-from lang.checks import RULES, check_program
 from ladder.cli import main
+from lang.checks import RULES, check_program
 from lang.codes import CODES, LDMICRO_VERDICTS
 from lang.codes_doc import expected_of, fixture_of, render
 

@@ -9,7 +9,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from corpus import CORPUS, EXPORTS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "conveyor.ladder"
@@ -37,7 +36,7 @@ def test_check_reports_path_line_col_severity_code(tmp_path):
     source.write_text(COIL_ON_INPUT)
     result = ladder("check", source)
     assert result.returncode == 1
-    line = next(l for l in result.stdout.splitlines() if " LD102 " in l)
+    line = next(ln for ln in result.stdout.splitlines() if " LD102 " in ln)
     assert line.startswith(f"{source}:3:")
     assert ": error LD102 " in line
 

@@ -160,7 +160,7 @@ def test_avr_decoder_agrees_with_avr_objdump(path, target, arch, tmp_path):
     listed = _objdump(tmp_path / "p.hex", arch, image.labels["start"])
     assert len(listed) > 50
     sizes = {address: size for address, size, *_ in listed}
-    for address, size, mnemonic, operands, target_address in listed:
+    for address, size, mnemonic, _operands, target_address in listed:
         ins = instruction_at(image.words, address, build.device)
         assert ins is not None and ins.size == size, (address, mnemonic)
         extra = pc_bytes - 2 if mnemonic in ("rcall", "call", "ret") else 0

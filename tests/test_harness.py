@@ -394,8 +394,9 @@ def test_gpsim_drives_a_port_b_input_against_its_weak_pull_up(tmp_path):
     every time it is driven low, not only before it was first high (the input
     modules are a switch, not a 10 kOhm resistor that leaves the pin between
     the thresholds)."""
-    import compiler
     from builders import coil, contact, program
+
+    import compiler
 
     built = compiler.build(program([contact("Xd"), coil("Ya")], mcu="Microchip PIC16F877 40-PDIP",
                                    pins={"Xd": "RB4", "Ya": "RC7"}, crystal_hz=20_000_000))

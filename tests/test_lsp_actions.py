@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import re
-
 from pathlib import Path
 
 import pytest
-from lsprotocol import types
-
 from builders import SIM_ONLY_LD
+from lsprotocol import types
 from test_lsp_support import Doc, apply_edits, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types
-
 from test_lsp_support import Doc, example_text, hover_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -8,10 +8,10 @@ import dataclasses
 from pathlib import Path
 
 import pytest
+from generators import programs
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from generators import programs
 from lang.incremental import IncrementalReader
 from lang.textform import reader
 from lang.textform.writer import render_program
@@ -82,7 +82,7 @@ def apply(text: str, step) -> str:
         return "".join(lines[:line + 1] + [lines[line]] + lines[line + 1:])
     if kind == "line-del":
         return "".join(lines[:line] + lines[line + 1:])
-    offset = sum(len(l) for l in lines[:line]) + b % max(1, len(lines[line]))
+    offset = sum(len(ln) for ln in lines[:line]) + b % max(1, len(lines[line]))
     if kind == "type":
         return text[:offset] + ch + text[offset:]
     if kind == "delete":
@@ -114,8 +114,8 @@ def test_edits_of_generated_programs(program, data):
 
 def big_text(rungs: int = 200) -> str:
     lines = EXAMPLE.splitlines(keepends=True)
-    start = next(i for i, l in enumerate(lines) if l.startswith("LADDER DIAGRAM"))
-    end = next(i for i, l in enumerate(lines) if "[END]" in l)
+    start = next(i for i, ln in enumerate(lines) if ln.startswith("LADDER DIAGRAM"))
+    end = next(i for i, ln in enumerate(lines) if "[END]" in ln)
     body = lines[start + 1:end - 1]
     return "".join(lines[:start + 1] + body * (rungs // 4) + lines[end - 1:])
 
@@ -126,7 +126,7 @@ def test_an_edit_in_one_rung_reads_only_that_rung():
     program, _ = incremental.read(text)
     assert incremental.last_mode == "full"
     lines = text.splitlines(keepends=True)
-    target = next(i for i, l in enumerate(lines) if l.startswith("0002|")) + 100 * 3
+    target = next(i for i, ln in enumerate(lines) if ln.startswith("0002|")) + 100 * 3
     target = max(i for i in range(target) if "Xstart" in lines[i])
     edited = "".join(lines[:target]) + lines[target].replace("Xstart", "Xstert") + "".join(lines[target + 1:])
     unchanged = {id(r) for r in program.rungs}

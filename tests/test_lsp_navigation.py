@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types
-
 from test_lsp_support import Doc, apply_edits, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -76,7 +75,7 @@ async def test_rename_of_an_io_name_keeps_the_table(client):
         text_document=td(doc.uri), position=at(doc, "Xstop", 0), new_name="Xemergency_stop"))
     changes = edit.document_changes[0].edits if edit.document_changes else edit.changes[doc.uri]
     new = apply_edits(doc.text, changes)
-    row = next(l for l in new.splitlines() if l.lstrip().startswith("Xemergency_stop"))
+    row = next(ln for ln in new.splitlines() if ln.lstrip().startswith("Xemergency_stop"))
     assert row.index("|") == doc.lines[doc.find("  Xstart                     |").line].index("|")  # same column
     doc.replace_all(new)
     assert await doc.diagnostics() == []

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types
-
 from test_lsp_support import Doc, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -52,7 +51,7 @@ async def test_semantic_tokens(client):
     # the legend the server announced
     legend = client.init_result.capabilities.semantic_tokens_provider.legend
     tokens = decode(result.data)
-    text = {(doc.lines[l][c:c + n], legend.token_types[k]) for l, c, n, k, _ in tokens}
+    text = {(doc.lines[ln][c:c + n], legend.token_types[k]) for ln, c, n, k, _ in tokens}
     assert ("Xstart", "parameter") in text  # an input
     assert ("Ymotor", "property") in text  # an output
     assert ("Rrun", "variable") in text  # a relay
@@ -61,10 +60,10 @@ async def test_semantic_tokens(client):
     assert ("2 s", "number") in text and ("[TON", "keyword") in text
     assert ("0002", "number") in text
     assert ("LADDER DIAGRAM:", "namespace") in text
-    written = [(doc.lines[l][c:c + n], m) for l, c, n, k, m in tokens if doc.lines[l][c:c + n] == "Rrun"]
+    written = [(doc.lines[ln][c:c + n], m) for ln, c, n, k, m in tokens if doc.lines[ln][c:c + n] == "Rrun"]
     assert sorted(m for _, m in written)[-1] != 0  # the coil writes it: a modifier
     # ordered, no overlaps
-    positions = [(l, c, c + n) for l, c, n, _, _ in tokens]
+    positions = [(ln, c, c + n) for ln, c, n, _, _ in tokens]
     for a, b in zip(positions, positions[1:]):
         assert (a[0], a[2]) <= (b[0], b[1])
     ranged = await client.text_document_semantic_tokens_range_async(types.SemanticTokensRangeParams(

@@ -10,7 +10,7 @@ import json
 
 import pytest
 from lsprotocol import types
-
+from pygls.exceptions import JsonRpcException
 from test_lsp_support import Doc, example_text, hover_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -111,10 +111,10 @@ async def test_requests_for_documents_never_opened(client):
     assert await client.text_document_hover_async(types.HoverParams(
         text_document=ident, position=types.Position(line=0, character=0))) is None
     assert not await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=ident))
-    with pytest.raises(Exception):
+    with pytest.raises(JsonRpcException):
         await client.workspace_execute_command_async(types.ExecuteCommandParams(
             command="ladder.sim.start", arguments=[ident.uri]))
-    with pytest.raises(Exception):
+    with pytest.raises(JsonRpcException):
         await client.workspace_execute_command_async(types.ExecuteCommandParams(
             command="ladder.sim.step", arguments=[]))
     await alive(client)

@@ -7,7 +7,6 @@ import asyncio
 
 import pytest
 from lsprotocol import types
-
 from test_lsp_support import Doc, example_text, lsp_fixture, new_uri
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -74,8 +74,8 @@ class Doc:
     def change(self, line: int, col: int, end_line: int, end_col: int, new: str) -> None:
         """An incremental change (code point columns: the tests use ASCII)."""
         lines = self.text.splitlines(keepends=True)
-        start = sum(len(l) for l in lines[:line]) + col
-        end = sum(len(l) for l in lines[:end_line]) + end_col
+        start = sum(len(ln) for ln in lines[:line]) + col
+        end = sum(len(ln) for ln in lines[:end_line]) + end_col
         self.text = self.text[:start] + new + self.text[end:]
         self.version += 1
         self.client.text_document_did_change(types.DidChangeTextDocumentParams(
@@ -134,7 +134,7 @@ def offset_of(text: str, position: types.Position) -> int:
     lines = text.splitlines(keepends=True)
     if position.line >= len(lines):
         return len(text)
-    return sum(len(l) for l in lines[:position.line]) + min(position.character, len(lines[position.line]))
+    return sum(len(ln) for ln in lines[:position.line]) + min(position.character, len(lines[position.line]))
 
 
 def apply_edits(text: str, edits: list[types.TextEdit]) -> str:

@@ -15,7 +15,6 @@ from functools import cache
 from pathlib import Path
 
 import pytest
-
 from corpus import CORPUS
 
 from compiler.pic16.part import Part

@@ -4,9 +4,9 @@ GOTO/LABEL, subroutines and their error cases."""
 from __future__ import annotations
 
 import pytest
-
 from builders import coil, contact, el, program
-from builders import par as parallel, ser as series
+from builders import par as parallel
+from builders import ser as series
 
 from lang.sim import ElementKey, SimulationError, Simulator
 

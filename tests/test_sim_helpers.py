@@ -4,9 +4,10 @@ simulator API's basic contract. Programs are built with tests/builders.py."""
 from __future__ import annotations
 
 import pytest
-
 from builders import coil, contact, el, program
-from builders import par as parallel, ser as series
+from builders import par as parallel
+from builders import ser as series
+
 from lang.model import Element
 from lang.sim import ElementKey, SimulationError, Simulator
 

@@ -4,7 +4,6 @@ bit operations, shifts within the operand's width, conversions, tables."""
 from __future__ import annotations
 
 import pytest
-
 from builders import el, program
 
 from lang.sim import SimulationError, Simulator

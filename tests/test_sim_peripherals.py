@@ -4,7 +4,6 @@ strings, PWM and EEPROM (PERSIST across a reset)."""
 from __future__ import annotations
 
 import pytest
-
 from builders import coil, contact, el, program
 
 from lang.sim import SimulationError, Simulator

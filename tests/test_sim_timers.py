@@ -9,7 +9,6 @@ patterns of ldmicro-formats.md §5.3. Each string is one character per scan.
 from __future__ import annotations
 
 import pytest
-
 from builders import coil, contact, el, program
 from builders import par as parallel
 from test_sim_helpers import drive, through

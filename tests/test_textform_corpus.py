@@ -5,8 +5,8 @@ carry), and our drawing of a program is LDmicro's, line for line."""
 from __future__ import annotations
 
 import pytest
-
 from corpus import export_pairs
+
 from lang.diagnostics import ERROR
 from lang.loader import load_path
 from lang.textform.formatter import existing_width, format_text

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import random
 
-from hypothesis import given, strategies as st
-
 from corpus import EXPORTS
+from hypothesis import given
+from hypothesis import strategies as st
+from mutations import mutate
+
 from lang import codes
 from lang.loader import load_bytes
 from lang.textform.formatter import format_text
 from lang.textform.reader import read_text
-from mutations import mutate
 
 GOOD = """LADDER DIAGRAM:
     ||                                                   ||

@@ -3,9 +3,9 @@ same program, formatting is idempotent, and .ld -> .ladder -> .ld loses nothing.
 
 from __future__ import annotations
 
+from generators import programs
 from hypothesis import given
 
-from generators import programs
 from lang.diagnostics import ERROR
 from lang.ldfile import read_ld, write_ld
 from lang.textform.formatter import format_text

@@ -15,8 +15,7 @@ The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
 from __future__ import annotations
 
 from .. import ir
-from ..analysis import nearest_period
-from ..analysis import uses_uart
+from ..analysis import nearest_period, uses_uart
 from ..errors import BAD_CYCLE, fail
 from ..image import LoopBound
 from ..target import Machine

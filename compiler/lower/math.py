@@ -6,12 +6,11 @@ from __future__ import annotations
 
 from itertools import pairwise
 
+from lang.codes import code
 from lang.sim import numbers
 from lang.values import is_literal
 
 from .. import ir
-from lang.codes import code
-
 from ..errors import fail
 from .builder import Builder, Holds, IsSet, lowers
 

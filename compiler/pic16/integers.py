@@ -26,7 +26,7 @@ from .. import analysis, ir
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits
-from .emit import C, F, STATUS, W, Z, Emitter
+from .emit import STATUS, C, Emitter, F, W, Z
 from .memory import FileBit
 
 

@@ -16,7 +16,7 @@ from ..errors import ANALOG_PIN, BAD_BAUD, BAD_PWM, BAUD_APPROXIMATED, NOT_COMPI
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
-from .emit import F, STATUS, W, Z
+from .emit import STATUS, F, W, Z
 from .memory import FileBit
 from .part import Part
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 from .. import ir
 from ..image import LoopBound
 from . import integers as ints
-from .emit import C, F, STATUS, W, Z, Emitter
+from .emit import STATUS, C, Emitter, F, W, Z
 from .integers import Byte
 
 

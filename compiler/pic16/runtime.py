@@ -20,8 +20,8 @@ from __future__ import annotations
 
 from .. import ir
 from ..analysis import nearest_period
-from ..image import LoopBound
 from ..errors import BAD_CYCLE, fail
+from ..image import LoopBound
 from . import bits
 from . import integers as ints
 from .emit import FSR, INDF, IRP, STATUS, W, Z

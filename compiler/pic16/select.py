@@ -7,8 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .. import ir
-from ..image import LoopBound
 from ..analysis import loop_labels
+from ..image import LoopBound
 from . import bits, integers, peripherals, routines
 from .emit import Emitter
 from .memory import FileBit, Layout

@@ -26,9 +26,9 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable
 
 END_MARK = "__textladder_gpsim_end__"
 # The input modules' source resistance: a switch. At the module's default 10 kOhm

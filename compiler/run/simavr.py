@@ -27,10 +27,10 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Iterable, Sequence
 
 SOURCE_NAME = "avr_harness.c"
 SIMAVR_INCLUDE = Path("/usr/include/simavr")

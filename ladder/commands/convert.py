@@ -7,7 +7,8 @@ import sys
 from pathlib import Path
 
 from lang.codes import code
-from lang.diagnostics import Diagnostic, report as diagnostic
+from lang.diagnostics import Diagnostic
+from lang.diagnostics import report as diagnostic
 from lang.loader import DEFAULT_CODEPAGE
 from lang.model import Span
 from lang.textform.writer import render_program

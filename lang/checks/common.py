@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from ..instructions import INSTRUCTIONS
 from ..diagnostics import Fix, Related, Rename, report
+from ..instructions import INSTRUCTIONS
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..roles import ROLES, role
 from ..values import format_delay, is_literal, literal_value

@@ -8,7 +8,16 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..values import is_literal
 from .common import (
-    COUNTERS, arg_span, fits, is_decimal, label, literal_or_none, range_text, rung_no, token, var_size,
+    COUNTERS,
+    arg_span,
+    fits,
+    is_decimal,
+    label,
+    literal_or_none,
+    range_text,
+    rung_no,
+    token,
+    var_size,
 )
 
 CODE = rule_code(__name__)

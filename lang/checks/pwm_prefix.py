@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..values import is_literal
 from ..diagnostics import report
+from ..values import is_literal
 from .common import arg_span, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)

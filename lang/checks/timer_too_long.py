@@ -13,7 +13,7 @@ MAX = (1 << 31) - 1
 
 def check(program, index):
     found = []
-    for rung, element, delay, adjust, period, adjusted in timer_periods(program, index):
+    for rung, element, delay, _adjust, period, adjusted in timer_periods(program, index):
         if delay > MAX:
             reason = (f"the delay {delay_text(delay)} ({delay} us) is more than the maximum "
                       "2147483647 us (35.79 min)")

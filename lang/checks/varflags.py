@@ -25,7 +25,8 @@ from typing import NamedTuple
 from ..model import Element
 from ..values import is_literal
 from .common import COUNTERS, TIMERS, token
-from .index import ProgramIndex, is_literal_fast as _is_literal
+from .index import ProgramIndex
+from .index import is_literal_fast as _is_literal
 
 RES = "RES"
 PWM = "PWM"

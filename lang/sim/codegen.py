@@ -10,9 +10,9 @@ back to the state list around a batch of scans.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Callable
 
 from ..model import Element
 from ..values import is_literal, literal_value

@@ -10,8 +10,8 @@ also records each element's output power in E.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from ..model import Element, Program, Series
 from ..values import is_literal, literal_value
@@ -57,7 +57,7 @@ class JumpTable:
                 problems.append(located(BAD_JUMP, f"{element.kind}: only one {element.kind} '{label}' "
                                                   "is allowed", element))
             table[label] = rung
-        for label, rung in self.subprogs.items():
+        for label, _rung in self.subprogs.items():
             if label not in self.endsubs:
                 problems.append(located(BAD_JUMP, f"SUBPROG: ENDSUB '{label}' not found",
                                         _find(program, "SUBPROG", label)))

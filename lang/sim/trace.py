@@ -31,7 +31,7 @@ class Trace:
     last: dict[str, int] = field(default_factory=dict)
 
     @classmethod
-    def watching(cls, sim: Simulator, names: list[str]) -> "Trace":
+    def watching(cls, sim: Simulator, names: list[str]) -> Trace:
         slots = sim.compiled.slots
         index = sim.compiled.index
         widths = {n: 1 if slots[index[n]].kind == "bit" else 8 * slots[index[n]].size for n in names}
@@ -101,7 +101,7 @@ def _bit_cell(trace: Trace, name: str, start: int, end: int) -> str:
 def _int_row(trace: Trace, name: str, spans) -> str:
     cells = [" "] * len(spans)
     previous = None
-    for c, (start, end) in enumerate(spans):
+    for c, (_start, end) in enumerate(spans):
         value = trace.value_at(name, end - 1)
         if value != previous or c == 0:
             text = f"|{value}" if c else str(value)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache, lru_cache
 
 from ..drawing import read_fields
 from ..instructions import INSTRUCTIONS, Instruction
@@ -47,7 +47,7 @@ def _head(pattern_text: str) -> str:
     return match.group(1).rstrip() if match else ""
 
 
-@lru_cache(maxsize=None)
+@cache
 def _candidates() -> tuple[Candidate, ...]:
     found = []
     for instruction in INSTRUCTIONS.values():
@@ -65,7 +65,7 @@ def _candidates() -> tuple[Candidate, ...]:
     return tuple(found)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _by_head_char() -> dict[str, tuple[Candidate, ...]]:
     table: dict[str, list[Candidate]] = {}
     for candidate in _candidates():

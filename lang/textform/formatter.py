@@ -3,7 +3,7 @@ small (the diagram width the file already has, its line endings)."""
 
 from __future__ import annotations
 
-from ..diagnostics import Diagnostic, ERROR
+from ..diagnostics import ERROR, Diagnostic
 from ..drawing import CELL
 from .reader import RAIL_RE, read_text
 from .writer import render_program

@@ -22,7 +22,7 @@ HEADER_RE = re.compile(
 RAIL_RE = re.compile(r"\|[|+]")
 VAR_RE = re.compile(r"\s*(\d+)\s+bytes?\s+(\S+)")
 
-_CACHE: "OrderedDict[tuple, tuple[Rung | None, list[Diagnostic]]]" = OrderedDict()
+_CACHE: OrderedDict[tuple, tuple[Rung | None, list[Diagnostic]]] = OrderedDict()
 _CACHE_SIZE = 50000
 # LDmicro allows 63 branches of 63 elements; no real rung is anywhere near this
 MAX_RUNG_LINES = 1000

@@ -80,7 +80,7 @@ def require_server() -> None:
         pytest.fail(f"`ladder lsp` did not answer initialize:\n{log}")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _initialize() -> tuple[dict | None, str]:
     """Starts the server, sends `initialize`, returns (capabilities or None, log)."""
     try:
