@@ -14,8 +14,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from lang.model import Element
-from lang.sim.codegen import CompileError as SimCompileError
-from lang.sim.codegen import timer_period
+from lang.sim.codegen import CannotSimulate, timer_period
 from lang.values import is_literal, literal_value
 
 from .. import ir
@@ -187,5 +186,5 @@ class Builder:
         """A timer's period in scans, with LDmicro's checks."""
         try:
             return timer_period(self, delay, adjust, name)
-        except SimCompileError as problem:
+        except CannotSimulate as problem:
             raise fail(BAD_OPERAND, problem.message, self.element) from None

@@ -45,7 +45,10 @@ def handles(*kinds: str):
     return register
 
 
-class CompileError(Exception):
+class CannotSimulate(Exception):
+    """An element the simulator cannot turn into code, reported as an LD6xx
+    diagnostic when the Simulator is built (compiler.errors.CompileError is the compiler's)."""
+
     def __init__(self, code: str, message: str):
         super().__init__(message)
         self.code = code
@@ -134,7 +137,7 @@ class Gen:
         try:
             return literal_value(token)
         except ValueError as bad:
-            raise CompileError(BAD_OPERAND, str(bad)) from None
+            raise CannotSimulate(BAD_OPERAND, str(bad)) from None
 
     def operand(self, token) -> str:
         """Python source reading an operand: a literal's value or a variable."""
@@ -151,7 +154,7 @@ class Gen:
         """(local, name) of a destination, which must not be a literal."""
         name = str(self.arg(field))
         if is_literal(name):
-            raise CompileError(BAD_OPERAND, f"'{name}' is not a valid destination")
+            raise CannotSimulate(BAD_OPERAND, f"'{name}' is not a valid destination")
         return self.var(name), name
 
     def wrap(self, expr: str, name: str) -> str:
@@ -179,7 +182,7 @@ class Gen:
             self.emit(f"E[{self.number}] = bool({power})")
         try:
             GENERATORS[element.kind](self, element, power)
-        except CompileError as problem:
+        except CannotSimulate as problem:
             raise SimulationError([located(problem.code, problem.message, element)]) from None
         if self.traced and not jumps:
             self.emit(f"E[{self.number}] = bool({power})")
@@ -190,15 +193,15 @@ def timer_period(gen: Gen, delay: int, adjust: int, name: str) -> int:
     checks (TestTimerPeriod)."""
     cycle = gen.cycle_us
     if delay <= 0:
-        raise CompileError(BAD_TIMER, f"Timer '{name}': delay cannot be zero or negative")
+        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': delay cannot be zero or negative")
     plain = delay // cycle
     if plain <= 0:
-        raise CompileError(BAD_TIMER, f"Timer '{name}' = {delay / 1000:.3f} ms is shorter than "
+        raise CannotSimulate(BAD_TIMER, f"Timer '{name}' = {delay / 1000:.3f} ms is shorter than "
                                       f"the cycle time ({cycle / 1000:.3f} ms)")
     if plain + adjust <= 0:
-        raise CompileError(BAD_TIMER, f"Timer '{name}': total timer delay cannot be zero or "
+        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': total timer delay cannot be zero or "
                                       "negative; increase the adjust value")
     if plain <= adjust:
-        raise CompileError(BAD_TIMER, f"Timer '{name}': an adjust as large as the delay is "
+        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': an adjust as large as the delay is "
                                       "meaningless; decrease the adjust value")
     return (delay + cycle * adjust) // cycle

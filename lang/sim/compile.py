@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from ..model import Element, Program, Series
 from ..values import is_literal, literal_value
 from . import gen_io, gen_logic, gen_math, gen_timers  # noqa: F401  (they register the generators)
-from .codegen import GENERATORS, CompileError, Gen, Slot, timer_period
+from .codegen import GENERATORS, CannotSimulate, Gen, Slot, timer_period
 from .errors import BAD_JUMP, BAD_TIMER, NOT_SIMULATED, SimulationError, located
 from .numbers import byte_needed
 
@@ -33,7 +33,6 @@ class Compiled:
     elements: list[tuple[int, int, Element]]  # element number -> (rung, index in rung, element)
     run: Callable
     run_traced: Callable
-    source: str
 
 
 class JumpTable:
@@ -70,15 +69,15 @@ class JumpTable:
             # a rung number, clamped to 1..rungs+1 as LDmicro does (rungs+1 = end of scan)
             return min(max(self.gen.literal(label), 1), self.count + 1) - 1
         if label not in self.labels:
-            raise CompileError(BAD_JUMP, f"GOTO: LABEL '{label}' not found")
+            raise CannotSimulate(BAD_JUMP, f"GOTO: LABEL '{label}' not found")
         return self.labels[label]
 
     def gosub_target(self, element: Element) -> int:
         label = str(element.args["label"])
         if is_literal(label):
-            raise CompileError(BAD_JUMP, f"GOSUB: SUBPROG as a number '{label}' is not allowed")
+            raise CannotSimulate(BAD_JUMP, f"GOSUB: SUBPROG as a number '{label}' is not allowed")
         if label not in self.subprogs:
-            raise CompileError(BAD_JUMP, f"GOSUB: SUBPROG '{label}' not found")
+            raise CannotSimulate(BAD_JUMP, f"GOSUB: SUBPROG '{label}' not found")
         return self.subprogs[label] + 1
 
     def after_endsub(self, element: Element) -> int:
@@ -277,4 +276,4 @@ def compile_program(program: Program, peripherals) -> Compiled:
     namespace = dict(traced.namespace, PER=peripherals, U=peripherals.uart)
     exec(compile(source, "<ladder scan>", "exec"), namespace)
     return Compiled(program, traced.slots, traced.index, traced.elements,
-                    namespace["run"], namespace["run_traced"], source)
+                    namespace["run"], namespace["run_traced"])

@@ -4,7 +4,7 @@ objects (`PER`, `U`) that the user drives from outside."""
 
 from __future__ import annotations
 
-from .codegen import CompileError, Gen, handles
+from .codegen import CannotSimulate, Gen, handles
 from .errors import BAD_OPERAND, UART_STALL
 from .strings import make_sender, parse_format
 
@@ -80,7 +80,7 @@ def uart_recv(gen: Gen, el, p: str) -> None:
     d, name = gen.dest("var")
     count = int(el.args.get("bytes", 1) or 1)
     if count > gen.size(name):
-        raise CompileError(BAD_OPERAND, f"UART RECV of {count} bytes into '{name}' "
+        raise CannotSimulate(BAD_OPERAND, f"UART RECV of {count} bytes into '{name}' "
                                         f"of {gen.size(name)} bytes")
     if count == 1:
         with gen.block(f"if {p}:"):
@@ -128,10 +128,10 @@ def formatted_string(gen: Gen, el, p: str) -> None:
     try:
         fmt = parse_format(str(el.args.get("text") or ""))
     except ValueError as bad:
-        raise CompileError(BAD_OPERAND, str(bad)) from None
+        raise CannotSimulate(BAD_OPERAND, str(bad)) from None
     var = str(el.args.get("var") or "")
     if fmt.digits and not var:
-        raise CompileError(BAD_OPERAND, "a variable is interpolated into the formatted string, "
+        raise CannotSimulate(BAD_OPERAND, "a variable is interpolated into the formatted string, "
                                         "but none is specified")
     sender = gen.constant(make_sender(fmt), "FS")
     # a variable the text never inserts is not read (LD323 warns), as in LDmicro's code

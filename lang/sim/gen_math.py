@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..values import is_literal
 from . import numbers
-from .codegen import CompileError, Gen, handles
+from .codegen import CannotSimulate, Gen, handles
 from .errors import BAD_OPERAND, BAD_VALUE, DIVIDE_BY_ZERO, TABLE_INDEX
 from .gen_logic import bit_mask_expr
 
@@ -67,7 +67,7 @@ def shift(gen: Gen, el, p: str) -> None:
     a, n = gen.operand(el.args["op1"]), gen.operand(el.args["op2"])
     width = gen.operand_size(el.args["op1"], gen.size(name))
     if is_literal(str(el.args["op2"])) and not 0 <= int(n) <= 8 * width:
-        raise CompileError(BAD_OPERAND, f"shift count {n} out of range of '{el.args['op1']}': "
+        raise CannotSimulate(BAD_OPERAND, f"shift count {n} out of range of '{el.args['op1']}': "
                                         f"0 to {8 * width} inclusive")
     gen.namespace["shift"] = numbers.shift
     gen.emit(f"if {p}: {d} = {gen.wrap(f'shift({el.kind!r}, {a}, {n}, {width})', name)}")
@@ -145,7 +145,7 @@ def look_up_table(gen: Gen, el, p: str) -> None:
     d, name = gen.dest()
     values = tuple(gen.literal(str(v)) for v in el.args.get("values", ()))
     if not values:
-        raise CompileError(BAD_OPERAND, "look-up table with no values")
+        raise CannotSimulate(BAD_OPERAND, "look-up table with no values")
     table = gen.constant(values, "LUT")
     index = gen.operand(el.args["index"])
     i = gen.temp("i")
@@ -162,9 +162,9 @@ def piecewise_linear(gen: Gen, el, p: str) -> None:
     d, name = gen.dest()
     points = [(gen.literal(str(x)), gen.literal(str(y))) for x, y in el.args.get("points", ())]
     if not points:
-        raise CompileError(BAD_OPERAND, "piecewise linear table with zero elements")
+        raise CannotSimulate(BAD_OPERAND, "piecewise linear table with zero elements")
     if any(b[0] <= a[0] for a, b in zip(points, points[1:])):
-        raise CompileError(BAD_OPERAND, "x values in a piecewise linear table must be strictly increasing")
+        raise CannotSimulate(BAD_OPERAND, "x values in a piecewise linear table must be strictly increasing")
     index = el.args["index"]
     gen.namespace["cdiv"] = numbers.cdiv
     with gen.block(f"if {p}:"):
@@ -177,7 +177,7 @@ def piecewise_linear(gen: Gen, el, p: str) -> None:
             (x0, y0), (x1, y1) = points[i - 1], points[i]
             dx, dy = x1 - x0, y1 - y0
             if not -32768 < dx * dy < 32767:
-                raise CompileError(BAD_OPERAND, "numerical problem with the piecewise linear table: "
+                raise CannotSimulate(BAD_OPERAND, "numerical problem with the piecewise linear table: "
                                                 "make the entries smaller or the points closer")
             with gen.block(f"if {gen.operand(index)} <= {x1}:"):
                 gen.emit(f"{d} = {gen.wrap(f'{gen.operand(index)} - {x0}', name)}")

@@ -5,7 +5,7 @@ each element instance has its own edge memory."""
 from __future__ import annotations
 
 from ..values import is_literal
-from .codegen import CompileError, Gen, handles, timer_period
+from .codegen import CannotSimulate, Gen, handles, timer_period
 from .errors import BAD_OPERAND
 
 TIMERS = ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")
@@ -98,7 +98,7 @@ def timer(gen: Gen, el, p: str) -> None:
 def time_to_count(gen: Gen, el, p: str) -> None:
     delay = el.args["delay"]
     if not isinstance(delay, int):
-        raise CompileError(BAD_OPERAND, "the T2CNT delay must be a time, not a variable")
+        raise CannotSimulate(BAD_OPERAND, "the T2CNT delay must be a time, not a variable")
     value = timer_period(gen, delay, 0, el.args["name"])
     gen.emit(f"if {p}: {gen.var(el.args['name'])} = {gen.wrap(str(value), el.args['name'])}")
 
