@@ -84,8 +84,10 @@ def integer(name: str, default: int | None = None, drawn: bool = True) -> Field:
 
 
 def token(name: str, default: str | None = None, drawn: bool = True) -> Field:
+    # an undrawn token comes back from a text export with its default, and an empty
+    # one would shift every later field of the .ld line: it needs LDmicro's own default
     if default is None and not drawn:
-        default = ""
+        raise ValueError(f"the undrawn token {name!r} needs a default")
     return Field(name, "token", access="", default=default, drawn=drawn)
 
 
@@ -503,20 +505,20 @@ define("SPI", "SPI transfer", (token("name"), Field("send", "operand"), Field("r
        box("{SPI ", "", "", "{name}", "}"), box("{->", "{recv}", "", "{send}", "->}"),
        "Sends and receives a byte over the SPI bus (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY)
-define("SPI_WR", "SPI write", (token("name"), Field("send", "operand"), token("recv", "-", drawn=False))
+define("SPI_WR", "SPI write", (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False))
        + _SPI_DETAILS,
        box("{SPI WR ", "", "", "{name}", "}"), box("{", "", '"', "{send}", '"->}'),
        "Writes a string over the SPI bus (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY)
 define("I2C_RD", "I2C read",
-       (token("name"), token("send", drawn=False), Field("recv", "var", access="write"),
+       (token("name"), token("send", "send", drawn=False), Field("recv", "var", access="write"),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C RD ", "", "", "{name}", "}"), box("{->", "{recv}", "{address}", "{register}", "}"),
        "Reads a register of an I2C device (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY)
 define("I2C_WR", "I2C write",
-       (token("name"), Field("send", "operand"), token("recv", drawn=False),
+       (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C WR ", "", "", "{name}", "}"), box("{", "{address}", "{register}", "{send}", "->}"),
