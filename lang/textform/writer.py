@@ -178,7 +178,10 @@ def io_rows(program: Program) -> list[str]:
     names.update(program.pins)
     order = "XYAP"
     rows = []
-    for name in sorted(names, key=lambda n: (order.index(n[0]) if n[:1] in order else len(order), n)):
+    # the pins in the order the program keeps them (an .ld file's IO LIST order survives a
+    # round trip), then the names without a pin by role and name
+    unassigned = sorted(names - set(program.pins), key=lambda n: (order.index(n[0]) if n[:1] in order else len(order), n))
+    for name in [*program.pins, *unassigned]:
         kind = IO_TYPES.get(name[:1], "general var")
         assignment = program.pins.get(name)
         pin_text, port, label = "", "", ""
