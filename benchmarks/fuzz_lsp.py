@@ -19,8 +19,10 @@ import sys
 import threading
 import time
 
+from fuzzing import ROOT, options  # sets sys.path for the imports below
+
+# isort: split
 from corpus import EXPORTS
-from fuzzing import ROOT, options
 from mutations import mutate
 
 from lang.checks import check_program

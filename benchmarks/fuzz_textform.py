@@ -8,8 +8,10 @@ from __future__ import annotations
 import random
 import sys
 
+from fuzzing import fuzz, options  # sets sys.path for the imports below
+
+# isort: split
 from corpus import EXPORTS
-from fuzzing import fuzz, options
 from mutations import mutate
 
 from lang.checks import check_program

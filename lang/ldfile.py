@@ -873,7 +873,19 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
     text = "\n".join(out) + "\n"
     if diagnostics is not None:
         diagnostics.extend(line_limit_diagnostics(out, encoding, list_lines, spans))
+        if version == "0.1":
+            diagnostics.extend(_control_characters(program))
     return text
+
+
+def _control_characters(program: Program) -> list[Diagnostic]:
+    """The 0.1 dialect stores a formatted string as character codes, and
+    LDmicro reads every code below 32 as 'X': a tab or line end is lost."""
+    return [warning(LD_SYNTAX, f"{element.kind} text has a control character ({ord(ch):#04x}); the LDmicro0.1 "
+                               "file stores it as a character code that LDmicro reads as 'X' (save as LDmicro0.2 "
+                               "to keep it)", element.span)
+            for _, element in program.elements() if element.kind == "FORMATTED_STRING"
+            for ch in [next((c for c in str(element.args.get("text", "")) if ord(c) < 32), None)] if ch]
 
 
 def write_ld_bytes(program: Program, encoding: str = "cp1252", newline: str = "\r\n",

@@ -813,3 +813,14 @@ def test_every_corpus_line_mutated_by_one_token():
             mutated = list(lines)
             mutated[index] = " ".join(lines[index].split()[:-1] or [rng.choice(WORDS)])
             check_reading("\n".join(mutated))
+
+
+def test_a_control_character_the_01_dialect_cannot_keep_is_said():
+    # LDmicro0.1 stores a formatted string as character codes and reads those below 32 as 'X'
+    program, _ = read_ld("LDmicro0.2\nPROGRAM\nRUNG 1\n  FORMATTED_STRING (none) a\\tb\nEND\n")
+    said = []
+    text = write_ld(program, version="0.1", diagnostics=said)
+    assert "FORMATTED_STRING (none) 3 97 9 98" in text
+    assert [d.code for d in said] == ["LD009"] and "read as 'X'" not in said[0].message and "0x09" in said[0].message
+    write_ld(program, diagnostics=said)
+    assert len(said) == 1  # the 0.2 dialect keeps it
