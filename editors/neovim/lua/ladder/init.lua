@@ -268,11 +268,27 @@ function M.render(bufnr)
   end
 end
 
+-- Neovim 0.12 hands over the server's JSON null as vim.NIL, which is truthy (0.7 to 0.11 gave nil):
+-- `"error": null` would read as an error and stop the rendering before the values.
+local function without_nulls(t)
+  if type(t) ~= 'table' then
+    return t
+  end
+  for k, v in pairs(t) do
+    if v == vim.NIL then
+      t[k] = nil
+    end
+  end
+  return t
+end
+
 --- Takes a state from the server (notification or command result).
 function M.on_state(state)
   if type(state) ~= 'table' or type(state.uri) ~= 'string' then
     return
   end
+  without_nulls(state)
+  without_nulls(state.values)
   local bufnr = vim.uri_to_bufnr(state.uri)
   if state.running then
     M.states[bufnr] = state
@@ -280,7 +296,7 @@ function M.on_state(state)
     M.states[bufnr] = nil
   end
   M.render(bufnr)
-  if state.error and state.error ~= vim.NIL then
+  if state.error then
     notify('simulation: ' .. tostring(state.error), vim.log.levels.WARN)
   end
 end
@@ -320,6 +336,7 @@ function M.execute(command, args, bufnr, on_result)
       notify(err.message or tostring(err), vim.log.levels.ERROR)
       return
     end
+    without_nulls(result)
     if type(result) == 'table' and result.uri and result.running ~= nil then
       M.on_state(result)
     end
