@@ -1,9 +1,10 @@
 """Differential fuzzing of the compiler, time-boxed, run on demand:
-`python benchmarks/compiler_fuzz.py [--family avr|pic16] [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
+`python benchmarks/compiler_fuzz.py [--family avr|pic16|c] [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
 
 Each worker draws random compilable programs for the family's boards
-(tests/test_compiler_random.py), runs each in simavr (AVR) or gpsim (PIC16)
-under its random stimulus and compares every name with the simulator after
+(tests/test_compiler_random.py), runs each in simavr (AVR), gpsim (PIC16) or
+as C built by the host's compiler under the sanitizers (c) under its random
+stimulus and compares every name with the simulator after
 every scan. The report is how many programs were reached (goal: 1,000) and
 every mismatch, each saved as an .ld file with its stimulus for replay. A
 program too large for its part's flash is skipped, and so is one whose scan
@@ -26,7 +27,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 GOAL = 1000
 # family -> (the harness module with its differential, the generator's boards, the simulator run)
 FAMILIES = {"avr": ("test_compiler_harness", "BOARDS", "simavr"),
-            "pic16": ("pic16_harness", "PIC16_BOARDS", "gpsim")}
+            "pic16": ("pic16_harness", "PIC16_BOARDS", "gpsim"),
+            "c": ("c_harness", "C_BOARDS", "the host's C compiler with -fsanitize=undefined,address")}
 
 
 class TimeUp(BaseException):

@@ -20,9 +20,11 @@ from lang.config import NONE, Severities
 from lang.devices import Device, find_device
 from lang.diagnostics import ERROR, Diagnostic
 from lang.model import Program
-from lang.targets import compiled, family_of, parts_text
+from lang.targets import FAMILIES, compiled, family_of, parts_text
+from lang.textform.writer import render_rung
 
 from .budget import overrun_warning, scan_budget
+from .c import CSources, Unit, generate
 from .errors import MOVED_PIN, NO_TARGET, CompileError, fail, note
 from .image import Build
 from .lower import lower_program
@@ -72,6 +74,18 @@ def build(program: Program, target: str | None = None, severities: Severities = 
     if any(d.severity == ERROR for d in warnings):
         raise CompileError([d for d in warnings if d.severity == ERROR])
     return Build(program, device, image, warnings, budget)
+
+
+def build_c(program: Program, stem: str, source: str, severities: Severities = NONE) -> CSources:
+    """Portable C for the program, whatever its part (`ladder build --emit
+    c`); CompileError as for `build`."""
+    problems = [d for d in check_program(program, True, severities, family="c") if d.severity == ERROR]
+    if problems:
+        raise CompileError(problems)
+    code = optimise(lower_program(program, None, 1, FAMILIES["c"]))
+    unit = Unit(stem, source, lambda index: render_rung(program.rungs[index], index + 1, 0),
+                program.settings.cycle_us)
+    return generate(code, unit)
 
 
 def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:

@@ -76,9 +76,11 @@ class Label(Op):
 
 @dataclass
 class Note(Op):
-    """Text for the listing (the rung and element the code below is for)."""
+    """Text for the listing (the rung and element the code below is for);
+    `rung` marks the start of a rung's code (its index in the program)."""
 
     text: str
+    rung: int | None = None
 
 
 @dataclass

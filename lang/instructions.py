@@ -15,7 +15,7 @@ from .drawing import Box, Text, box, text
 
 # Layers that may support an instruction; a layer that does not is a located
 # diagnostic, never a crash or a silent gap.
-LAYERS = ("parse", "check", "sim", "avr", "pic16")
+LAYERS = ("parse", "check", "sim", "avr", "pic16", "c")
 ALL = frozenset(LAYERS)
 DRAWN_ONLY = frozenset({"parse", "check"})
 SIM_ONLY = frozenset({"parse", "check", "sim"})
@@ -184,7 +184,7 @@ define(
     text("{name}"), text("[T2CNT {delay:delay}]"),
     "While its input is 1, stores in its variable the number of scan cycles that "
     "makes the given time, for use as a variable timer delay.",
-    "timers", support=SIM_ONLY | {"avr", "pic16"},
+    "timers", support=SIM_ONLY | {"avr", "pic16", "c"},
 )
 define(
     "TIME2DELAY", "time to delay converter", (var("name"), Field("delay", "delay", access="")),
@@ -198,7 +198,7 @@ define(
     text("{delay:us}"), text("[DELAY]"),
     "While its input is 1, busy-waits the given number of microseconds (or the "
     "loop count in a variable) inside the scan.",
-    "timers", support=frozenset({"parse", "check", "sim", "avr", "pic16"}),
+    "timers", support=frozenset({"parse", "check", "sim", "avr", "pic16", "c"}),
 )
 define(
     "RES", "reset", (Field("name", "var", "TCP", "write"),),

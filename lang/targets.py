@@ -33,6 +33,8 @@ FAMILIES: dict[str, Family] = {
         Family("pic16", "PIC16", ("pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877",
                                   "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
                                   "pic16f72", "pic12f675", "pic12f683")),
+        # portable C (`ladder build --emit c`): no part of its own, the program's pins are the user's runtime's
+        Family("c", "C", ()),
     )
 }
 

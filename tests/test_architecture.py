@@ -1,6 +1,7 @@
 """The layering (docs/architecture.md), checked on the imports of every
 module: `lang` never imports the compiler; a back end sees `ir.Code` and a
-`Machine`, never the ladder program, the checks or the front end."""
+`Machine` (the C back end a `Unit`), never the ladder program, the checks or
+the front end."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 
 import compiler
 from compiler.target import BACKENDS
+from lang.targets import FAMILIES
 
 ROOT = Path(__file__).resolve().parents[1]
 NOT_BACK_ENDS = {"lower", "run"}  # the compiler's subpackages that are not a family's back end
@@ -60,8 +62,10 @@ def test_back_ends_see_only_the_machine_and_the_intermediate_code():
         assert _offenders(folder, forbidden) == {}, folder.name
 
 
-def test_every_back_end_folder_registers_its_family():
-    assert {folder.name for folder in back_end_folders()} == set(BACKENDS)
+def test_every_back_end_folder_is_a_family_and_every_part_family_registers_its_back_end():
+    # a family with parts builds images (compiler.target.BACKENDS); C, with none, writes source (compiler.c)
+    assert {folder.name for folder in back_end_folders()} == set(FAMILIES)
+    assert set(BACKENDS) == {key for key, family in FAMILIES.items() if family.parts}
     for family, backend in BACKENDS.items():
         assert backend.family == family and backend.delay_loop_cycles > 0
     assert set(compiler._BACKEND_MODULES) == {f"compiler.{family}" for family in BACKENDS}

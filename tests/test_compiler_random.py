@@ -15,6 +15,7 @@ there.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -84,6 +85,10 @@ BOARDS = (
     Board("atmega1284p", "avr", "Atmel AVR ATmega1284 40-PDIP", ("PD2", "PD3", "PB5", "PB6"),
           ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7"),
 )
+
+
+# the C output ignores the part: its board is an AVR one whose instructions are C's
+C_BOARDS = (dataclasses.replace(BOARDS[0], family="c"),)
 
 
 def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str, ...], crystal_hz: int,

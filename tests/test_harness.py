@@ -247,7 +247,7 @@ def test_the_avr_harness_is_built_in_the_cache_not_the_package(monkeypatch, tmp_
     assert [p.name for p in exe.parent.iterdir()] == [exe.name]  # no source or half-built file left
     package = Path(sa.__file__).parent
     assert sorted(p.name for p in package.iterdir() if p.suffix != ".pyc" and p.name != "__pycache__") == \
-        ["__init__.py", "avr_harness.c", "gpsim.py", "simavr.py"]
+        ["__init__.py", "avr_harness.c", "c.py", "firmware.py", "gpsim.py", "record.py", "simavr.py"]
 
 
 def test_missing_gpsim_names_the_debian_package(monkeypatch, tmp_path):

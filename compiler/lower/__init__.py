@@ -15,13 +15,16 @@ from lang.devices import Device
 from lang.model import Element, Program, Series
 from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
 from lang.sim.gen_timers import COUNTERS
-from lang.targets import family_of
+from lang.targets import Family, family_of
 from lang.values import is_literal, literal_value
 
 from .. import ir
 from ..errors import NOT_COMPILED, fail
 from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
 from .builder import LOWERINGS, Builder
+
+# the 16-bit addresses of LDmicro's EEPROM_read()/EEPROM_write() hooks
+C_EEPROM_BYTES = 65536
 
 
 def rung_label(index: int) -> str:
@@ -67,14 +70,17 @@ class Jumps:
 class TargetBuilder(Builder):
     """The builder with what lowering needs to know of the target: which
     instructions its family compiles, which A/D channel and which PWM unit a
-    name's pin is, how long the back end's delay loop takes."""
+    name's pin is, how long the back end's delay loop takes. With no device
+    (C) the user's runtime owns the peripherals: an A/D reading or a PWM
+    output is known by its name, and the EEPROM has no size of ours to check."""
 
-    def __init__(self, program: Program, device: Device, delay_loop_cycles: int, bits, sizes, classes):
+    def __init__(self, program: Program, device: Device | None, family: Family, delay_loop_cycles: int,
+                 bits, sizes, classes):
         super().__init__(program, bits, sizes, classes)
         self.device = device
-        self.family = family_of(device)
+        self.family = family
         self.delay_loop_cycles = delay_loop_cycles
-        self.eeprom_size = device.memory.get("eeprom", 0)
+        self.eeprom_size = device.memory.get("eeprom", 0) if device is not None else C_EEPROM_BYTES
         self.jumps = Jumps(program)
         self.counter_defs = counter_defs(program)
 
@@ -93,12 +99,16 @@ class TargetBuilder(Builder):
         return pin
 
     def adc_channel(self, name: str) -> int:
+        if self.device is None:
+            return 0
         pin = self._pin(name)
         if pin.name not in self.device.adc:
             raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no A/D channel", self.element)
         return self.device.adc[pin.name]
 
     def pwm_unit(self, name: str) -> str:
+        if self.device is None:
+            return name
         pin = self._pin(name)
         if pin.name not in self.device.pwm:
             raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no PWM output", self.element)
@@ -152,16 +162,20 @@ def _initial_values(b: TargetBuilder, program: Program) -> list[ir.Op]:
     return ops
 
 
-def _classes(program: Program) -> dict[str, str]:
-    return {name: ir.INPUT if name[0] == "X" else ir.OUTPUT
-            for name in program.pins if name[:1] in ("X", "Y")}
+def _classes(names) -> dict[str, str]:
+    return {name: ir.INPUT if name[0] == "X" else ir.OUTPUT for name in names if name[:1] in ("X", "Y")}
 
 
-def lower_program(program: Program, device: Device, delay_loop_cycles: int) -> ir.Code:
-    """The program's intermediate code for a part of a compiled family, whose
-    back end's variable delay loop takes `delay_loop_cycles` per count."""
+def lower_program(program: Program, device: Device | None, delay_loop_cycles: int,
+                  family: Family | None = None) -> ir.Code:
+    """The program's intermediate code for a part of a compiled family (or,
+    with no device, for `family`), whose back end's variable delay loop
+    takes `delay_loop_cycles` per count."""
     bits, sizes = variable_names(program)
-    b = TargetBuilder(program, device, delay_loop_cycles, bits, sizes, _classes(program))
+    family = family or family_of(device)
+    # on a part the X and Y names with pins are I/O; in C every one is (the user's runtime reads and writes it)
+    pinned = program.pins if device is not None else bits
+    b = TargetBuilder(program, device, family, delay_loop_cycles, bits, sizes, _classes(pinned))
     mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
     if mcr:
         b.emit(ir.SetBit(b.bit("$mcr"), True))
@@ -170,7 +184,7 @@ def lower_program(program: Program, device: Device, delay_loop_cycles: int) -> i
         b.place(rung_label(index))
         if rung.is_comment or not rung.circuit.items:
             continue
-        b.emit(ir.Note(f"rung {index + 1}"))
+        b.emit(ir.Note(f"rung {index + 1}", rung=index))
         p = b.temp()
         b.emit(ir.CopyBit(p, b.bit("$mcr")) if mcr else ir.SetBit(p, True))
         _circuit(b, rung.circuit, p, True)

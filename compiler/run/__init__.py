@@ -1,3 +1,6 @@
-"""Running compiled images in instruction-level simulators: simavr for AVR
-(`compiler.run.simavr`), gpsim for PIC16 (`compiler.run.gpsim`). The tests
-and benchmarks compare them with the ladder simulator."""
+"""Running compiled programs: the images in instruction-level simulators,
+simavr for AVR (`compiler.run.simavr`) and gpsim for PIC16
+(`compiler.run.gpsim`), the C on the host (`compiler.run.c`); recordings of
+a run under a stimulus, scan by scan (`compiler.run.record`), which the
+tests and benchmarks compare with the ladder simulator and `ladder test
+--on` checks scenarios on."""

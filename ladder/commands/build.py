@@ -1,6 +1,9 @@
-"""`ladder build FILE`: compile a program for a part `lang.targets` lists.
+"""`ladder build FILE`: compile a program for a part `lang.targets` lists,
+or to portable C.
 
-On success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` (flash in
+With `--emit c` writes FILE.c and FILE.h beside FILE (or OUT.c and OUT.h),
+and a ladder.h there when the folder has none (docs/c.md); the part plays no
+part. Otherwise, on success prints `PART: flash N/M bytes (P%), RAM N/M bytes (P%)` (flash in
 words for PIC) and the scan's worst case, `scan: at most N cycles = T µs of
 the C ms cycle (P%)` (compiler/budget.py), and writes the Intel HEX (default:
 beside FILE, same stem) and the assembly listing beside the HEX (the back
@@ -25,6 +28,7 @@ from ._common import (
     has_errors,
     load,
     report,
+    write_output,
 )
 
 
@@ -34,7 +38,11 @@ def register(subparsers) -> None:
         description=f"Compile a ladder program for one of these parts: {parts_text()}. Writes OUT.hex and "
                     "the listing beside it (OUT.lst for AVR); exit 1 on errors, 2 when FILE cannot be read.")
     parser.add_argument("file", metavar="FILE")
-    parser.add_argument("-o", "--output", metavar="OUT.hex", help="the HEX file to write (default: FILE with .hex)")
+    parser.add_argument("-o", "--output", metavar="OUT",
+                        help="the file to write (default: FILE with .hex, or .c for --emit c)")
+    parser.add_argument("--emit", choices=("hex", "c"), default="hex",
+                        help="what to write: an Intel HEX image for the part (default), or portable C "
+                             "(FILE.c and FILE.h, with a ladder.h when the folder has none)")
     parser.add_argument("--target", metavar="PART",
                         help="compile for this part instead of the program's (LDmicro name or short name, "
                              "e.g. atmega328p); pins given by port name carry over, package pin numbers "
@@ -47,6 +55,9 @@ def run(args) -> int:
     import compiler
     from compiler.errors import CompileError
 
+    if args.emit == "c" and args.target is not None:
+        print("ladder build: error: --target names a part; the C output (--emit c) has none", file=sys.stderr)
+        return EXIT_USAGE
     if args.target is not None:
         device = find_device(args.target)
         if device is None or not compiled(device):
@@ -63,6 +74,8 @@ def run(args) -> int:
     if has_errors(loaded.diagnostics):
         report(args.file, loaded.diagnostics, stream=sys.stdout)
         return EXIT_PROBLEMS
+    if args.emit == "c":
+        return _emit_c(args, loaded.program)
     try:
         build = compiler.build(loaded.program, args.target, config.find(Path(args.file)))
     except config.ConfigError as bad:
@@ -81,4 +94,32 @@ def run(args) -> int:
     print(build.summary())
     if build.budget is not None:
         print(build.budget.summary())
+    return EXIT_OK
+
+
+def _emit_c(args, program) -> int:
+    import compiler
+    from compiler.c import default_ladder_h
+    from compiler.errors import CompileError
+
+    output = Path(args.output) if args.output else Path(args.file).with_suffix(".c")
+    try:
+        sources = compiler.build_c(program, output.stem, Path(args.file).name, config.find(Path(args.file)))
+    except config.ConfigError as bad:
+        print(f"ladder build: {bad}", file=sys.stderr)
+        return EXIT_USAGE
+    except CompileError as problem:
+        report(args.file, problem.diagnostics, stream=sys.stdout)
+        return EXIT_PROBLEMS
+    header, ladder_h = output.with_suffix(".h"), output.with_name("ladder.h")
+    files = [(output, sources.c), (header, sources.h)]
+    if not ladder_h.exists():
+        files.append((ladder_h, default_ladder_h()))
+    for path, text in files:
+        if not write_output(path, text.encode()):
+            return EXIT_USAGE
+    hooks = len(sources.hooks)
+    print(f"wrote {', '.join(str(path) for path, _ in files)}: PlcCycle() is one scan, to call every "
+          f"{program.settings.cycle_us / 1000:g} ms; your runtime provides {hooks} function{'s' * (hooks != 1)} "
+          f"({header.name} lists them)")
     return EXIT_OK

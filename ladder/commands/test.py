@@ -1,8 +1,12 @@
 """`ladder test FILE...`: run scenario files (docs/testing.md) against the
-simulator; print each failure with a timing diagram; exit 1 on any failure."""
+simulator, or with `--on avr|pic16|c` against the compiled program (the HEX
+in simavr or gpsim, the C built on the host: compiler.run.record); print each
+failure with a timing diagram; exit 1 on any failure, 2 when a file cannot be
+read or a tool the run needs is missing."""
 
 from __future__ import annotations
 
+import copy
 import io
 import sys
 import time
@@ -20,11 +24,21 @@ def register(subparsers) -> None:
                     "checks outputs. Exit 0 when every expectation holds, 1 otherwise.")
     parser.add_argument("files", nargs="+", metavar="FILE")
     parser.add_argument("--junit", metavar="OUT.xml", help="also write the results as JUnit XML")
+    parser.add_argument("--on", choices=("avr", "pic16", "c"),
+                        help="run the scenarios on the compiled program instead of the simulator: the AVR HEX "
+                             "in simavr, the PIC16 HEX in gpsim, or the C built with the host's compiler")
     parser.set_defaults(func=run)
 
 
 def run(args) -> int:
-    suites = [_run_file(path) for path in args.files]
+    if args.on:
+        from compiler.run.firmware import missing_tool
+
+        problem = missing_tool(args.on)
+        if problem:
+            print(f"ladder test: error: --on {args.on}: {problem}", file=sys.stderr)
+            return EXIT_USAGE
+    suites = [_run_file(path, args.on) for path in args.files]
     failed = sum(1 for suite in suites for case in suite["cases"] if case["failures"] or case["error"])
     total = sum(len(suite["cases"]) for suite in suites)
     print(f"{total - failed} passed, {failed} failed")
@@ -35,7 +49,7 @@ def run(args) -> int:
     return status
 
 
-def _run_file(path: str) -> dict:
+def _run_file(path: str, on: str | None) -> dict:
     from lang.sim.scenario import ScenarioError, parse_scenarios
 
     suite = {"name": path, "cases": []}
@@ -52,14 +66,14 @@ def _run_file(path: str) -> dict:
     for scenario in scenarios:
         started = time.perf_counter()
         case = {"name": scenario.name, "failures": [], "error": None}
-        case["error"], case["failures"] = _run_scenario(scenario)
+        case["error"], case["failures"] = _run_scenario(scenario, on)
         case["seconds"] = time.perf_counter() - started
         _print_case(path, case)
         suite["cases"].append(case)
     return suite
 
 
-def _run_scenario(scenario) -> tuple[str | None, list[str]]:
+def _run_scenario(scenario, on: str | None) -> tuple[str | None, list[str]]:
     from lang.diagnostics import ERROR
     from lang.loader import load_path
     from lang.sim import SimulationError, Simulator
@@ -77,7 +91,13 @@ def _run_scenario(scenario) -> tuple[str | None, list[str]]:
         sim = Simulator(program)
     except SimulationError as problem:
         return "\n".join(d.format(program_path) for d in problem.diagnostics), []
-    return None, [failure.format(scenario.path) for failure in run_scenario(scenario, sim)]
+    # the runner marks the scenario's checks as it goes: the firmware's run gets a fresh copy
+    failures = run_scenario(copy.deepcopy(scenario) if on else scenario, sim)
+    if on:
+        from compiler.run.firmware import run_on
+
+        return run_on(on, scenario, program, program_path, failures)
+    return None, [failure.format(scenario.path) for failure in failures]
 
 
 def _broken(suite: dict, path: str, message: str) -> dict:

@@ -31,12 +31,14 @@ def position(diagnostic: Diagnostic) -> tuple:
     return (span.line, span.col, diagnostic.code, diagnostic.message)
 
 
-def check_program(program: Program, for_build: bool = False, severities: Severities = NONE) -> list[Diagnostic]:
+def check_program(program: Program, for_build: bool = False, severities: Severities = NONE,
+                  family: str | None = None) -> list[Diagnostic]:
     """Every rule's diagnostics for the program at the project's chosen
     severities, sorted by position; `for_build` when it is about to be
     compiled (`ladder build`, compile on save), where a rule may be stricter
-    (LD501) and no error is lowered."""
-    index = ProgramIndex(program, for_build)
+    (LD501) and no error is lowered; `family` when it is compiled for another
+    family than its part's (C)."""
+    index = ProgramIndex(program, for_build, family)
     found: list[Diagnostic] = []
     for rule in RULES:
         found.extend(rule.check(program, index))

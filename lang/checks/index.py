@@ -114,9 +114,10 @@ class ProgramIndex:
     """Elements in order, by kind, every use of every name, every constant
     operand, and every series (for the rules about rung shapes)."""
 
-    def __init__(self, program: Program, for_build: bool = False):
+    def __init__(self, program: Program, for_build: bool = False, family: str | None = None):
         self.program = program
         self.for_build = for_build  # the checks run before compiling (LD501 is an error then)
+        self.family = family  # compiled for this family (lang.targets) rather than the part's
         self.elements: list[tuple[int, Element]] = []
         self.by_kind: dict[str, list[tuple[int, Element]]] = {}
         self.uses: dict[str, list[Use]] = {}  # in order of first use

@@ -1,4 +1,5 @@
-"""LD501: an instruction the selected part's family cannot compile.
+"""LD501: an instruction the selected part's family (or the family the program
+is compiled for, as C) cannot compile.
 
 A warning while editing and in `ladder check` (the program can still be
 simulated), an error when the program is compiled (`ladder build`, compile on
@@ -10,7 +11,7 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import ERROR, report
 from ..instructions import INSTRUCTIONS
-from ..targets import family_of
+from ..targets import FAMILIES, family_of
 from .common import describe, rung_no
 
 CODE = rule_code(__name__)
@@ -18,7 +19,12 @@ CODE = rule_code(__name__)
 
 def check(program, index):
     device = index.device
-    family = family_of(device) if device is not None else None
+    if index.family is not None:
+        family = FAMILIES[index.family]
+        what = f"{family.title} output"
+    else:
+        family = family_of(device) if device is not None else None
+        what = device.title if device is not None else ""
     if family is None:
         return []
     severity = ERROR if index.for_build else None
@@ -32,7 +38,7 @@ def check(program, index):
         for rung, element in elements:
             found.append(report(
                 CODE,
-                f"{describe(element)} in {rung_no(rung)} cannot be compiled for the {device.title}: "
+                f"{describe(element)} in {rung_no(rung)} cannot be compiled for the {what}: "
                 f"the {family.title} back end does not support it",
                 element.span,
                 severity=severity,
