@@ -25,11 +25,13 @@ from lang.textform.writer import render_rung
 
 from .budget import overrun_warning, scan_budget
 from .c import CSources, Unit, generate
-from .errors import MOVED_PIN, NO_TARGET, CompileError, fail, note
+from .c.arduino import BOARDS, Sketch, SketchPin, ino
+from .errors import MOVED_PIN, NO_TARGET, NOT_COMPILED, CompileError, fail, note
 from .image import Build
 from .lower import lower_program
+from .lower.io import PWM_FULL
 from .optimise import optimise
-from .target import BACKENDS, machine_for
+from .target import BACKENDS, _first_use, machine_for
 
 # Each registers its back end on import; the lead adds "compiler.pic16".
 _BACKEND_MODULES = ("compiler.avr", "compiler.pic16")
@@ -86,6 +88,64 @@ def build_c(program: Program, stem: str, source: str, severities: Severities = N
     unit = Unit(stem, source, lambda index: render_rung(program.rungs[index], index + 1, 0),
                 program.settings.cycle_us)
     return generate(code, unit)
+
+
+def build_arduino(program: Program, stem: str, source: str, board: str,
+                  severities: Severities = NONE) -> tuple[CSources, str]:
+    """The program's C and the sketch file that runs it on an Arduino board
+    (`ladder build --emit arduino`); CompileError as for `build`, also for
+    a name with no pin, or a pin that is not on the board's headers or
+    cannot do what the name needs (A/D, PWM)."""
+    sources = build_c(program, stem, source, severities)
+    found = BOARDS[board]
+    pins, problems = [], []
+    hooks = " ".join(sources.hooks)
+    wanted = [(n, kind) for n, (kind, _) in sources.symbols.items() if kind in ("input", "output")]
+    wanted += [(n, "adc") for n in sources.symbols if f"Read_Ub_{n}(" in hooks and n[:1] == "A"]
+    wanted += [(n, "pwm") for n in sources.symbols if f"Write_Ub_{n}(" in hooks and n[:1] == "P"]
+    for name, kind in sorted(wanted):
+        try:
+            pins.append(_board_pin(program, found, name, kind))
+        except CompileError as problem:
+            problems += problem.diagnostics
+    if problems:
+        raise CompileError(problems)
+    sketch = Sketch(found, tuple(pins), program.settings.cycle_us, program.settings.baud)
+    return sources, ino(stem, source, sources, sketch)
+
+
+def _board_pin(program: Program, board, name: str, kind: str) -> SketchPin:
+    where = _first_use(program, name)
+    assignment = program.pins.get(name)
+    if assignment is None or assignment.pin in (0, "", None):
+        raise fail(NOT_COMPILED, f"'{name}' has no pin: give it one of the {board.title}'s (D2, A0) or a port "
+                                 f"bit of its {find_device(board.part).title} (PD2)", where)
+    number = None
+    if isinstance(assignment.pin, str):
+        number = board.number(assignment.pin)
+    else:
+        # a package pin number of the program's own part
+        own = find_device(program.settings.mcu) if program.settings.mcu else None
+        pin = own.pin(assignment.pin) if own is not None else None
+        number = board.number(pin.name) if pin is not None else None
+    if number is None:
+        raise fail(NOT_COMPILED, f"'{name}' is on pin {assignment.pin}, which is not one of the {board.title}'s",
+                   assignment)
+    if kind == "adc" and not board.is_analog(number):
+        raise fail(NOT_COMPILED, f"'{name}' is on {board.label(number)}, which is not an analog input of the "
+                                 f"{board.title} (A0..A{board.analog_count - 1})", assignment)
+    if kind == "pwm" and number not in board.pwm:
+        raise fail(NOT_COMPILED, f"'{name}' is on {board.label(number)}, which has no PWM on the {board.title} "
+                                 f"({', '.join(board.label(n) for n in sorted(board.pwm))})", assignment)
+    if kind in ("input", "output") and number >= len(board.pins):
+        raise fail(NOT_COMPILED, f"'{name}' is on {board.label(number)}, an analog-only input of the "
+                                 f"{board.title}", assignment)
+    port_bit = board.pins[number] if number < len(board.pins) else ""
+    # LDmicro turns on an input's pull-up unless the PULL-UP LIST clears its bit (a port absent: all on)
+    mask = program.pullups.get(port_bit[:2], 0xFF) if port_bit else 0
+    full = next((PWM_FULL.get(str(e.args.get("resolution") or "0-100%"), 100) for _, e in program.elements()
+                 if e.kind == "SET_PWM" and e.args.get("name") == name), 100)
+    return SketchPin(name, kind, number, port_bit, bool(mask >> int(port_bit[2:]) & 1) if port_bit else False, full)
 
 
 def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:

@@ -116,6 +116,31 @@ def symbol_value(symbol, data: dict[int, int]) -> int:
     return int.from_bytes(raw, "little", signed=True)
 
 
+def _drive(events: list[Event], cycle_ms: float, cycle_at, pin_of, adc_channel) -> list[tuple[int, int, str]]:
+    """simavr commands that give the stimulus: (cycle, order, command)."""
+    commands = []
+    for event in events:
+        lead = SEND_BEFORE if event.name == "uart" else DRIVE_BEFORE
+        at = cycle_at(max(0.0, (event.scan - lead) * cycle_ms))
+        if event.name == "uart":
+            commands.append((at, 1, f"uart_in {event.value}"))
+        elif event.name[0] == "X":
+            port, bit = pin_of(event.name)
+            commands.append((at, 1, f"drive {port} {bit} {event.value}"))
+        else:
+            commands.append((at, 1, f"adc {adc_channel(event.name)} {adc_millivolts(event.value)}"))
+    return commands
+
+
+def _script(commands: list[tuple[int, int, str]]) -> list[str]:
+    script = []
+    for at, _, command in sorted(commands, key=lambda c: (c[0], c[1])):
+        if at:
+            script.append(f"run_to {at}")
+        script.append(command)
+    return script
+
+
 def record_avr(build, hex_path: Path, events: list[Event], scans: int, names: list[str],
                watch: list[str] = ()) -> tuple[Recording, sa.AvrRun]:
     """Run the image under the stimulus; the values of `names` read from the
@@ -126,32 +151,15 @@ def record_avr(build, hex_path: Path, events: list[Event], scans: int, names: li
     def cycle_at(ms: float) -> int:
         return round(ms * freq / 1000)
 
-    commands: list[tuple[int, int, str]] = []
-    for name in watch:
-        port, bit = _pin_of(build, name)
-        commands.append((0, 0, f"watch {port} {bit}"))
-    for event in events:
-        lead = SEND_BEFORE if event.name == "uart" else DRIVE_BEFORE
-        at = cycle_at(max(0.0, (event.scan - lead) * cycle_ms))
-        if event.name == "uart":
-            commands.append((at, 1, f"uart_in {event.value}"))
-        elif event.name[0] == "X":
-            port, bit = _pin_of(build, event.name)
-            commands.append((at, 1, f"drive {port} {bit} {event.value}"))
-        else:
-            commands.append((at, 1, f"adc {_adc_channel(build, event.name)} {adc_millivolts(event.value)}"))
+    commands = [(0, 0, "watch {} {}".format(*_pin_of(build, name))) for name in watch]
+    commands += _drive(events, cycle_ms, cycle_at, lambda name: _pin_of(build, name),
+                       lambda name: _adc_channel(build, name))
     symbols = {n: build.image.symbols[n] for n in names}
     ranges = spans(symbols)
     samples = [cycle_at((scan + SAMPLE_AT) * cycle_ms) for scan in range(scans)]
     for at in samples:
         commands += [(at, 2, f"peek {start} {length}") for start, length in ranges]
-    commands.sort(key=lambda c: (c[0], c[1]))
-    script = []
-    for at, _, command in commands:
-        if at:
-            script.append(f"run_to {at}")
-        script.append(command)
-    run = sa.run_avr(hex_path, build.device.part, freq, script, timeout=300)
+    run = sa.run_avr(hex_path, build.device.part, freq, _script(commands), timeout=300)
     memory: list[dict[int, int]] = []
     for line in run.raw.splitlines():
         if line.startswith("@peek"):
@@ -163,6 +171,30 @@ def record_avr(build, hex_path: Path, events: list[Event], scans: int, names: li
     rows = [{n: symbol_value(s, data) for n, s in symbols.items()} for data in memory]
     sent_after = [sum(1 for cycle, _ in run.uart if cycle <= at) for at in samples]
     return Recording(list(names), rows, run.uart_bytes(), sent_after), run
+
+
+def record_pins(hex_path: Path, part: str, freq_hz: int, cycle_us: int, events: list[Event], scans: int,
+                pins: dict[str, str], adc: dict[str, int] | None = None) -> Recording:
+    """An AVR image whose memory has no symbol map (an Arduino sketch):
+    its output pins' levels after each scan. `pins` maps the program's
+    input and output names to port bits (`PD2`), `adc` its A/D names to
+    channels."""
+    cycle_ms = cycle_us / 1000
+
+    def cycle_at(ms: float) -> int:
+        return round(ms * freq_hz / 1000)
+
+    def pin_of(name: str) -> tuple[str, int]:
+        return pins[name][1], int(pins[name][2:])
+
+    outputs = sorted(n for n in pins if n[0] == "Y")
+    commands = [(0, 0, "watch {} {}".format(*pin_of(name))) for name in outputs]
+    commands += _drive(events, cycle_ms, cycle_at, pin_of, (adc or {}).get)
+    end = cycle_at((scans + SAMPLE_AT) * cycle_ms)
+    run = sa.run_avr(hex_path, part, freq_hz, _script(commands + [(end, 3, "cycles")]), timeout=300)
+    rows = [{name: run.level_at(pins[name], (scan + SAMPLE_AT) * cycle_ms) for name in outputs}
+            for scan in range(scans)]
+    return Recording(outputs, rows, run.uart_bytes(), [0] * scans)
 
 
 # --- the PIC16 image in gpsim ----------------------------------------------------------------

@@ -16,6 +16,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from compiler.c.arduino import BOARDS
 from lang import codes, config
 from lang.devices import find_device
 from lang.targets import compiled, parts_text
@@ -40,9 +41,11 @@ def register(subparsers) -> None:
     parser.add_argument("file", metavar="FILE")
     parser.add_argument("-o", "--output", metavar="OUT",
                         help="the file to write (default: FILE with .hex, or .c for --emit c)")
-    parser.add_argument("--emit", choices=("hex", "c"), default="hex",
-                        help="what to write: an Intel HEX image for the part (default), or portable C "
-                             "(FILE.c and FILE.h, with a ladder.h when the folder has none)")
+    parser.add_argument("--emit", choices=("hex", "c", "arduino"), default="hex",
+                        help="what to write: an Intel HEX image for the part (default), portable C "
+                             "(FILE.c and FILE.h, with a ladder.h when the folder has none), or an Arduino "
+                             "sketch (the folder FILE/ with FILE.ino and the C; needs --board)")
+    parser.add_argument("--board", choices=sorted(BOARDS), help="the Arduino board of --emit arduino")
     parser.add_argument("--target", metavar="PART",
                         help="compile for this part instead of the program's (LDmicro name or short name, "
                              "e.g. atmega328p); pins given by port name carry over, package pin numbers "
@@ -55,8 +58,13 @@ def run(args) -> int:
     import compiler
     from compiler.errors import CompileError
 
-    if args.emit == "c" and args.target is not None:
-        print("ladder build: error: --target names a part; the C output (--emit c) has none", file=sys.stderr)
+    if args.emit != "hex" and args.target is not None:
+        print(f"ladder build: error: --target names a part; the C output (--emit {args.emit}) has none "
+              "(an Arduino sketch takes --board)", file=sys.stderr)
+        return EXIT_USAGE
+    if (args.emit == "arduino") != (args.board is not None):
+        print("ladder build: error: --board goes with --emit arduino, and --emit arduino needs it "
+              f"({', '.join(sorted(BOARDS))})", file=sys.stderr)
         return EXIT_USAGE
     if args.target is not None:
         device = find_device(args.target)
@@ -74,7 +82,7 @@ def run(args) -> int:
     if has_errors(loaded.diagnostics):
         report(args.file, loaded.diagnostics, stream=sys.stdout)
         return EXIT_PROBLEMS
-    if args.emit == "c":
+    if args.emit != "hex":
         return _emit_c(args, loaded.program)
     try:
         build = compiler.build(loaded.program, args.target, config.find(Path(args.file)))
@@ -98,13 +106,25 @@ def run(args) -> int:
 
 
 def _emit_c(args, program) -> int:
+    """--emit c: FILE.c, FILE.h (and ladder.h); --emit arduino: the sketch
+    folder FILE/ with FILE.ino, FILE.c, FILE.h and ladder.h."""
     import compiler
     from compiler.c import default_ladder_h
     from compiler.errors import CompileError
 
-    output = Path(args.output) if args.output else Path(args.file).with_suffix(".c")
+    source = Path(args.file)
+    if args.emit == "arduino":
+        folder = Path(args.output) if args.output else source.with_suffix("")
+        output = folder / f"{folder.name}.c"
+    else:
+        output = Path(args.output) if args.output else source.with_suffix(".c")
+    sketch = None
     try:
-        sources = compiler.build_c(program, output.stem, Path(args.file).name, config.find(Path(args.file)))
+        if args.emit == "arduino":
+            sources, sketch = compiler.build_arduino(program, output.stem, source.name, args.board,
+                                                     config.find(source))
+        else:
+            sources = compiler.build_c(program, output.stem, source.name, config.find(source))
     except config.ConfigError as bad:
         print(f"ladder build: {bad}", file=sys.stderr)
         return EXIT_USAGE
@@ -113,13 +133,25 @@ def _emit_c(args, program) -> int:
         return EXIT_PROBLEMS
     header, ladder_h = output.with_suffix(".h"), output.with_name("ladder.h")
     files = [(output, sources.c), (header, sources.h)]
+    if sketch is not None:
+        try:
+            output.parent.mkdir(exist_ok=True)
+        except OSError as problem:
+            print(f"{output.parent}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
+            return EXIT_USAGE
+        files.insert(0, (output.with_suffix(".ino"), sketch))
     if not ladder_h.exists():
         files.append((ladder_h, default_ladder_h()))
     for path, text in files:
         if not write_output(path, text.encode()):
             return EXIT_USAGE
+    written = ", ".join(str(path) for path, _ in files)
+    if sketch is not None:
+        board = BOARDS[args.board]
+        print(f"wrote {written}: a complete sketch for the {board.title} (Arduino IDE, or arduino-cli compile "
+              f"--fqbn {board.fqbn} {output.parent})")
+        return EXIT_OK
     hooks = len(sources.hooks)
-    print(f"wrote {', '.join(str(path) for path, _ in files)}: PlcCycle() is one scan, to call every "
-          f"{program.settings.cycle_us / 1000:g} ms; your runtime provides {hooks} function{'s' * (hooks != 1)} "
-          f"({header.name} lists them)")
+    print(f"wrote {written}: PlcCycle() is one scan, to call every {program.settings.cycle_us / 1000:g} ms; "
+          f"your runtime provides {hooks} function{'s' * (hooks != 1)} ({header.name} lists them)")
     return EXIT_OK

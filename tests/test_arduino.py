@@ -1,0 +1,167 @@
+"""`ladder build --emit arduino --board uno|nano|mega`: the sketch folder, its
+pins, and (marker `arduino`, their own step of .ci/run) the sketches of the
+conveyor example and of examples/traffic-uno.ladder built offline by
+arduino-builder against Debian's Arduino AVR core and run in simavr, their
+output pins following the simulator scan for scan; boards.json checked
+against the core's own pin tables."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from test_compiler_harness import Event, simulate
+
+from compiler.c.arduino import BOARDS
+from compiler.run.record import record_pins
+from ladder.cli import main
+from lang.devices import find_device
+from lang.instructions import INSTRUCTIONS
+from lang.loader import load_path
+from lang.model import Element, PinAssignment, Program, Rung, Series, Settings
+from lang.textform.writer import render_program
+
+ROOT = Path(__file__).resolve().parents[1]
+CORE = Path("/usr/share/arduino/hardware")
+# Debian's arduino-core-avr 1.8.7 uses C++17's DECIMAL_DIG, which its avr-gcc 5.4 lacks in gnu++11
+BUILDER_PREFS = "compiler.cpp.extra_flags=-DDECIMAL_DIG=17"
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def _sketch(capsys, program: Path, folder: Path, board: str) -> Path:
+    source = folder / program.name
+    if source != program:
+        shutil.copyfile(program, source)
+    status, out, err = run(capsys, "build", str(source), "--emit", "arduino", "--board", board)
+    assert status == 0, out + err
+    return folder / program.stem
+
+
+def test_the_sketch_folder_has_the_ino_and_the_c(capsys, tmp_path):
+    sketch = _sketch(capsys, ROOT / "examples" / "traffic-uno.ladder", tmp_path, "uno")
+    assert sorted(p.name for p in sketch.iterdir()) == ["ladder.h", "traffic-uno.c", "traffic-uno.h",
+                                                        "traffic-uno.ino"]
+    ino = (sketch / "traffic-uno.ino").read_text()
+    assert "static const uint8_t PIN_Yred = 8; // D8 (PB0)" in ino
+    assert "pinMode(PIN_Xbutton1, INPUT_PULLUP);" in ino  # LDmicro's pull-ups: on unless the list clears them
+    assert "next += 10000UL;" in ino and "PlcCycle();" in ino
+
+
+def test_pins_may_be_arduino_names_port_bits_or_package_pins(capsys, tmp_path):
+    program = ROOT / "examples" / "conveyor.ladder"  # package pins 4, 5, 18, 19 of the ATmega328P
+    ino = (_sketch(capsys, program, tmp_path, "mega") / "conveyor.ino").read_text()
+    assert "PIN_Xstart = 19; // D19 (PD2)" in ino and "PIN_Ymotor = 11; // D11 (PB5)" in ino
+    # with no part selected, pins may be the board's own names
+    loaded, _ = load_path(program)
+    loaded = dataclasses.replace(loaded, settings=dataclasses.replace(loaded.settings, mcu=""))
+    for name, pin in {"Xstart": "D7", "Xstop": "A1", "Yhorn": "D12", "Ymotor": "D13"}.items():
+        loaded.pins[name] = PinAssignment(name, pin)
+    (tmp_path / "named").mkdir()
+    (tmp_path / "named" / "conveyor.ladder").write_text(render_program(loaded))
+    ino = (_sketch(capsys, tmp_path / "named" / "conveyor.ladder", tmp_path / "named", "uno") /
+           "conveyor.ino").read_text()
+    assert "PIN_Xstart = 7; // D7 (PD7)" in ino and "PIN_Xstop = 15; // A1 (PC1)" in ino
+
+
+def test_a_pin_the_board_lacks_is_a_located_error(capsys, tmp_path):
+    text = (ROOT / "examples" / "traffic-uno.ladder").read_text().replace("| PB5 | PB5   |", "| PB6 | PB6   |")
+    source = tmp_path / "t.ladder"
+    source.write_text(text)
+    status, out, _ = run(capsys, "build", str(source), "--emit", "arduino", "--board", "uno")
+    assert status == 1
+    assert re.search(r"t\.ladder:\d+:\d+: error LD702 'Ywait' is on pin PB6, which is not one of the Arduino Uno's", out)
+    assert not (tmp_path / "t").exists()
+    assert run(capsys, "build", str(source), "--emit", "arduino")[0] == 2  # no --board
+
+
+@pytest.mark.arduino
+@pytest.mark.parametrize("board", sorted(BOARDS))
+def test_boards_match_the_arduino_cores_pin_tables(board):
+    variant = {"uno": "standard", "nano": "standard", "mega": "mega"}[board]
+    text = (CORE / "arduino" / "avr" / "variants" / variant / "pins_arduino.h").read_text()
+
+    def table(name: str) -> list[str]:
+        body = text[text.index(name):]
+        body = re.sub(r"/\*.*?\*/|//[^\n]*", "", body[body.index("{") + 1:body.index("};")], flags=re.S)
+        return [x.strip() for x in body.split(",") if x.strip()]
+
+    ports, masks = table("digital_pin_to_port_PGM[]"), table("digital_pin_to_bit_mask_PGM[]")
+    bits = [re.search(r"\d+", mask).group() for mask in masks]
+    assert list(BOARDS[board].pins) == [f"P{port[1]}{bit}" for port, bit in zip(ports, bits)]
+    assert f"#define PIN_A0   ({BOARDS[board].analog_first})" in text
+
+
+def _build(sketch: Path, board: str) -> Path:
+    build = sketch.parent / f"build-{board}"
+    build.mkdir()
+    done = subprocess.run(["arduino-builder", "-hardware", str(CORE), "-hardware", "/usr/share/arduino-builder",
+                           "-tools", "/usr/bin", "-fqbn", BOARDS[board].fqbn, f"-prefs={BUILDER_PREFS}",
+                           "-build-path", str(build), str(sketch / f"{sketch.name}.ino")],
+                          capture_output=True, text=True, timeout=200)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return build / f"{sketch.name}.ino.hex"
+
+
+CASES = {
+    "conveyor": (ROOT / "examples" / "conveyor.ladder", 300,
+                 [Event(0, "Xstart", 0), Event(0, "Xstop", 0), Event(10, "Xstart", 1), Event(20, "Xstart", 0),
+                  Event(250, "Xstop", 1), Event(260, "Xstop", 0), Event(270, "Xstart", 1)]),
+    "traffic-uno": (ROOT / "examples" / "traffic-uno.ladder", 1200,
+                    [Event(0, "Xbutton1", 1), Event(0, "Xbutton2", 1), Event(120, "Xbutton1", 0),
+                     Event(125, "Xbutton1", 1)]),
+}
+
+
+@pytest.mark.arduino
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_the_sketch_builds_offline_and_runs_in_simavr_following_the_simulator(name, capsys, tmp_path):
+    path, scans, events = CASES[name]
+    hex_path = _build(_sketch(capsys, path, tmp_path, "uno"), "uno")
+    program, _ = load_path(path)
+    device = find_device(program.settings.mcu)
+    pins = {name: device.pin(assignment.pin).name for name, assignment in program.pins.items()}
+    recording = record_pins(hex_path, "atmega328p", 16_000_000, program.settings.cycle_us, events, scans, pins)
+    expected = simulate(program, events, scans, recording.names)
+    differences = [f"scan {scan}: {n} simulator {want[n]}, sketch {got[n]}"
+                   for scan, (want, got) in enumerate(zip(expected, recording.rows)) for n in recording.names
+                   if want[n] != got[n]]
+    assert any(row[n] for row in expected for n in recording.names)  # the outputs do something
+    assert not differences, "\n".join(differences[:20])
+
+
+def _element(kind: str, **args) -> Element:
+    full = {f.name: f.default for f in INSTRUCTIONS[kind].fields}
+    full.update(args)
+    return Element(kind, full)
+
+
+@pytest.mark.arduino
+@pytest.mark.parametrize("board", sorted(BOARDS))
+def test_a_sketch_with_every_peripheral_builds_for_every_board(board, capsys, tmp_path):
+    # A/D on A0, PWM on D9 (0-1024), the UART, PERSIST, a DELAY: every runtime function the sketch writes
+    rungs = [Rung(Series([_element("READ_ADC", name="Apot", refs=0)])),
+             Rung(Series([_element("SET_PWM", name="Pled", duty="Apot", freq=1000, resolution="0-1024")])),
+             Rung(Series([_element("CONTACTS", name="Xsend", negated=0), _element("OSR"),
+                          _element("UART_SEND", var="Apot", bytes=1, wait=0)])),
+             Rung(Series([_element("UART_RECV_AVAIL"), _element("UART_RECV", var="got", bytes=1, wait=0)])),
+             Rung(Series([_element("CONTACTS", name="Xsend", negated=0), _element("DELAY", delay="20")])),
+             Rung(Series([_element("PERSIST", var="got")]))]
+    program = Program(Settings(mcu="", cycle_us=10_000, crystal_hz=16_000_000, baud=9600), rungs)
+    for name, pin in {"Apot": "A0", "Pled": "D9", "Xsend": "D2"}.items():
+        program.pins[name] = PinAssignment(name, pin)
+    source = tmp_path / "io.ladder"
+    source.write_text(render_program(program))
+    status, out, err = run(capsys, "build", str(source), "--emit", "arduino", "--board", board)
+    assert status == 0, out + err
+    ino = (tmp_path / "io" / "io.ino").read_text()
+    assert "analogRead(PIN_Apot)" in ino and "Serial.begin(9600);" in ino and "EEPROM.write" in ino
+    assert _build(tmp_path / "io", board).exists()
