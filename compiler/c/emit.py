@@ -194,12 +194,17 @@ _ARITH = {"add": "+", "sub": "-", "mul": "*", "and": "&", "or": "|", "xor": "^"}
 
 def _arith(w: Writer, op: ir.Arith) -> None:
     symbol = _ARITH[op.op]
-    w.store(op.dst, f"{w.unsigned(op.a)} {symbol} {w.unsigned(op.b)}")
-    if op.overflow is not None:
-        exact = f"(int64_t){w.value(op.a)} {symbol} (int64_t){w.value(op.b)}"
-        w.line(f"if (!{w.helper('ld_fits')}({exact}, {8 * op.dst.size})) {{")
-        w.write(op.overflow, "1", 2)
-        w.line("}")
+    if op.overflow is None:
+        w.store(op.dst, f"{w.unsigned(op.a)} {symbol} {w.unsigned(op.b)}")
+        return
+    # the exact result, taken before the store (the destination may be an operand)
+    w.line("{")
+    w.line(f"int64_t r = (int64_t){w.value(op.a)} {symbol} (int64_t){w.value(op.b)};", 2)
+    w.store(op.dst, "(uint32_t)r", 2)
+    w.line(f"if (!{w.helper('ld_fits')}(r, {8 * op.dst.size})) {{", 2)
+    w.write(op.overflow, "1", 3)
+    w.line("}", 2)
+    w.line("}")
 
 
 def _change_bit(w: Writer, op: ir.ChangeBitOf) -> None:

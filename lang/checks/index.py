@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Program, Series, Span
+from ..targets import FAMILIES
 from .common import EOL_KINDS, token
 
 # Operand kinds that hold variable names (or, for operands, a constant).
@@ -128,6 +129,12 @@ class ProgramIndex:
         self.followed: list[tuple[int, Series, int]] = []
         self.cache: dict[str, object] = {}
         self._build(program)
+
+    @property
+    def pins_matter(self) -> bool:
+        """A part is selected and the program is compiled for it, not to C
+        for no part (whose runtime reads and writes the I/O)."""
+        return self.device is not None and (self.family is None or bool(FAMILIES[self.family].parts))
 
     def _build(self, program: Program) -> None:
         # one walk; everything it touches is bound to a local name (hot loop)

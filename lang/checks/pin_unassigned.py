@@ -1,4 +1,5 @@
-"""LD407: an I/O name with no pin while a part is selected."""
+"""LD407: an I/O name with no pin while a part is selected (not when the
+program is compiled to C, whose runtime owns the pins)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ _WHAT = {"X": "input", "Y": "output", "A": "A/D input", "P": "PWM output"}
 
 
 def check(program, index):
-    if index.device is None:
+    if not index.pins_matter:
         return []
     analog, pwm = adc_names(index), pwm_names(index)
     found = []
