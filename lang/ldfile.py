@@ -11,6 +11,10 @@ program holds everything that could be read.
 Writing: LDmicro 5.4.1.1's own output (`SaveProjectToFile`), in the 0.2 form
 or in 5.4's "Save as 0.1" form (long element forms, `RUNG` without a number,
 FORMATTED_STRING as character codes, no COMPILER / PULL-UP LIST / VAR LIST).
+A file in that form survives `.ld -> .ladder -> .ld` byte for byte but for the
+few details the program model does not keep; any other file comes back in that
+form (the README's "LDmicro's files" lists both, tests/test_ldfile_bytes.py
+checks them on the corpus).
 
 Choices where LDmicro's behaviour is not worth copying (see the report in
 docs/):
@@ -957,14 +961,12 @@ def element_line(element: Element, version: str = "0.2", encoding: str = "cp1252
     if form == "coil":
         flags = [int(a.get("type", " ") == symbol) for symbol in "/SRT"]
         return f"COIL {a['name']} " + " ".join(map(str, flags))
+    # LDmicro 5.4 writes every operand of SET_PWM, SLEEP and the two tables, an
+    # empty one too (one from an older file): the line then ends in blanks
     if form == "setpwm":
-        parts = [key, _str(a["duty"]), _str(a["freq"]), _str(a["name"])]
-        if a.get("resolution"):
-            parts.append(_str(a["resolution"]))
-        return " ".join(parts)
+        return " ".join([key] + [_str(a.get(name, "")) for name in ("duty", "freq", "name", "resolution")])
     if form == "sleep":
-        parts = [key] + [_str(a[name]) for name in ("name", "delay") if a.get(name) != ""]
-        return " ".join(parts)
+        return " ".join([key] + [_str(a.get(name, "")) for name in ("name", "delay")])
     if form == "fstring":
         var = _str(a.get("var") or "(none)")
         text = str(a.get("text", ""))
@@ -981,17 +983,13 @@ def element_line(element: Element, version: str = "0.2", encoding: str = "cp1252
         values = [_str(v) for v in a.get("values", ())]
         parts = [key, _str(a["dest"]), _str(a["index"]), str(len(values)),
                  _str(a.get("as_string", 0))] + values
-        if a.get("table"):
-            parts.append(_str(a["table"]))
-        return " ".join(parts)
+        return " ".join(parts + [_str(a.get("table", ""))])
     if form == "pwl":
         points = list(a.get("points", ()))
         parts = [key, _str(a["dest"]), _str(a["index"]), str(len(points))]
         for x, y in points:
             parts += [_str(x), _str(y)]
-        if a.get("table"):
-            parts.append(_str(a["table"]))
-        return " ".join(parts)
+        return " ".join(parts + [_str(a.get("table", ""))])
     if form == "quad":
         parts = [key]
         for field in ins.fields:

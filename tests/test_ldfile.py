@@ -30,13 +30,14 @@ CORPUS_FILES = sorted((CORPUS / "ldmicro").rglob("*.ld")) + sorted((CORPUS / "ld
 SAMPLE = CORPUS / "ldmicro" / "sample"
 EXPORT = CORPUS / "ldmicro-export"
 
-# Files whose PROGRAM section LDmicro 5.4 wrote in the 0.2 form: "RUNG <n>", two
-# blanks per level, every element in its long form. Not in this list: the other
-# 0.2 files test-uart.ld (UART_RECV/UART_SEND short forms and a numeric
-# FORMATTED_STRING, written by an older 5.x), sample/swatch2.ld (4-blank
-# indentation, 3-flag coils), catalog.ld (hand-written, unnumbered rungs) and
-# test-i2c-2.ld, whose comment has a blank before a line break that we drop
-# (docs/format.md: blanks ending a comment line carry nothing).
+# Files whose PROGRAM section is in the 0.2 form LDmicro 5.4 writes: "RUNG <n>",
+# two blanks per level, every element in its long form. Not in this list: the
+# other 0.2 files test-uart.ld (UART_RECV/UART_SEND short forms and a numeric
+# FORMATTED_STRING, written by an older 5.x), sample/swatch2.ld (3-flag coils,
+# blanks before a comment's line break), catalog.ld (hand-written, unnumbered
+# rungs, 4-blank indentation) and test-i2c-2.ld, whose comment has a blank
+# before a line break that we drop (docs/format.md: blanks ending a comment
+# line carry nothing).
 WRITTEN_BY_54 = [
     "ldmicro/Tests/test-adc.ld",
     "ldmicro/Tests/test-i2c-1.ld",
@@ -514,6 +515,7 @@ def test_set_pwm_legacy_forms():
     program = load(CORPUS / "ldmicro" / "reg" / "tests" / "misc-ops.ld")
     pwm = [e for _, e in program.elements() if e.kind == "SET_PWM"]
     assert pwm[0].args == {"duty": "duty", "freq": 10000, "name": "P", "resolution": ""}
+    assert element_line(pwm[0]) == "SET_PWM duty 10000 P "  # as LDmicro 5.4 saves it again
 
 
 def test_contacts_and_coil_short_forms():
@@ -534,7 +536,7 @@ def test_uart_adc_aliases_and_bare_keywords():
     assert one("UART_SEND_BUSY").kind == "UART_SEND_READY"
     assert one("UART_UDRE").kind == "UART_SEND_READY"
     assert one("SLEEP").args == {"name": "", "delay": ""}
-    assert element_line(one("SLEEP")) == "SLEEP"
+    assert element_line(one("SLEEP")) == "SLEEP  "  # LDmicro 5.4 writes both operands, empty ones too
 
 
 def test_formatted_string_forms():
@@ -559,7 +561,7 @@ def test_look_up_table_and_piecewise_linear_legacy_names():
                         "as_string": 0, "table": "duty5"}
     assert one("PIECEWISE_LINEAR y x 2 0 0 10 100").args == {
         "dest": "y", "index": "x", "points": (("0", "0"), ("10", "100")), "table": ""}
-    assert element_line(one("PIECEWISE_LINEAR y x 2 0 0 10 100")) == "PIECEWISE_LINEAR y x 2 0 0 10 100"
+    assert element_line(one("PIECEWISE_LINEAR y x 2 0 0 10 100")) == "PIECEWISE_LINEAR y x 2 0 0 10 100 "
     assert one("LOOK_UP_TABLE d i 0 0").args["values"] == ()
 
 
