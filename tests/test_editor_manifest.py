@@ -71,7 +71,7 @@ def test_grammars_match_their_generator(tmp_path, monkeypatch):
     code = source.replace('os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "syntaxes", '
                           '"%s.tmLanguage.json" % fn)', f'os.path.join({str(out)!r}, "%s.tmLanguage.json" % fn)')
     assert code != source
-    exec(compile(code, str(spec.origin), "exec"), {"__name__": "gen_grammar"})
+    exec(compile(code, str(spec.origin), "exec"), {"__name__": "gen_grammar", "__file__": str(spec.origin)})
     for name in ("ladder", "ldmicro"):
         assert (out / f"{name}.tmLanguage.json").read_text() == (EXT / "syntaxes" / f"{name}.tmLanguage.json").read_text(), \
             f"syntaxes/{name}.tmLanguage.json is stale: run python3 scripts/gen_grammar.py"

@@ -1,14 +1,33 @@
 """Writes the TextMate grammars of the extension: syntaxes/ladder.tmLanguage.json (text form) and
-syntaxes/ldmicro.tmLanguage.json (LDmicro .ld). Edit this file, run `python3 scripts/gen_grammar.py`,
-then `npm test` (vscode-tmgrammar-test over test/grammar/)."""
+syntaxes/ldmicro.tmLanguage.json (LDmicro .ld). The instruction words come from the repository's
+instruction table. Edit this file (or the table), run `python3 scripts/gen_grammar.py`, then
+`npm test` (vscode-tmgrammar-test over test/grammar/)."""
 import json
 import os
-KEYWORDS = ("END|TON|TOF|RTO|RTL|TCY|THI|TLO|CTU|CTD|CTC|CTR|OSR|OSF|OSC|OSL|RES|MOV|ADD|SUB|MUL|DIV|MOD|NEG|"
-            "AND|OR|XOR|NOT|SHL|SHR|ROL|ROR|SR0|BIN2BCD|BCD2BIN|SWAP|OPPOSITE|SET|CLR|BIT|PWM|READ|ADC|UART|SEND|"
-            "RECV|SENDn|RECVn|RDY|BUSY|PERSIST|SHIFT|REG|LUT|PWL|MASTER|RLY|SLEEP|DELAY|CLRWDT|LOCK|GOTO|GOSUB|"
-            "RETURN|LABEL|SUBPROG|ENDSUB|STRING|FMTD|STR|CHAR|QUAD|ENCOD|PULSE|NPULSE|STEPPER|BUS|SPI|I2C|RD|WR|"
-            "WRITE|EQU|NEQ|GRT|GEQ|LES|LEQ|IF|RAND|SEED|TIME2COUNT|TIME2DELAY|CPRINTF|SPRINTF|FPRINTF|PRINTF|"
-            "PULLUP|MODBUS|SFR|IN|OUT|ABS|DEC|INC")
+import re
+import sys
+# the repository's instruction table (lang/instructions.py) is the one list of instructions
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+from lang.instructions import INSTRUCTIONS  # noqa: E402
+
+WORD = re.compile(r"(?<![A-Za-z0-9])[A-Z][A-Z0-9]+[a-z]?(?![A-Za-z0-9])")
+
+
+def drawn_words():
+    """Every word an instruction's drawing shows (TON, MOV, T2CNT...), and END."""
+    words = {"END"}
+    for instruction in INSTRUCTIONS.values():
+        for drawing in (instruction.top, instruction.glyph):
+            for template in drawing.templates() if drawing is not None else ():
+                for part in template.parts():
+                    texts = [part[1]] if part[0] == "lit" else [alt for alt in part[3:5] if alt]
+                    for text in texts:
+                        words.update(WORD.findall(text))
+    # longest first: the regex alternation takes the first that matches
+    return "|".join(sorted(words, key=lambda w: (-len(w), w)))
+
+
+KEYWORDS = drawn_words()
 PREFIX = [("X", "input"), ("Y", "output"), ("R", "relay"), ("T", "timer"), ("C", "counter"),
           ("A", "adc"), ("P", "pwm")]
 
