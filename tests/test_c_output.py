@@ -86,3 +86,25 @@ def test_emit_c_refuses_a_part_and_what_c_cannot_do(capsys, tmp_path):
     assert status == 1
     assert "error LD501 I2C WR in rung 3 cannot be compiled for the C output" in out
     assert not source.with_suffix(".c").exists()
+
+
+def test_a_subroutine_no_gosub_reaches_still_compiles(tmp_path):
+    # the optimiser drops a GOSUB behind an open contact; the subroutine's return stays
+    # (found by benchmarks/compiler_fuzz.py --family c: a `goto` to a dispatch never written)
+    from c_harness import differential
+    from test_compiler_harness import Event
+
+    from lang.instructions import INSTRUCTIONS
+    from lang.model import Element, Program, Rung, Series, Settings
+
+    def element(kind, **args):
+        return Element(kind, {**{f.name: f.default for f in INSTRUCTIONS[kind].fields}, **args})
+
+    rungs = [Rung(Series([element("OPEN"), element("GOSUB", label="sub")])),
+             Rung(Series([element("CONTACTS", name="Xa", negated=0), element("COIL", name="Ya", type=" ")])),
+             Rung(Series([element("SUBPROG", label="sub")])),
+             Rung(Series([element("CONTACTS", name="Xa", negated=0), element("RETURN")])),
+             Rung(Series([element("COIL", name="Yb", type=" ")])),
+             Rung(Series([element("ENDSUB", label="sub")]))]
+    program = Program(Settings(mcu="", cycle_us=10_000), rungs)
+    assert differential(program, [Event(3, "Xa", 1)], 10, tmp_path) == []

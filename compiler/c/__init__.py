@@ -83,14 +83,14 @@ def generate(code: ir.Code, unit: Unit) -> CSources:
     write_ops(w, code.init)
     w.lines[start:] = ["    " + line if line else line for line in w.lines[start:]]
     w.line("}")
-    if any(isinstance(op, ir.Call) for op in code.scan):
+    if any(isinstance(op, (ir.Call, ir.Return)) for op in code.scan):
         w.line("ld_sp = 0;")
     write_ops(w, code.scan)
     # C warns of a label nothing jumps to
     targets = {label_name(t) for t in w.targets}
     body = [line for line in w.lines
             if not (line.endswith(":;") and not line.startswith((" ", "ld_return")) and line[:-2] not in targets)]
-    if w.calls:
+    if w.calls or w.returns:
         body += ["    return;", "ld_dispatch:", "    if (ld_sp == 0) {", "        return;", "    }",
                  "    ld_sp--;", "    switch (ld_stack[ld_sp]) {"]
         for k in range(1, w.calls + 1):
@@ -139,7 +139,7 @@ def _c_file(unit: Unit, names: Names, w: Writer, body: list[str]) -> str:
     for ctype, cname, name in _storage(names, w):
         note = f" /* {_comment(name)} */" if name and cname[3:] != name else ""
         out.append(f"_STATIC_ {ctype} {cname} = 0;{note}")
-    if w.calls:
+    if w.calls or w.returns:
         out += ["", f"static unsigned char ld_stack[{STACK_DEPTH}]; /* GOSUB return sites */",
                 "static unsigned char ld_sp;"]
         if w.keeps:

@@ -45,6 +45,7 @@ class Writer:
     hooks: set[str] = field(default_factory=set)  # the user's runtime functions it calls
     targets: set[str] = field(default_factory=set)  # labels something jumps to
     calls: int = 0  # return sites so far
+    returns: bool = False  # a RETURN or ENDSUB was written (it may come with no GOSUB left to reach it)
     keeps: int = 0  # the most temporaries one call keeps
 
     def line(self, text: str, depth: int = 1) -> None:
@@ -170,6 +171,7 @@ def _call(w: Writer, op: ir.Call) -> None:
 
 
 def _return(w: Writer, op: ir.Return) -> None:
+    w.returns = True
     w.line(w.goto("ld_dispatch"))
 
 
