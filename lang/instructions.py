@@ -45,8 +45,11 @@ class Instruction:
     cells: int = 1
     aliases: tuple[str, ...] = ()  # other .ld keywords read as this one
     ld_form: str = "fields"  # how the .ld line is laid out (see lang.ldfile)
-    consts: dict = field(default_factory=dict)  # fixed values the drawing uses
+    consts: dict = field(default_factory=dict)  # fixed values the drawing uses (a comparison's "op")
     support: frozenset = ALL
+    # what several layers treat alike: "timer" (a T variable counting scans to a delay),
+    # "counter" (a C variable with a limit and a start value), "jump" (changes where the scan goes)
+    family: str = ""
 
     @property
     def kinds(self) -> dict[str, str]:
@@ -171,7 +174,7 @@ for _key, (_title, _pre, _doc) in _TIMERS.items():
         text("{name}"), text(_pre + "[" + _key + " {delay:delay}]"),
         _doc + " The delay is a time, or a variable holding a number of scan cycles; "
         "the timer counts scan cycles in its T variable.",
-        "timers",
+        "timers", family="timer",
     )
 
 define(
@@ -232,7 +235,7 @@ for _key, (_title, _top, _glyph, _doc) in _COUNTERS.items():
         text(_top), text(_glyph),
         _doc + " The counting edge is `/` rising (default), `\\` falling, `-` every scan "
         "with the input 1, `o` every scan with the input 0.",
-        "counters",
+        "counters", family="counter",
     )
 
 # --- comparisons --------------------------------------------------------------------
@@ -445,20 +448,20 @@ define("OPEN", "open circuit", (), None, text("+      +"),
 define("GOTO", "go to", (label("label"),), text("{label}"), text("{{GOTO}}"),
        "When its input is 1, continues the scan at the rung holding LABEL of that name "
        "(or at that rung number); the rungs in between are skipped.",
-       "flow", eol=True)
+       "flow", eol=True, family="jump")
 define("LABEL", "label", (label("label"),), text("{label}"), text("[LABEL]"),
        "Marks its rung as a GOTO target; passes power through.", "flow")
 define("SUBPROG", "subroutine start", (label("label"),), text("{label}"), text("[SUBPROG]"),
        "Starts a subroutine that runs only when called with GOSUB; must be alone in its rung.",
-       "flow")
+       "flow", family="jump")
 define("ENDSUB", "subroutine end", (label("label"),), text("{label}"), text("[ENDSUB]"),
        "Ends a subroutine and returns to the rung after the GOSUB; must be alone in its rung.",
-       "flow")
+       "flow", family="jump")
 define("GOSUB", "call subroutine", (label("label"),), text("{label}"), text("{{GOSUB}}"),
        "When its input is 1, runs the subroutine of that name and comes back.",
-       "flow", eol=True)
+       "flow", eol=True, family="jump")
 define("RETURN", "return", (), None, text("{{RETURN}}"),
-       "When its input is 1, returns from the current subroutine.", "flow", eol=True)
+       "When its input is 1, returns from the current subroutine.", "flow", eol=True, family="jump")
 define("CLRWDT", "clear watchdog", (), None, text("{{CLRWDT}}"),
        "Clears the watchdog timer an extra time within the scan.", "flow", eol=True)
 define("LOCK", "lock", (), None, text("{{LOCK}}"),
@@ -557,6 +560,15 @@ for _key, _word, _second in (("RSFR", "Read", "dest"), ("WSFR", "Write", "src"),
 
 
 INSTRUCTIONS: dict[str, Instruction] = {i.key: i for i in _TABLE}
+
+
+def of_family(family: str) -> tuple[str, ...]:
+    return tuple(i.key for i in _TABLE if i.family == family)
+
+
+TIMERS, COUNTERS, JUMPS = of_family("timer"), of_family("counter"), of_family("jump")
+# comparison -> its C/Python relation, as its drawing shows it
+RELATIONS: dict[str, str] = {i.key: i.consts["op"] for i in _TABLE if i.category == "compare"}
 
 # .ld keywords (including legacy aliases) -> instruction
 LD_KEYWORDS: dict[str, Instruction] = {}

@@ -11,6 +11,7 @@ that transforms its input is written like a function of it (`TON[Tdly, 2 s](Xa)`
 from __future__ import annotations
 
 from .checks.common import label as instruction_label
+from .instructions import RELATIONS
 from .model import Element, Node, Program, Rung, Series
 from .values import format_delay
 
@@ -112,8 +113,8 @@ def _element(element: Element, p: tuple[str, int], actions: list[str], at_end: b
         return p
     if kind == "OPEN":
         return _FALSE
-    if element.spec.category == "compare" or kind in ("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ"):
-        op = element.spec.consts.get("op", kind)
+    if kind in RELATIONS:
+        op = RELATIONS[kind]
         return _and(p, (f"({_value(element, 'op1')} {op} {_value(element, 'op2')})", 3))
     if kind in ("IF_BIT_SET", "IF_BIT_CLEAR"):
         test = "bit" if kind == "IF_BIT_SET" else "!bit"

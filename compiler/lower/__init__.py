@@ -12,9 +12,9 @@ from __future__ import annotations
 from lang.checks.common import describe
 from lang.codes import code
 from lang.devices import Device
+from lang.instructions import COUNTERS
 from lang.model import Element, Program, Series
 from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
-from lang.sim.gen_timers import COUNTERS
 from lang.targets import Family, family_of
 from lang.values import is_literal, literal_value
 

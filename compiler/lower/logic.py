@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from lang.instructions import RELATIONS
 from lang.values import is_literal
 
 from .. import ir
@@ -94,13 +95,10 @@ def oscillator(b: Builder, el, p: ir.Bit) -> None:
             b.emit(ir.SetBit(st, False))
 
 
-_COMPARE = {"EQU": "==", "NEQ": "!=", "GRT": ">", "GEQ": ">=", "LES": "<", "LEQ": "<="}
-
-
-@lowers(*_COMPARE)
+@lowers(*RELATIONS)
 def compare(b: Builder, el, p: ir.Bit) -> None:
     a, c = b.operand(el.args["op1"]), b.operand(el.args["op2"])
-    with b.if_(IsSet(p)), b.if_(Holds(a, ir.NEGATED[_COMPARE[el.kind]], c)):
+    with b.if_(IsSet(p)), b.if_(Holds(a, ir.NEGATED[RELATIONS[el.kind]], c)):
         b.emit(ir.SetBit(p, False))
 
 

@@ -4,7 +4,7 @@ instance has its own edge memory."""
 
 from __future__ import annotations
 
-from lang.sim.gen_timers import TIMERS
+from lang.instructions import TIMERS
 from lang.values import is_literal
 
 from .. import ir

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import COUNTERS, TIMERS, label, rung_no
+from ..instructions import COUNTERS, TIMERS
+from .common import label, rung_no
 
 CODE = rule_code(__name__)
 

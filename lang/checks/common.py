@@ -6,7 +6,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..diagnostics import Fix, Related, Rename, report
-from ..instructions import INSTRUCTIONS
+from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..roles import ROLES, role
 from ..values import format_delay, is_literal, literal_value
@@ -42,9 +42,6 @@ _LABELS = {
 }
 _COIL_WORDS = {" ": "coil", "/": "negated coil", "S": "set coil", "R": "reset coil", "T": "toggle coil"}
 
-# Timer and counter families, used by several rules.
-TIMERS = ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")
-COUNTERS = ("CTU", "CTD", "CTC", "CTR")
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
 
 # Names the compiler writes itself (§4.2): never "read but never written".

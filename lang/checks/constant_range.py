@@ -6,9 +6,9 @@ from functools import lru_cache
 
 from ..codes import rule_code
 from ..diagnostics import report
+from ..instructions import COUNTERS, RELATIONS
 from ..values import is_literal
 from .common import (
-    COUNTERS,
     arg_span,
     fits,
     is_decimal,
@@ -29,7 +29,7 @@ for _kind in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR"):
     _TARGETS[(_kind, "op2")] = ("dest", "operand")
 for _kind in ("NEG", "NOT", "SHL", "SHR", "SR0", "ROL", "ROR"):
     _TARGETS[(_kind, "op1")] = ("dest", "operand")  # a shift count (op2) is LD302
-for _kind in ("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ"):
+for _kind in RELATIONS:
     _TARGETS[(_kind, "op1")] = ("op2", "operand")
     _TARGETS[(_kind, "op2")] = ("op1", "operand")
 for _kind in COUNTERS:

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from .common import COUNTERS, misnamed
+from ..instructions import COUNTERS
+from .common import misnamed
 
 CODE = rule_code(__name__)
 

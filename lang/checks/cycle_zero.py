@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import TIMERS, rung_no, timer_text
+from ..instructions import TIMERS
+from .common import rung_no, timer_text
 
 CODE = rule_code(__name__)
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from ..instructions import INSTRUCTIONS
+from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from ..values import is_literal
-from .common import COUNTERS, TIMERS, arg_span, label, prefix_fixes, rung_no, token
+from .common import arg_span, label, prefix_fixes, rung_no, token
 
 CODE = rule_code(__name__)
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from .common import TIMERS, misnamed
+from ..instructions import TIMERS
+from .common import misnamed
 
 CODE = rule_code(__name__)
 

@@ -22,9 +22,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import NamedTuple
 
+from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from ..model import Element
 from ..values import is_literal
-from .common import COUNTERS, TIMERS, token
+from .common import token
 from .index import ProgramIndex
 from .index import is_literal_fast as _is_literal
 
@@ -49,7 +50,7 @@ for _kind in ("TIME2COUNT", "TIME2DELAY", "RANDOM", "READ_ADC"):
     _ANY_FIELDS[_kind] = ("name",)
 _ANY_FIELDS["UART_RECV"] = ("var",)
 _ANY_FIELDS["STRING"] = ("dest",)
-for _kind in ("GOTO", "GOSUB", "LABEL", "SUBPROG", "ENDSUB"):
+for _kind in (k for k, i in INSTRUCTIONS.items() if any(f.kind == "label" for f in i.fields)):
     _ANY_FIELDS[_kind] = ("label",)
 _ANY_FIELDS["SPI"] = ("send", "recv")
 _ANY_FIELDS["LOOK_UP_TABLE"] = ("dest", "index")
