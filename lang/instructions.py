@@ -562,6 +562,10 @@ for _key, _word, _second in (("RSFR", "Read", "dest"), ("WSFR", "Write", "src"),
 INSTRUCTIONS: dict[str, Instruction] = {i.key: i for i in _TABLE}
 
 
+# instructions that must end their branch (coils, MOV, RES...)
+EOL_KINDS = frozenset(i.key for i in _TABLE if i.eol)
+
+
 def of_family(family: str) -> tuple[str, ...]:
     return tuple(i.key for i in _TABLE if i.family == family)
 

@@ -2,15 +2,15 @@
 instruction does not allow is renamed to each allowed prefix, e.g. `Xlamp`
 written by a coil -> `Ylamp` or `Rlamp`; a misspelt part), structural edits
 of the drawing (insert, delete, move an element, a parallel branch around
-the selection, a new rung; each rung is drawn again, lang.edits) and the
+the selection, a new rung; each rung is drawn again, ide.edits) and the
 conversion between `.ladder` and `.ld` (the `ladder.convert` command)."""
 
 from __future__ import annotations
 
 from lsprotocol import types
 
-from lang import edits
-from lang.fixes import fix_edits
+from ide import edits
+from ide.fixes import fix_edits
 
 from .documents import LADDER
 from .navigation import workspace_edit
@@ -60,7 +60,7 @@ def _action(title: str, kind, edit: types.WorkspaceEdit | None = None, command=N
 # --- quick fixes ------------------------------------------------------------------------------
 
 def quick_fixes(ls, analysis, diagnostics) -> list[types.CodeAction]:
-    """The fixes the checks attached to the client's diagnostics (lang.fixes
+    """The fixes the checks attached to the client's diagnostics (ide.fixes
     turns each into edits, as `ladder check --fix` does)."""
     actions = []
     for diagnostic in diagnostics or ():
@@ -167,7 +167,7 @@ def _word(kind: str) -> str:
 
 
 def _describe(element) -> str:
-    from lang.checks.common import describe
+    from lang.labels import describe
 
     return describe(element)
 

@@ -21,9 +21,9 @@ from functools import lru_cache
 
 from lsprotocol import types
 
-from lang import edits, names
+from ide import edits, names
+from ide.locate import Locator, rail_column, word_at
 from lang.instructions import DEFAULT_LINES, INSTRUCTIONS
-from lang.locate import Locator, rail_column, word_at
 from lang.model import Span
 from lang.roles import role
 from lang.textform.sections import DIAGRAM, IO
@@ -219,7 +219,7 @@ def _menu() -> list[str]:
 
 
 def _keyword(kind: str) -> str:
-    from lang.checks.common import label
+    from lang.labels import label
 
     return label(edits.new_element(kind)) if kind in ("COIL", "CONTACTS") else kind
 
@@ -284,7 +284,7 @@ def _insert_here(ls, analysis, line, col, rung_index) -> list[types.CompletionIt
 
 
 def edits_describe(element) -> str:
-    from lang.checks.common import describe
+    from lang.labels import describe
 
     return describe(element)
 

@@ -5,7 +5,7 @@ helpers the features share (locator, name index, position conversion).
 An analysis belongs to one exact text: features ask `Documents.analysis(uri)`,
 which re-reads only when the text changed since the last request. The text
 reader caches rungs by their lines, so after a one-character edit only the
-touched rung is read again (`lang.incremental` keeps the rest of the program).
+touched rung is read again (`ide.incremental` keeps the rest of the program).
 """
 
 from __future__ import annotations
@@ -17,13 +17,13 @@ from urllib.parse import unquote, urlparse
 
 from lsprotocol import types
 
+from ide.incremental import IncrementalReader
+from ide.locate import Locator
 from lang import codes, config
 from lang.checks import check_program
-from lang.checks.index import ProgramIndex
 from lang.config import NONE, Severities
 from lang.diagnostics import ERROR, WARNING, Diagnostic
-from lang.incremental import IncrementalReader
-from lang.locate import Locator
+from lang.index import ProgramIndex
 from lang.model import Program, Span
 
 from .positions import Positions

@@ -1,5 +1,5 @@
 """Formatting: `ladder fmt` on the open text (lang.textform.formatter's
-layout, on the program the server already read: lang.incremental.format_read), sent
+layout, on the program the server already read: ide.incremental.format_read), sent
 as the few line edits that turn the text into the formatted one, so the
 cursor and undo history stay where they are. A text with errors is never
 reformatted; `.ld` files are LDmicro's own format and are left as they are."""
@@ -10,7 +10,7 @@ import difflib
 
 from lsprotocol import types
 
-from lang.incremental import format_read
+from ide.incremental import format_read
 
 from .documents import LADDER
 

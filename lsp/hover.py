@@ -1,17 +1,17 @@
 """Hover: an instruction (what it does, its operands), a name (its role, pin,
 where it is written and read, its value while a simulation runs), a rung
 (its logic in one line), the part in the header line, a row of the I/O
-table. The words come from lang/ (instruction table, lang.names, lang.outline)."""
+table. The words come from lang/ (instruction table, ide.names, ide.outline)."""
 
 from __future__ import annotations
 
 from lsprotocol import types
 
-from lang import names
+from ide import names
+from ide.locate import word_at
+from ide.outline import rung_logic
 from lang.instructions import LAYERS
-from lang.locate import word_at
 from lang.model import Element, Span
-from lang.outline import rung_logic
 from lang.textform.sections import DETAILS, IO, VARS
 from lang.values import format_delay
 
@@ -141,7 +141,7 @@ def instruction_hover(element: Element, focus: str | None = None) -> str:
 
 
 def _label(element: Element) -> str:
-    from lang.checks.common import label
+    from lang.labels import label
 
     return label(element).upper() if element.kind != "COIL" else label(element)
 

@@ -1,14 +1,14 @@
 """Names across the program: go to definition (where a coil or variable is
 written, where a label is), references, document highlight and rename (the
-rungs touched are drawn again, lang.edits). The uses come from the checks'
+rungs touched are drawn again, ide.edits). The uses come from the checks'
 ProgramIndex."""
 
 from __future__ import annotations
 
 from lsprotocol import types
 
-from lang import edits, names
-from lang.locate import word_at
+from ide import edits, names
+from ide.locate import word_at
 from lang.model import Span
 from lang.textform.sections import DETAILS, IO, VARS
 
@@ -190,7 +190,7 @@ def newline(analysis) -> str:
 
 
 def text_edits(analysis, line_edits, column_edits) -> list[types.TextEdit]:
-    """LSP edits from lang.edits' line and column edits."""
+    """LSP edits from ide.edits' line and column edits."""
     nl = newline(analysis)
     result = []
     positions = analysis.positions

@@ -1,7 +1,7 @@
 """Semantic tokens: instructions, names coloured by their role (inputs,
 outputs, relays, timers and counters, variables), constants, labels,
 comments, rung numbers and section titles. Positions come from the model's
-spans (lang.locate for the glyphs)."""
+spans (ide.locate for the glyphs)."""
 
 from __future__ import annotations
 

@@ -19,7 +19,7 @@ import time
 
 from lsprotocol import types
 
-from lang.conditions import parse_condition
+from ide.conditions import parse_condition
 from lang.sim import SimulationError, Simulator
 
 from .documents import LD

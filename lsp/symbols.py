@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from lsprotocol import types
 
+from ide.outline import outputs, rung_logic, rung_title
 from lang.model import Span
-from lang.outline import outputs, rung_logic, rung_title
 
 from .documents import LADDER
 from .server import Raw

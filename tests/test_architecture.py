@@ -50,8 +50,23 @@ def back_end_folders() -> list[Path]:
             if path.parent.name not in NOT_BACK_ENDS]
 
 
-def test_lang_never_imports_the_compiler():
-    assert _offenders(ROOT / "lang", ("compiler",)) == {}
+# each layer and the layers above it, which it must never import (docs/architecture.md)
+LAYERS = {
+    "lang": ("compiler", "ide", "lsp", "ladder"),
+    "compiler": ("ide", "lsp", "ladder"),
+    "ide": ("compiler", "lsp", "ladder", "pygls", "lsprotocol"),
+    "lsp": ("ladder",),
+}
+
+
+def test_each_layer_imports_only_the_layers_below_it():
+    for layer, above in LAYERS.items():
+        assert _offenders(ROOT / layer, above) == {}, layer
+
+
+def test_the_command_line_reaches_the_language_server_only_to_start_it():
+    offenders = _offenders(ROOT / "ladder", ("lsp",))
+    assert set(offenders) <= {"ladder/commands/lsp.py"}, offenders
 
 
 def test_back_ends_see_only_the_machine_and_the_intermediate_code():

@@ -1,4 +1,4 @@
-"""The language server's incremental reading (lang.incremental) gives exactly
+"""The language server's incremental reading (ide.incremental) gives exactly
 what a fresh `read_text` gives, spans included, after any sequence of edits;
 and an edit inside one rung reads only that rung."""
 
@@ -12,7 +12,7 @@ from generators import programs
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from lang.incremental import IncrementalReader
+from ide.incremental import IncrementalReader
 from lang.textform import reader
 from lang.textform.writer import render_program
 
@@ -179,7 +179,7 @@ def test_random_edits_of_a_larger_text():
 
 
 def test_format_read_matches_the_formatter():
-    from lang.incremental import format_read
+    from ide.incremental import format_read
 
     for text in corpus_texts():
         program, problems = IncrementalReader("ladder").read(text)

@@ -9,10 +9,10 @@ scan (counter start values, TOF accumulators, random seeds) is `Code.init`.
 
 from __future__ import annotations
 
-from lang.checks.common import describe
 from lang.codes import code
 from lang.devices import Device
 from lang.instructions import COUNTERS
+from lang.labels import describe
 from lang.model import Element, Program, Series
 from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
 from lang.targets import Family, family_of

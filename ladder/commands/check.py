@@ -6,8 +6,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from ide.fixes import fix_all
 from lang import codes, config
-from lang.fixes import fix_all
 from lang.loader import Loaded, kind_of, parse
 from lang.values import encode_text
 

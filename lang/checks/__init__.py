@@ -14,8 +14,8 @@ import importlib
 from ..codes import rules
 from ..config import NONE, Severities
 from ..diagnostics import Diagnostic
+from ..index import ProgramIndex
 from ..model import Program
-from .index import ProgramIndex
 
 # Every rule, in code order: the registry (lang/codes.toml) names each code's module.
 RULES = tuple(importlib.import_module(f"{__name__}.{rule}") for rule in rules())

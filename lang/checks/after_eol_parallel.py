@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Related, report
+from ..labels import describe
 from ..model import Parallel
-from .common import describe, node_span, node_text, rung_no, terminal
+from .common import node_span, node_text, rung_no, terminal
 
 CODE = rule_code(__name__)
 

@@ -6,8 +6,9 @@ from functools import lru_cache
 
 from ..codes import rule_code
 from ..diagnostics import report
+from ..labels import label
 from ..values import is_literal, literal_value
-from .common import arg_span, label, rung_no
+from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
-from .common import label, rung_no
+from ..labels import label
+from .common import rung_no
 
 CODE = rule_code(__name__)
 

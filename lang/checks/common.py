@@ -6,41 +6,11 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..diagnostics import Fix, Related, Rename, report
-from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
+from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
+from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..roles import ROLES, role
 from ..values import format_delay, is_literal, literal_value
-
-# Instructions that must end their branch (coils, MOV, RES...).
-EOL_KINDS = frozenset(key for key, spec in INSTRUCTIONS.items() if spec.eol)
-
-# How messages name an instruction: the word LDmicro draws, not the model key.
-_LABELS = {
-    "CONTACTS": "contact",
-    "COIL": "coil",
-    "MOVE": "MOV",
-    "LOOK_UP_TABLE": "LUT",
-    "PIECEWISE_LINEAR": "PWL",
-    "READ_ADC": "READ ADC",
-    "SET_PWM": "SET PWM",
-    "TIME2COUNT": "T2CNT",
-    "TIME2DELAY": "T2DLY",
-    "SEED_RANDOM": "SRAND",
-    "RANDOM": "RAND",
-    "MASTER_RELAY": "MASTER RLY",
-    "SHIFT_REGISTER": "SHIFT REG",
-    "FORMATTED_STRING": "formatted string",
-    "UART_SEND": "UART SEND",
-    "UART_RECV": "UART RECV",
-    "UART_SEND_READY": "UART SEND ready test",
-    "UART_RECV_AVAIL": "UART RECV available test",
-    "PLACEHOLDER": "empty rung",
-    "IF_BIT_SET": "IF BIT SET",
-    "IF_BIT_CLEAR": "IF BIT CLR",
-    "SET_BIT": "SET BIT",
-    "CLEAR_BIT": "CLR BIT",
-}
-_COIL_WORDS = {" ": "coil", "/": "negated coil", "S": "set coil", "R": "reset coil", "T": "toggle coil"}
 
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
 
@@ -48,37 +18,9 @@ UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "F
 GENERATED = frozenset({"ROverflowFlagV", "RUartRecvErrorFlag", "RUartSendErrorFlag", "YPlcCycleDuty"})
 
 
-def label(element: Element) -> str:
-    """The instruction as messages name it: 'TON', 'coil', 'set coil', 'MOV'."""
-    if element.kind == "COIL":
-        return _COIL_WORDS.get(str(element.args.get("type", " ")), "coil")
-    return _LABELS.get(element.kind, element.kind.replace("_", " "))
-
-
-_NAMED = {
-    key: next((f.name for f in spec.fields if f.kind in ("bit", "var", "label")), None)
-    for key, spec in INSTRUCTIONS.items()
-}
-
-
-def describe(element: Element) -> str:
-    """The instruction and its main operand: "coil 'Ya'", "TON 'T1'", "OSR"."""
-    field = _NAMED.get(element.kind)
-    value = token(element.args.get(field)) if field else ""
-    return f"{label(element)} '{value}'" if value else label(element)
-
-
 def rung_no(index: int) -> str:
     """Rungs are numbered from 1 in messages, as LDmicro and the drawing do."""
     return f"rung {index + 1}"
-
-
-def token(value: object) -> str:
-    """An operand as source text ('' for none)."""
-    if value is None:
-        return ""
-    text = str(value)
-    return "" if text == "(none)" else text
 
 
 def arg_span(element: Element, field: str) -> Span | None:

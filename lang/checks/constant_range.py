@@ -7,18 +7,9 @@ from functools import lru_cache
 from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import COUNTERS, RELATIONS
+from ..labels import label, token
 from ..values import is_literal
-from .common import (
-    arg_span,
-    fits,
-    is_decimal,
-    label,
-    literal_or_none,
-    range_text,
-    rung_no,
-    token,
-    var_size,
-)
+from .common import arg_span, fits, is_decimal, literal_or_none, range_text, rung_no, var_size
 
 CODE = rule_code(__name__)
 

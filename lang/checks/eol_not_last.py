@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
+from ..labels import describe
 from ..model import Element
-from .common import describe, node_text, rung_no
+from .common import node_text, rung_no
 
 CODE = rule_code(__name__)
 

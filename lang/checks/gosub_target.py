@@ -6,7 +6,8 @@ from difflib import get_close_matches
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, rung_no, token
+from ..labels import token
+from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
+from ..labels import label, token
 from ..values import is_literal
-from .common import arg_span, label, prefix_fixes, rung_no, token
+from .common import arg_span, prefix_fixes, rung_no
 
 CODE = rule_code(__name__)
 

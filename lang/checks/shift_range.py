@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
+from ..labels import token
 from ..values import is_literal
-from .common import arg_span, literal_or_none, rung_no, token, var_size
+from .common import arg_span, literal_or_none, rung_no, var_size
 
 CODE = rule_code(__name__)
 

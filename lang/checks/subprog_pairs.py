@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, rung_no, token
+from ..labels import token
+from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 

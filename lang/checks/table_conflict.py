@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, label, mark_related, mark_text, rung_no
+from ..labels import label
+from .common import arg_span, mark_related, mark_text, rung_no
 from .varflags import analyse
 
 CODE = rule_code(__name__)

@@ -11,8 +11,9 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import ERROR, report
 from ..instructions import INSTRUCTIONS
+from ..labels import describe
 from ..targets import FAMILIES, family_of
-from .common import describe, rung_no
+from .common import rung_no
 
 CODE = rule_code(__name__)
 

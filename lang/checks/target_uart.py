@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import UART_KINDS, describe, rung_no
+from ..labels import describe
+from .common import UART_KINDS, rung_no
 
 CODE = rule_code(__name__)
 

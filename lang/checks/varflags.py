@@ -22,12 +22,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import NamedTuple
 
+from ..index import ProgramIndex
+from ..index import is_literal_fast as _is_literal
 from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
+from ..labels import token
 from ..model import Element
 from ..values import is_literal
-from .common import token
-from .index import ProgramIndex
-from .index import is_literal_fast as _is_literal
 
 RES = "RES"
 PWM = "PWM"

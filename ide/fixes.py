@@ -3,13 +3,14 @@ server offers them as quick fixes, `ladder check --fix` applies them."""
 
 from __future__ import annotations
 
-from .checks import check_program
-from .config import NONE, Severities
-from .diagnostics import ERROR, Fix, Rename, SetPart
+from lang.checks import check_program
+from lang.config import NONE, Severities
+from lang.diagnostics import ERROR, Fix, Rename, SetPart
+from lang.loader import parse
+from lang.model import Program
+
 from .edits import EditError, LineEdit, TextEdit, rename
-from .loader import parse
 from .locate import Locator
-from .model import Program
 
 _ROUNDS = 200  # each round removes one diagnostic; a program has far fewer fixable ones
 

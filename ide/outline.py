@@ -10,10 +10,10 @@ that transforms its input is written like a function of it (`TON[Tdly, 2 s](Xa)`
 
 from __future__ import annotations
 
-from .checks.common import label as instruction_label
-from .instructions import RELATIONS
-from .model import Element, Node, Program, Rung, Series
-from .values import format_delay
+from lang.instructions import RELATIONS
+from lang.labels import label as instruction_label
+from lang.model import Element, Node, Program, Rung, Series
+from lang.values import format_delay
 
 MAX_LENGTH = 400
 

@@ -19,10 +19,10 @@ from __future__ import annotations
 from functools import cached_property
 from typing import NamedTuple
 
-from ..instructions import INSTRUCTIONS
-from ..model import Element, Program, Series, Span
-from ..targets import FAMILIES
-from .common import EOL_KINDS, token
+from .instructions import EOL_KINDS, INSTRUCTIONS
+from .labels import token
+from .model import Element, Program, Series, Span
+from .targets import FAMILIES
 
 # Operand kinds that hold variable names (or, for operands, a constant).
 _NAME_KINDS = ("bit", "var", "operand", "delay")
@@ -231,7 +231,7 @@ class ProgramIndex:
         mcu = self.program.settings.mcu
         if not mcu:
             return None
-        from ..devices import find_device
+        from .devices import find_device
 
         return find_device(mcu)
 

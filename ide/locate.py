@@ -14,9 +14,9 @@ import re
 from dataclasses import dataclass
 from functools import cached_property
 
-from .model import Element, Program, Span
-from .textform.elements import GLYPH_RE
-from .textform.sections import DIAGRAM, split_sections
+from lang.model import Element, Program, Span
+from lang.textform.elements import GLYPH_RE
+from lang.textform.sections import DIAGRAM, split_sections
 
 WORD_RE = re.compile(r"[\w$#@.~']+")
 _SHORT_OPEN_RE = re.compile(r"\+[- ]*\+")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .values import is_literal, literal_value
+from lang.values import is_literal, literal_value
 
 _CONDITION = re.compile(r"\s*(?P<name>[A-Za-z_$#@][\w$#@.\[\]]*)\s*(?P<op>==|=|!=|<=|>=|<|>)\s*"
                         r"(?P<value>\S+)\s*\Z")

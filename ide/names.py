@@ -8,12 +8,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .checks.common import GENERATED, describe
-from .checks.index import ProgramIndex, Use
-from .instructions import INSTRUCTIONS, Field
-from .model import Program
-from .roles import BIT_PREFIXES, PIN_PREFIXES, role
-from .values import is_literal
+from lang.checks.common import GENERATED
+from lang.index import ProgramIndex, Use
+from lang.instructions import INSTRUCTIONS, Field
+from lang.labels import describe
+from lang.model import Program
+from lang.roles import BIT_PREFIXES, PIN_PREFIXES, role
+from lang.values import is_literal
 
 
 def is_name(text: str) -> bool:
@@ -37,7 +38,7 @@ def pin_of(program: Program, name: str) -> PinInfo | None:
         return None
     device = None
     if program.settings.mcu:
-        from .devices import find_device
+        from lang.devices import find_device
 
         device = find_device(program.settings.mcu)
     pin = device.pin(assignment.pin) if device else None
@@ -150,7 +151,7 @@ def candidates(program: Program, index: ProgramIndex, kind: str | None, field_na
 
 def part_candidates() -> list[tuple[str, str]]:
     """(LDmicro part name, description) for every part with pin data."""
-    from .devices import all_devices
+    from lang.devices import all_devices
 
     return [(d.ldmicro_name, f"{d.title} {d.package}, {len(d.io_pins())} I/O pins")
             for d in all_devices() if d.ldmicro_name]
@@ -162,7 +163,7 @@ def pin_candidates(program: Program, name: str = "") -> list[tuple[int, str, str
     names, I/O pins otherwise; pins already assigned to another name last."""
     if not program.settings.mcu:
         return []
-    from .devices import find_device
+    from lang.devices import find_device
 
     device = find_device(program.settings.mcu)
     if device is None:

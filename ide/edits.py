@@ -13,13 +13,14 @@ import copy
 import re
 from dataclasses import dataclass
 
-from .instructions import DEFAULT_LINES, INSTRUCTIONS
+from lang.instructions import DEFAULT_LINES, INSTRUCTIONS
+from lang.model import Element, Node, Parallel, Program, Rung, Series, rung_circuit
+from lang.textform.formatter import existing_width
+from lang.textform.sections import DETAILS, IO, VARS
+from lang.textform.writer import diagram_width, render_rung
+from lang.values import is_name
+
 from .locate import Locator
-from .model import Element, Node, Parallel, Program, Rung, Series, rung_circuit
-from .textform.formatter import existing_width
-from .textform.sections import DETAILS, IO, VARS
-from .textform.writer import diagram_width, render_rung
-from .values import is_name
 
 
 class EditError(ValueError):
@@ -56,7 +57,7 @@ def new_element(kind: str, **args) -> Element:
     if kind not in INSTRUCTIONS or kind in ("COMMENT",):
         raise EditError(f"no instruction {kind!r}")
     line = DEFAULT_LINES.get(kind, kind)
-    from .ldfile import read_ld
+    from lang.ldfile import read_ld
 
     program, problems = read_ld(f"LDmicro0.2\n\nPROGRAM\nRUNG\n  {line}\nEND\n")
     elements = [e for _, e in program.elements()]
@@ -365,7 +366,7 @@ def drawn_operands(rung: Rung, number: int, columns: int) -> tuple[list[str], li
     """The rung's drawn lines and where its names and values stand in them
     ((line in the rung, column, end column), in reading order): the fields a
     snippet lets the user fill in."""
-    from .textform.reader import read_text
+    from lang.textform.reader import read_text
 
     lines = drawn_lines(rung, number, columns)
     program, problems = read_text("LADDER DIAGRAM:\n" + "\n".join(lines) + "\n")

@@ -27,15 +27,15 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
-from . import codes
-from .diagnostics import Diagnostic, Related, error
-from .instructions import INSTRUCTIONS
-from .loader import LD_KIND, parse
-from .model import Element, Parallel, Program, Rung, Series, Span
-from .textform import details as details_section
-from .textform import reader as _reader
-from .textform.rungs import read_rung
-from .textform.sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
+from lang import codes
+from lang.diagnostics import Diagnostic, Related, error
+from lang.instructions import INSTRUCTIONS
+from lang.loader import LD_KIND, parse
+from lang.model import Element, Parallel, Program, Rung, Series, Span
+from lang.textform import details as details_section
+from lang.textform import reader as _reader
+from lang.textform.rungs import read_rung
+from lang.textform.sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
 
 # instruction -> (field, default) of the parameters only DETAILS can set
 UNDRAWN = {key: tuple((f.name, f.default) for f in spec.fields if not f.drawn)
@@ -417,9 +417,9 @@ def shift_block(block: _Block, delta: int) -> _Block:
 def format_read(text: str, program: Program, problems: list[Diagnostic], reflow: bool = False) -> str | None:
     """`lang.textform.formatter.format_text` for a text already read (by an
     IncrementalReader): the canonical text, or None when it has errors."""
-    from .diagnostics import ERROR
-    from .textform.formatter import existing_width, newline_of
-    from .textform.writer import render_program
+    from lang.diagnostics import ERROR
+    from lang.textform.formatter import existing_width, newline_of
+    from lang.textform.writer import render_program
 
     if any(p.severity == ERROR for p in problems):
         return None
