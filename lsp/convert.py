@@ -22,7 +22,7 @@ from lang.targets import compiled
 from lang.values import encode_text
 
 from .documents import path_of
-from .server import UserError
+from .protocol import UserError
 
 
 def _uri_argument(args) -> str:
@@ -112,7 +112,7 @@ def build(ls, uri: str) -> dict:
         raise UserError("not a ladder document")
     if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:
         raise UserError("save the document to a file first: the HEX file is written beside it")
-    publisher = ls.extensions.get("diagnostics")
+    publisher = ls.diagnostics
     if analysis.has_errors:
         return {"ok": False, "summary": "the program has errors; fix them before building", "hex": None}
     import compiler

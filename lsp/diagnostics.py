@@ -94,7 +94,7 @@ def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
 
 
 def register(server) -> None:
-    publisher = server.extensions["diagnostics"] = Publisher(server)
+    publisher = server.diagnostics = Publisher(server)
 
     def opened(ls, uri):
         publisher.cancel(uri)

@@ -99,7 +99,7 @@ def _known_name(analysis, word: str) -> bool:
 
 def name_hover(ls, analysis, name: str) -> str:
     lines = names.summary(analysis.program, analysis.index, name)
-    sim = ls.extensions.get("simulation")
+    sim = ls.simulations
     if sim is not None:
         value = sim.value_of(analysis.uri, name)
         if value is not None:

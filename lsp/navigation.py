@@ -13,7 +13,7 @@ from lang.model import Span
 from lang.textform.sections import DETAILS, IO, VARS
 
 from .documents import LADDER, LD
-from .server import UserError
+from .protocol import UserError
 
 LABEL_KINDS = {"GOTO": ("LABEL",), "GOSUB": ("SUBPROG",), "LABEL": ("LABEL",), "SUBPROG": ("SUBPROG",),
                "ENDSUB": ("SUBPROG",)}

@@ -13,6 +13,7 @@ import os
 import sys
 import threading
 import traceback
+from typing import TYPE_CHECKING
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException, JsonRpcInternalError
@@ -20,8 +21,13 @@ from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 
 from .documents import Documents
+from .protocol import Raw
 from .settings import Settings
 from .transport import LadderProtocol, ResyncReader
+
+if TYPE_CHECKING:
+    from .diagnostics import Publisher
+    from .simulation import Simulations
 
 log = logging.getLogger("ladder.lsp")
 
@@ -35,27 +41,6 @@ class InjectedFault(RuntimeError):
     pass
 
 
-class UserError(JsonRpcException):
-    """An error meant for the user (a command that cannot run): answered as an
-    LSP error with this message, not logged as a bug."""
-
-    code = -32803  # RequestFailed
-
-    def __init__(self, message: str):
-        super().__init__(message=message, code=self.code)
-
-
-class Raw:
-    """A result already in JSON form (dicts, lists, numbers, strings): sent as
-    it is, without the converter walking thousands of objects again (document
-    symbols and folding of a 2,000-rung program)."""
-
-    __slots__ = ("value",)
-
-    def __init__(self, value):
-        self.value = value
-
-
 class LadderServer(LanguageServer):
     def __init__(self):
         super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
@@ -65,7 +50,10 @@ class LadderServer(LanguageServer):
         self.documents = Documents(self)
         self.protocol._converter.register_unstructure_hook(Raw, lambda raw: raw.value)
         self.faults = {name.strip() for name in os.environ.get(FAULTS_ENV, "").split(",") if name.strip()}
-        self.extensions: dict[str, object] = {}  # per-feature state (simulations, debounce timers...)
+        # the features that hold state, each set by its module's register() (typed services,
+        # so that one feature reaches another's through an attribute, not a string key)
+        self.diagnostics: Publisher | None = None
+        self.simulations: Simulations | None = None
         self._listeners: dict[str, list] = {}
         from .idle import IdleCollector
 

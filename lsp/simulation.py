@@ -23,7 +23,7 @@ from ide.conditions import parse_condition
 from lang.sim import SimulationError, Simulator
 
 from .documents import LD
-from .server import UserError
+from .protocol import UserError
 
 NOTIFICATION = "ladder/simulationState"
 REALTIME_PERIOD = 0.1  # seconds between real-time scans batches (and notifications)
@@ -167,7 +167,7 @@ class Simulations:
             return
         if session.reload_handle is not None:
             session.reload_handle.cancel()
-        delay = self.server.settings.delay_ms(self.server.extensions["diagnostics"].last_duration_ms) / 1000
+        delay = self.server.settings.delay_ms(self.server.diagnostics.last_duration_ms) / 1000
         if delay <= 0 and not session.busy:
             self.reload(uri)
             return
@@ -291,7 +291,7 @@ def _arg(args, position: int, key: str):
 
 
 def register(server) -> None:
-    sims = server.extensions["simulation"] = Simulations(server)
+    sims = server.simulations = Simulations(server)
 
     def uri_of(args) -> str:
         if not args or not isinstance(args[0], str):

@@ -16,7 +16,7 @@ from ide.outline import outputs, rung_logic, rung_title
 from lang.model import Span
 
 from .documents import LADDER
-from .server import Raw
+from .protocol import Raw
 
 SECTION_NAMES = {"header": "Header"}
 

@@ -84,3 +84,48 @@ def test_every_back_end_folder_is_a_family_and_every_part_family_registers_its_b
     for family, backend in BACKENDS.items():
         assert backend.family == family and backend.delay_loop_cycles > 0
     assert set(compiler._BACKEND_MODULES) == {f"compiler.{family}" for family in BACKENDS}
+
+
+def _runtime_imports(path: Path, package: str) -> set[str]:
+    """The modules a file imports when it runs, at its top or in a function; not those under
+    `if TYPE_CHECKING:`, which are for the type checker only."""
+    found = set()
+    pending = list(ast.parse(path.read_text(encoding="utf-8")).body)
+    while pending:
+        node = pending.pop()
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            continue
+        if isinstance(node, ast.ImportFrom):
+            base = package.split(".")[:len(package.split(".")) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            found.add(module)
+            found.update(f"{module}.{alias.name}" for alias in node.names)
+        elif isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        pending.extend(ast.iter_child_nodes(node))
+    return found
+
+
+def test_the_language_server_has_no_import_cycles():
+    modules = {f"lsp.{p.stem}": p for p in (ROOT / "lsp").glob("*.py") if p.stem != "__init__"}
+    edges = {name: {m for m in _runtime_imports(path, "lsp") if m in modules} - {name}
+             for name, path in modules.items()}
+    visiting, done = set(), set()
+
+    def visit(name: str, trail: list[str]) -> None:
+        assert name not in visiting, " -> ".join(trail + [name])
+        if name in done:
+            return
+        visiting.add(name)
+        for other in sorted(edges[name]):
+            visit(other, trail + [name])
+        visiting.discard(name)
+        done.add(name)
+
+    for name in sorted(modules):
+        visit(name, [])
+
+
+def test_features_reach_each_other_through_the_servers_typed_services():
+    for path in (ROOT / "lsp").glob("*.py"):
+        assert "extensions[" not in path.read_text() and "extensions.get(" not in path.read_text(), path.name

@@ -1,0 +1,27 @@
+"""What every feature module answers with beyond lsprotocol's types: a leaf
+module, so that features import it and the server without a cycle."""
+
+from __future__ import annotations
+
+from pygls.exceptions import JsonRpcException
+
+
+class UserError(JsonRpcException):
+    """An error meant for the user (a command that cannot run): answered as an
+    LSP error with this message, not logged as a bug."""
+
+    code = -32803  # RequestFailed
+
+    def __init__(self, message: str):
+        super().__init__(message=message, code=self.code)
+
+
+class Raw:
+    """A result already in JSON form (dicts, lists, numbers, strings): sent as
+    it is, without the converter walking thousands of objects again (document
+    symbols and folding of a 2,000-rung program)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value):
+        self.value = value
