@@ -188,11 +188,6 @@ class IncrementalReader:
             if label.isdigit():
                 number_at = offset
                 break
-        if len(raws) > _reader.MAX_RUNG_LINES:
-            problem = error(codes.BROKEN_WIRE, f"this rung is {len(raws)} lines tall; a rung has at most "
-                            f"{_reader.MAX_RUNG_LINES} (is a rung number or an empty line missing?)",
-                            Span.at(raws[0][0], 0, len(raws[0][1])))
-            return _Block(first, last, None, [problem], number_at)
         overrides = tuple((raw[0] - first, labels[raw[0]]) for raw in raws if raw[0] in labels)
         key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
         cached = self._cache.get(key)

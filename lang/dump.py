@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import json
-from dataclasses import asdict
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass
 
 from .model import Element, Node, Parallel, Program, Span
+from .trampoline import run
 
 DUMP_VERSION = 1
+INDENT = "  "
 
 
 def _span(span: Span | None) -> list[int] | None:
@@ -21,11 +24,17 @@ def _value(value: object) -> object:
 
 
 def node_json(node: Node) -> dict:
+    return run(_node_json(node))
+
+
+def _node_json(node: Node):
     if isinstance(node, Element):
         return {"element": node.kind, "args": {k: _value(v) for k, v in node.args.items()}, "span": _span(node.span)}
     key = "parallel" if isinstance(node, Parallel) else "series"
-    children = node.branches if isinstance(node, Parallel) else node.items
-    return {key: [node_json(child) for child in children], "span": _span(node.span)}
+    children = []
+    for child in node.branches if isinstance(node, Parallel) else node.items:
+        children.append((yield _node_json(child)))
+    return {key: children, "span": _span(node.span)}
 
 
 def program_json(program: Program) -> dict:
@@ -43,4 +52,49 @@ def program_json(program: Program) -> dict:
 
 
 def dumps(program: Program) -> str:
-    return json.dumps(program_json(program), indent=2, ensure_ascii=False) + "\n"
+    return json_text(program_json(program)) + "\n"
+
+
+@dataclass
+class _Open:
+    """A list or object being written: its entries left (key None in a list)."""
+
+    entries: Iterator[tuple[str | None, object]]
+    close: str
+    started: bool = False
+
+
+def json_text(value: object) -> str:
+    """What json.dumps(value, indent=2, ensure_ascii=False) gives, written
+    with a stack of open containers: json.dumps recurses once per level, and
+    a rung may nest parallels thousands of levels deep."""
+    out: list[str] = []
+    stack: list[_Open] = []
+    _begin(value, out, stack)
+    while stack:
+        top = stack[-1]
+        entry = next(top.entries, None)
+        if entry is None:
+            stack.pop()
+            out.append("\n" + INDENT * len(stack) + top.close)
+            continue
+        out.append(("," if top.started else "") + "\n" + INDENT * len(stack))
+        top.started = True
+        key, item = entry
+        if key is not None:
+            out.append(json.dumps(key, ensure_ascii=False) + ": ")
+        _begin(item, out, stack)
+    return "".join(out)
+
+
+def _begin(value: object, out: list[str], stack: list[_Open]) -> None:
+    """A scalar or empty container whole; a container's opening bracket,
+    its entries left on the stack."""
+    if isinstance(value, dict) and value:
+        out.append("{")
+        stack.append(_Open(iter(value.items()), "}"))
+    elif isinstance(value, (list, tuple)) and value:
+        out.append("[")
+        stack.append(_Open(((None, item) for item in value), "]"))
+    else:
+        out.append(json.dumps(value, ensure_ascii=False))

@@ -4,6 +4,7 @@ reported where it is."""
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass, field
 
 from ..model import Node, Parallel, Series, Span
@@ -68,61 +69,81 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
             raise NotSeriesParallel(
                 "this element is bypassed by a bare wire (a branch without any element)", edge.span
             )
-    while True:
-        if len(edges) == 1 and (edges[0].start, edges[0].end) == (LEFT, RIGHT):
-            return edges[0].node
-        changed = _merge_parallel(edges) | _merge_series(edges)
-        if not changed:
-            break
-    raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(edges, nodes))
+    left = _Reduction(edges).run()
+    if len(left) == 1 and (left[0].start, left[0].end) == (LEFT, RIGHT):
+        return left[0].node
+    raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(left, nodes))
 
 
-def _merge_parallel(edges: list[Edge]) -> bool:
-    groups: dict[tuple[int, int], list[Edge]] = {}
-    for edge in edges:
-        groups.setdefault((edge.start, edge.end), []).append(edge)
-    changed = False
-    for group in groups.values():
+class _Reduction:
+    """The edges indexed by node and by pair of nodes, and a queue of what a
+    merge may have made mergeable: each merge costs only the edges it takes,
+    so a rung thousands of rows tall reduces in linear time. The result does
+    not depend on the order of the merges (series and parallel blocks are
+    flattened, branches sorted by position)."""
+
+    def __init__(self, edges: list[Edge]):
+        self.into: dict[int, dict[int, Edge]] = {}
+        self.out: dict[int, dict[int, Edge]] = {}
+        self.between: dict[tuple[int, int], dict[int, Edge]] = {}
+        # a node (int): is it a series joint now? a pair (tuple): parallel edges to merge?
+        self.queue: deque[int | tuple[int, int]] = deque()
+        for edge in edges:
+            self.add(edge)
+
+    def add(self, edge: Edge) -> None:
+        self.out.setdefault(edge.start, {})[id(edge)] = edge
+        self.into.setdefault(edge.end, {})[id(edge)] = edge
+        self.between.setdefault((edge.start, edge.end), {})[id(edge)] = edge
+        self.queue.extend(((edge.start, edge.end), edge.start, edge.end))
+
+    def remove(self, edge: Edge) -> None:
+        del self.out[edge.start][id(edge)]
+        del self.into[edge.end][id(edge)]
+        del self.between[(edge.start, edge.end)][id(edge)]
+        self.queue.extend((edge.start, edge.end))
+
+    def run(self) -> list[Edge]:
+        """The edges no merge applies to, in source order."""
+        while self.queue:
+            item = self.queue.popleft()
+            if isinstance(item, tuple):
+                self.merge_parallel(item)
+            else:
+                self.merge_series(item)
+        return sorted((edge for group in self.between.values() for edge in group.values()),
+                      key=lambda edge: edge.order)
+
+    def merge_parallel(self, pair: tuple[int, int]) -> None:
+        group = sorted(self.between.get(pair, {}).values(), key=lambda e: e.order)
         if len(group) < 2:
-            continue
-        group.sort(key=lambda e: e.order)
+            return
         branches: list[tuple[tuple[int, int], Node]] = []
         for edge in group:
             branches.extend(edge.branches or [(edge.order, edge.node)])
         branches.sort(key=lambda item: item[0])
         span = group[0].span
-        for edge in group[1:]:
-            span = span.union(edge.span)
-        merged = Edge(group[0].start, group[0].end, Parallel([b for _, b in branches], span),
-                      group[0].order, span, branches)
         for edge in group:
-            edges.remove(edge)
-        edges.append(merged)
-        changed = True
-    return changed
+            span = span.union(edge.span)
+            self.remove(edge)
+        self.add(Edge(pair[0], pair[1], Parallel([b for _, b in branches], span), group[0].order, span, branches))
 
-
-def _merge_series(edges: list[Edge]) -> bool:
-    incoming: dict[int, list[Edge]] = {}
-    outgoing: dict[int, list[Edge]] = {}
-    for edge in edges:
-        outgoing.setdefault(edge.start, []).append(edge)
-        incoming.setdefault(edge.end, []).append(edge)
-    for node, ins in incoming.items():
-        if node in (LEFT, RIGHT) or len(ins) != 1 or len(outgoing.get(node, ())) != 1:
-            continue
-        first, second = ins[0], outgoing[node][0]
+    def merge_series(self, node: int) -> None:
+        ins, outs = self.into.get(node, {}), self.out.get(node, {})
+        if node in (LEFT, RIGHT) or len(ins) != 1 or len(outs) != 1:
+            return
+        (first,), (second,) = ins.values(), outs.values()
         if first is second:
-            continue
-        items: list[Node] = []
-        for part in (first.node, second.node):
-            items.extend(part.items if isinstance(part, Series) else [part])
+            return
+        # a series in an edge was made by a merge here and belongs to that
+        # edge alone: it grows in place, so a long row is not copied again
+        # and again
+        items = first.node.items if isinstance(first.node, Series) else [first.node]
+        items.extend(second.node.items if isinstance(second.node, Series) else [second.node])
         span = first.span.union(second.span)
-        edges.remove(first)
-        edges.remove(second)
-        edges.append(Edge(first.start, second.end, Series(items, span), min(first.order, second.order), span))
-        return True
-    return False
+        self.remove(first)
+        self.remove(second)
+        self.add(Edge(first.start, second.end, Series(items, span), min(first.order, second.order), span))
 
 
 def _culprit(edges: list[Edge], nodes: Nodes) -> Span:

@@ -69,8 +69,10 @@ def _height(node: Node):
     return max(heights, default=1) if isinstance(node, Series) else sum(heights)
 
 
-def _width(node: Node, so_far: int, columns: int):
-    """Width while drawing: end-of-line elements stretch to the last column."""
+def _width(node: Node, so_far: int, columns: int, widths: dict[tuple[int, int], int]):
+    """Width while drawing: end-of-line elements stretch to the last column.
+    A parallel's width is kept: placing it asks again, at the same column, and
+    asking anew at every level of a deep rung would walk it once per level."""
     if isinstance(node, Element):
         if node.spec.eol:
             return max(columns - so_far, 1)
@@ -78,18 +80,21 @@ def _width(node: Node, so_far: int, columns: int):
     if isinstance(node, Series):
         total = 0
         for item in node.items:
-            total += yield _width(item, so_far + total, columns)
+            total += yield _width(item, so_far + total, columns, widths)
         return total
-    widths = []
-    for branch in node.branches:
-        widths.append((yield _width(branch, so_far, columns)))
-    return max(widths)
+    key = (id(node), so_far)
+    if key not in widths:
+        found = []
+        for branch in node.branches:
+            found.append((yield _width(branch, so_far, columns, widths)))
+        widths[key] = max(found)
+    return widths[key]
 
 
 def layout(circuit: Series, columns: int) -> Grid:
     heights: dict[int, int] = {}
     grid = Grid(columns, height=run(_measure(circuit, heights)))
-    run(_place(circuit, 0, 0, grid, heights))
+    run(_place(circuit, 0, 0, grid, heights, {}))
     return grid
 
 
@@ -104,7 +109,8 @@ def _measure(node: Node, heights: dict[int, int]):
     return heights[id(node)]
 
 
-def _place(node: Node, col: int, row: int, grid: Grid, heights: dict[int, int]):
+def _place(node: Node, col: int, row: int, grid: Grid, heights: dict[int, int],
+           widths: dict[tuple[int, int], int]):
     if isinstance(node, Element):
         if node.spec.eol:
             while col < grid.columns - 1:
@@ -114,13 +120,13 @@ def _place(node: Node, col: int, row: int, grid: Grid, heights: dict[int, int]):
         return col + cells_of(node)
     if isinstance(node, Series):
         for item in node.items:
-            col = yield _place(item, col, row, grid, heights)
+            col = yield _place(item, col, row, grid, heights, widths)
         return col
-    width = yield _width(node, col, grid.columns)
+    width = yield _width(node, col, grid.columns, widths)
     total_height = heights[id(node)]
     top = row
     for branch in node.branches:
-        end = yield _place(branch, col, top, grid, heights)
+        end = yield _place(branch, col, top, grid, heights, widths)
         while end - col < width:
             grid.put(None, end, top)
             end += 1

@@ -24,8 +24,6 @@ VAR_RE = re.compile(r"\s*(\d+)\s+bytes?\s+(\S+)")
 
 _CACHE: OrderedDict[tuple, tuple[Rung | None, list[Diagnostic]]] = OrderedDict()
 _CACHE_SIZE = 50000
-# LDmicro allows 63 branches of 63 elements; no real rung is anywhere near this
-MAX_RUNG_LINES = 1000
 
 
 def read_text(text: str) -> tuple[Program, list[Diagnostic]]:
@@ -108,11 +106,6 @@ def _read_diagram(section: Section, problems: list[Diagnostic]) -> list[Rung]:
     for raws, symbol_index, labels in _raw_blocks(section, problems):
         if not raws:
             rungs.append(Rung(Series([])))
-            continue
-        if len(raws) > MAX_RUNG_LINES:
-            problems.append(error(codes.BROKEN_WIRE, f"this rung is {len(raws)} lines tall; a rung has at most "
-                                  f"{MAX_RUNG_LINES} (is a rung number or an empty line missing?)",
-                                  Span.at(raws[0][0], 0, len(raws[0][1]))))
             continue
         # unchanged rungs (same lines at the same place) are not read again
         key = (raws[0][0], "\n".join(raw[1] for raw in raws), symbol_index)
