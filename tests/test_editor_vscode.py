@@ -130,6 +130,9 @@ def test_simulation(code_server_run):
     energized = code_server_run["energized"]
     assert any("[" in t for t in energized), energized
     assert any("(" in t for t in energized), energized
+    # the live values come after the end of their line, and every right rail stays in one column
+    live = code_server_run["liveValues"]
+    assert len(live["rails"]) == 1 and "Xstart=1" in live["hint"], live
     # the watch view lists the inputs with their values
     assert any(row.startswith("Xstart") for row in code_server_run["watch"]), code_server_run["watch"]
     assert code_server_run["screenshot"].endswith("vscode-simulation.png")

@@ -339,6 +339,35 @@ async function main() {
       );
       log(`energized: ${JSON.stringify(result.energized)}`);
 
+      // live values come as inlay hints after the end of their line: the drawing must not move
+      result.liveValues = await timed('live values after the line, rails aligned', () =>
+        waitFor('Xstart=1 after its line with every right rail in one column', async () => {
+          const seen = await page.evaluate(() => {
+            const rails = new Set();
+            let hint = '';
+            for (const line of document.querySelectorAll('.monaco-editor .view-lines .view-line')) {
+              const text = line.textContent || '';
+              if (/Xstart=1/.test(text)) hint = text.replace(/\u00a0/g, ' ');
+              // the right rail: the last "||" of the drawing, measured where the browser draws it
+              const walker = document.createTreeWalker(line, NodeFilter.SHOW_TEXT);
+              let last = null;
+              for (let node = walker.nextNode(); node; node = walker.nextNode()) {
+                const at = node.textContent.lastIndexOf('||');
+                if (at >= 0) last = [node, at];
+              }
+              if (!last || !/^\s*\d*\|\|/.test(text.replace(/\u00a0/g, ' '))) continue;
+              const range = document.createRange();
+              range.setStart(last[0], last[1]);
+              range.setEnd(last[0], last[1] + 2);
+              rails.add(Math.round(range.getBoundingClientRect().left));
+            }
+            return { rails: [...rails], hint };
+          });
+          return seen.rails.length === 1 && /\|\|\s+Xstart=1/.test(seen.hint) ? seen : false;
+        }, 20000),
+      );
+      log(`live values: ${JSON.stringify(result.liveValues)}`);
+
       result.watch = await timed('watch view', async () => {
         const header = page.locator('.pane-header', { hasText: 'Ladder Simulation' }).first();
         await header.waitFor({ timeout: 15000 });
