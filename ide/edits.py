@@ -13,7 +13,7 @@ import copy
 import re
 from dataclasses import dataclass
 
-from lang.instructions import DEFAULT_LINES, INSTRUCTIONS
+from lang.instructions import INSTRUCTIONS
 from lang.model import Element, Node, Parallel, Program, Rung, Series, rung_circuit
 from lang.textform.formatter import existing_width
 from lang.textform.sections import DETAILS, IO, VARS
@@ -56,7 +56,7 @@ def new_element(kind: str, **args) -> Element:
     """A new element with LDmicro's defaults (as its editor inserts it)."""
     if kind not in INSTRUCTIONS or kind in ("COMMENT",):
         raise EditError(f"no instruction {kind!r}")
-    line = DEFAULT_LINES.get(kind, kind)
+    line = INSTRUCTIONS[kind].example
     from lang.ldfile import read_ld
 
     program, problems = read_ld(f"LDmicro0.2\n\nPROGRAM\nRUNG\n  {line}\nEND\n")

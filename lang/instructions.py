@@ -50,6 +50,15 @@ class Instruction:
     # what several layers treat alike: "timer" (a T variable counting scans to a delay),
     # "counter" (a C variable with a limit and a start value), "jump" (changes where the scan goes)
     family: str = ""
+    # LDmicro's editor default for a new element, as an .ld line: what the editor inserts, and the
+    # example the reference draws ("" for the bare keyword)
+    example: str = ""
+    # how messages name it: the word LDmicro draws ("" for the key with blanks: "READ ADC")
+    label: str = ""
+
+    def __post_init__(self):
+        object.__setattr__(self, "example", self.example or self.key)
+        object.__setattr__(self, "label", self.label or self.key.replace("_", " "))
 
     @property
     def kinds(self) -> dict[str, str]:
@@ -115,6 +124,7 @@ define(
     "an internal relay (R), a PWM pin (P) or a Modbus bit (I, M). `^` marks an "
     "X input that the simulator starts at 1.",
     "contacts",
+    example='CONTACTS Xnew 0 0', label='contact',
 )
 define(
     "COIL", "coil",
@@ -124,6 +134,7 @@ define(
     "inverse, `(S)` sets the bit while the rung is true, `(R)` clears it, `(T)` "
     "toggles it on each rising edge of the rung. Must end its rung.",
     "coils", eol=True, ld_form="coil",
+    example='COIL Ynew 0 0 0 0', label='coil',
 )
 
 # --- edges and oscillator ---------------------------------------------------------
@@ -174,7 +185,7 @@ for _key, (_title, _pre, _doc) in _TIMERS.items():
         text("{name}"), text(_pre + "[" + _key + " {delay:delay}]"),
         _doc + " The delay is a time, or a variable holding a number of scan cycles; "
         "the timer counts scan cycles in its T variable.",
-        "timers", family="timer",
+        "timers", family="timer", example=f"{_key} Tnew 100000 0",
     )
 
 define(
@@ -188,6 +199,7 @@ define(
     "While its input is 1, stores in its variable the number of scan cycles that "
     "makes the given time, for use as a variable timer delay.",
     "timers", support=SIM_ONLY | {"avr", "pic16", "c"},
+    example='TIME2COUNT Tnew 100000 0', label='T2CNT',
 )
 define(
     "TIME2DELAY", "time to delay converter", (var("name"), Field("delay", "delay", access="")),
@@ -195,6 +207,7 @@ define(
     "While its input is 1, stores in its variable the loop count that makes a "
     "DELAY last the given time on the selected part.",
     "timers", support=frozenset({"parse", "check", "avr", "pic16"}),
+    example='TIME2DELAY delay 10', label='T2DLY',
 )
 define(
     "DELAY", "busy-wait delay", (Field("delay", "operand"),),
@@ -202,6 +215,7 @@ define(
     "While its input is 1, busy-waits the given number of microseconds (or the "
     "loop count in a variable) inside the scan.",
     "timers", support=frozenset({"parse", "check", "sim", "avr", "pic16", "c"}),
+    example='DELAY 10',
 )
 define(
     "RES", "reset", (Field("name", "var", "TCP", "write"),),
@@ -209,6 +223,7 @@ define(
     "While its input is 1, resets a timer or counter: a counter goes back to its "
     "start value, a timer to 0; on a P name it switches that PWM output off.",
     "timers", eol=True,
+    example='RES Tnew',
 )
 
 # --- counters --------------------------------------------------------------------
@@ -227,6 +242,7 @@ _COUNTERS = {
             "On each counting edge subtracts one; below the limit the count wraps to "
             "the start value and the output passes power for that one scan."),
 }
+_COUNTER_LIMITS = {"CTU": 10, "CTD": -10, "CTC": 9, "CTR": -9}  # LDmicro's editor defaults
 for _key, (_title, _top, _glyph, _doc) in _COUNTERS.items():
     define(
         _key, _title,
@@ -235,7 +251,7 @@ for _key, (_title, _top, _glyph, _doc) in _COUNTERS.items():
         text(_top), text(_glyph),
         _doc + " The counting edge is `/` rising (default), `\\` falling, `-` every scan "
         "with the input 1, `o` every scan with the input 0.",
-        "counters", family="counter",
+        "counters", family="counter", example=f"{_key} Cnew {_COUNTER_LIMITS[_key]} 0 /",
     )
 
 # --- comparisons --------------------------------------------------------------------
@@ -249,7 +265,7 @@ for _key, _op, _title in (("EQU", "==", "equal"), ("NEQ", "!=", "not equal"), ("
         box("[", "", "", "{op2}", "]", width="compare"),
         f"Passes power when its input is 1 and the first operand is {_title} "
         "the second (signed comparison).",
-        "compare", consts={"op": _op},
+        "compare", consts={"op": _op}, example=f"{_key} var 1",
     )
 
 define(
@@ -257,12 +273,14 @@ define(
     box("[", "", "", "{var}", "]"), box("[", "if Bit SET ", "", "{bit}", "]"),
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 1.",
     "bits",
+    example='IF_BIT_SET var bit', label='IF BIT SET',
 )
 define(
     "IF_BIT_CLEAR", "if bit clear", (var("var", "read"), operand("bit")),
     box("[", "", "", "{var}", "]"), box("[", "if Bit CLR ", "", "{bit}", "]"),
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 0.",
     "bits",
+    example='IF_BIT_CLEAR var bit', label='IF BIT CLR',
 )
 
 # --- moves and arithmetic ---------------------------------------------------------------
@@ -272,6 +290,7 @@ define(
     box("{MOV ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
     "While its input is 1, copies the source (a variable or a constant) into the destination.",
     "math", eol=True,
+    example='MOVE dest src', label='MOV',
 )
 for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtract", True),
                                  ("MUL", "*", "multiply", True), ("DIV", "/", "divide", True),
@@ -285,26 +304,28 @@ for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtra
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "{op1}", _sym, "{op2}", "}"),
         f"While its input is 1, sets the destination to op1 {_sym} op2 "
         "(signed integers of the destination's size; ADD and SUB set ROverflowFlagV on overflow).",
-        "math", eol=_eol, support=ALL,
+        "math", eol=_eol, support=ALL, example=f"{_key} dest src 1",
     )
 for _key, _sym, _title in (("NEG", "-", "negate"), ("NOT", "~", "bitwise not")):
     define(
         _key, _title, (var("dest"), operand("op1")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "", _sym, "{op1}", "}"),
         f"While its input is 1, sets the destination to {_sym}op1.",
-        "math",
+        "math", example=f"{_key} dest src",
     )
 define(
     "SET_BIT", "set bit", (var("var", "rw"), operand("bit")),
     box("{", "", "", "{var}", "}"), box("{", "SET Bit ", "", "{bit}", "}"),
     "While its input is 1, sets the given bit (a bit number) of the variable.",
     "bits",
+    example='SET_BIT var bit', label='SET BIT',
 )
 define(
     "CLEAR_BIT", "clear bit", (var("var", "rw"), operand("bit")),
     box("{", "", "", "{var}", "}"), box("{", "CLR Bit ", "", "{bit}", "}"),
     "While its input is 1, clears the given bit (a bit number) of the variable.",
     "bits",
+    example='CLEAR_BIT var bit', label='CLR BIT',
 )
 for _key, _title, _doc in (("BIN2BCD", "binary to BCD", "converts the source to unpacked BCD (one decimal digit per byte)"),
                            ("BCD2BIN", "BCD to binary", "converts unpacked BCD (one decimal digit per byte) to binary")):
@@ -312,7 +333,7 @@ for _key, _title, _doc in (("BIN2BCD", "binary to BCD", "converts the source to 
         _key, _title, (var("dest"), operand("src")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
         f"While its input is 1, {_doc} into the destination.",
-        "math",
+        "math", example=f"{_key} dest src",
     )
 for _key, _doc in (("SWAP", "swaps the source's nibbles (1 byte) or reverses its byte order"),
                    ("OPPOSITE", "reverses the order of the source's bits")):
@@ -320,7 +341,7 @@ for _key, _doc in (("SWAP", "swaps the source's nibbles (1 byte) or reverses its
         _key, _key.lower(), (var("dest"), operand("src")),
         box("{", "", "", "{dest}", ":=}"), box("{" + _key + " ", "", "", "{src}", "}"),
         f"While its input is 1, {_doc} and stores the result in the destination.",
-        "math",
+        "math", example=f"{_key} dest src",
     )
 define(
     "RANDOM", "random number", (var("name"),),
@@ -328,12 +349,14 @@ define(
     "While its input is 1, stores the next pseudo-random number (a linear congruential "
     "sequence, seeded by SRAND) in the variable.",
     "math",
+    example='RANDOM Rand', label='RAND',
 )
 define(
     "SEED_RANDOM", "seed random numbers", (var("name", "write"), operand("seed")),
     box("{SRAND ", "", "", "{name}", "}"), box("{", "$seed", ":=", "{seed}", "}"),
     "While its input is 1, sets the seed of the variable's random sequence.",
     "math",
+    example='SEED_RANDOM Rand newSeed', label='SRAND',
 )
 
 # --- tables and shift register ------------------------------------------------------------
@@ -344,6 +367,7 @@ define(
     "On each rising edge of its input shifts name0 -> name1 -> ... -> name(n-1); "
     "name0 is the input stage the program writes.",
     "tables", eol=True,
+    example='SHIFT_REGISTER reg 7', label='SHIFT REG',
 )
 define(
     "LOOK_UP_TABLE", "look-up table",
@@ -353,6 +377,7 @@ define(
     "While its input is 1, sets the destination to table[index] (index 0 to count-1). "
     "The values are listed in the DETAILS section.",
     "tables", eol=True, ld_form="lut",
+    example='LOOK_UP_TABLE dest index 4 0 10 20 30 40 tabName', label='LUT',
 )
 define(
     "PIECEWISE_LINEAR", "piecewise linear",
@@ -362,6 +387,7 @@ define(
     "While its input is 1, sets the destination by linear interpolation between "
     "the table's (x, y) points at x = index. The points are listed in DETAILS.",
     "tables", eol=True, ld_form="pwl",
+    example='PIECEWISE_LINEAR yvar xvar 2 0 0 10 100 name', label='PWL',
 )
 
 # --- analog, PWM, EEPROM ----------------------------------------------------------------------
@@ -372,6 +398,7 @@ define(
     "While its input is 1, reads the analog input pin assigned to the A name into "
     "that variable (0 to 1023 on 10-bit converters).",
     "analog", eol=True,
+    example='READ_ADC ADCnew 0', label='READ ADC',
 )
 define(
     "SET_PWM", "set PWM duty cycle",
@@ -381,12 +408,14 @@ define(
     "While its input is 1, drives the PWM pin at the given frequency with the given "
     "duty cycle (0-100 % by default). RES on the P name switches it off.",
     "analog", eol=True, ld_form="setpwm",
+    example='SET_PWM duty_cycle 1000 PWMoutpin 0-100%', label='SET PWM',
 )
 define(
     "PERSIST", "make persistent", (var("var", "rw"),),
     text("{var}"), text("{{PERSIST}}"),
     "Keeps the variable in EEPROM: read back at start-up, written whenever it changes.",
     "analog", eol=True,
+    example='PERSIST saved',
 )
 
 # --- serial and strings ---------------------------------------------------------------------------
@@ -398,6 +427,7 @@ define(
     "When its input is 1 and the transmitter is free, sends the variable's low byte "
     "over the UART; passes power while the transmitter is busy.",
     "serial",
+    example='UART_SEND var 1 0', label='UART SEND',
 )
 define(
     "UART_RECV", "UART receive",
@@ -406,16 +436,19 @@ define(
     "When its input is 1 and a byte has arrived, stores it in the variable and "
     "passes power for that scan.",
     "serial",
+    example='UART_RECV var 1 0', label='UART RECV',
 )
 define(
     "UART_SEND_READY", "UART ready to send", (), text(" Is ready? "), text("[UART SEND]"),
     "Passes power when its input is 1 and the UART transmitter is free.",
     "serial", aliases=("UART_SEND_BUSY", "UART_UDRE"),
+    label='UART SEND ready test',
 )
 define(
     "UART_RECV_AVAIL", "UART byte available", (), text(" Is avail? "), text("[UART RECV]"),
     "Passes power when its input is 1 and a received byte is waiting.",
     "serial",
+    label='UART RECV available test',
 )
 define(
     "FORMATTED_STRING", "formatted string over UART",
@@ -425,6 +458,7 @@ define(
     "scan; `\\3` or `\\-3` inserts the variable with 3 digits (with sign), `\\r\\n` etc. "
     "are control characters. Passes power while sending.",
     "serial", cells=2, ld_form="fstring",
+    example='FORMATTED_STRING var value:\\x20\\\\3\\\\r\\\\n', label='formatted string',
 )
 define(
     "STRING", "format into a string",
@@ -433,6 +467,7 @@ define(
     box("{", "FRMT STR", "", "{dest}", ":=}"), box("{", '"{text}",', "", "{var}", "}"),
     "While its input is 1, formats the text with the variable into the string variable.",
     "serial", cells=2, ld_form="string", support=DRAWN_ONLY,
+    example='STRING dest var frmtString',
 )
 
 # --- program flow ---------------------------------------------------------------------------------
@@ -440,7 +475,7 @@ define(
 define("MASTER_RELAY", "master control relay", (), None, text("{{MASTER RLY}}"),
        "A rung ending in a false master relay switches off every rung after it, up to "
        "the next master relay rung, which always switches them back on.",
-       "flow", eol=True)
+       "flow", eol=True, label='MASTER RLY')
 define("SHORT", "short circuit", (), None, text("+------+"),
        "Always passes its input on (a wire you can see).", "flow")
 define("OPEN", "open circuit", (), None, text("+      +"),
@@ -448,18 +483,18 @@ define("OPEN", "open circuit", (), None, text("+      +"),
 define("GOTO", "go to", (label("label"),), text("{label}"), text("{{GOTO}}"),
        "When its input is 1, continues the scan at the rung holding LABEL of that name "
        "(or at that rung number); the rungs in between are skipped.",
-       "flow", eol=True, family="jump")
+       "flow", eol=True, family="jump", example='GOTO loop')
 define("LABEL", "label", (label("label"),), text("{label}"), text("[LABEL]"),
-       "Marks its rung as a GOTO target; passes power through.", "flow")
+       "Marks its rung as a GOTO target; passes power through.", "flow", example='LABEL loop')
 define("SUBPROG", "subroutine start", (label("label"),), text("{label}"), text("[SUBPROG]"),
        "Starts a subroutine that runs only when called with GOSUB; must be alone in its rung.",
-       "flow", family="jump")
+       "flow", family="jump", example='SUBPROG sub')
 define("ENDSUB", "subroutine end", (label("label"),), text("{label}"), text("[ENDSUB]"),
        "Ends a subroutine and returns to the rung after the GOSUB; must be alone in its rung.",
-       "flow", family="jump")
+       "flow", family="jump", example='ENDSUB sub')
 define("GOSUB", "call subroutine", (label("label"),), text("{label}"), text("{{GOSUB}}"),
        "When its input is 1, runs the subroutine of that name and comes back.",
-       "flow", eol=True, family="jump")
+       "flow", eol=True, family="jump", example='GOSUB sub')
 define("RETURN", "return", (), None, text("{{RETURN}}"),
        "When its input is 1, returns from the current subroutine.", "flow", eol=True, family="jump")
 define("CLRWDT", "clear watchdog", (), None, text("{{CLRWDT}}"),
@@ -474,9 +509,9 @@ define("SLEEP", "sleep", (Field("name", "token", access="", default="", drawn=Fa
        "flow", eol=True, ld_form="sleep", support=frozenset({"parse", "check", "avr"}))
 define("PLACEHOLDER", "empty rung", (), None, text("--"),
        "Marks an empty rung; a program with one cannot be compiled.", "flow",
-       support=frozenset({"parse", "check"}))
+       support=frozenset({"parse", "check"}), label='empty rung')
 define("COMMENT", "comment", (Field("text", "text", access=""),), None, None,
-       "A comment rung; it does nothing.", "flow", ld_form="comment")
+       "A comment rung; it does nothing.", "flow", ld_form="comment", example="COMMENT a note")
 
 # --- displays, bus and target-specific elements ------------------------------------------------
 
@@ -489,6 +524,7 @@ for _n in ("7", "9", "14", "16"):
         "source character (C common cathode, A common anode).",
         # LDmicro has a font only for 7 segments; 9/14/16 are drawn, never run
         "display", support=ALL if _n == "7" else DRAWN_ONLY,
+        example=f"{_n}SEGMENTS dest src {'A' if _n == '16' else 'C'}",
     )
 define(
     "BUS", "bus tracer",
@@ -498,6 +534,7 @@ define(
     "While its input is 1, copies each bit j of the source to bit b_j of the destination "
     "(the .ld line lists b7 first; the default 7 6 5 4 3 2 1 0 copies the byte).",
     "display",
+    example='BUS dest src 7 6 5 4 3 2 1 0',
 )
 
 _SPI_DETAILS = (token("mode", "Master", drawn=False), token("modes", "0", drawn=False),
@@ -507,26 +544,26 @@ define("SPI", "SPI transfer", (token("name"), Field("send", "operand"), Field("r
        + _SPI_DETAILS,
        box("{SPI ", "", "", "{name}", "}"), box("{->", "{recv}", "", "{send}", "->}"),
        "Sends and receives a byte over the SPI bus (C back ends only in LDmicro).",
-       "target", support=DRAWN_ONLY)
+       "target", support=DRAWN_ONLY, example='SPI SPI1 send recv Master 0 8 MSB 1000000')
 define("SPI_WR", "SPI write", (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False))
        + _SPI_DETAILS,
        box("{SPI WR ", "", "", "{name}", "}"), box("{", "", '"', "{send}", '"->}'),
        "Writes a string over the SPI bus (C back ends only in LDmicro).",
-       "target", support=DRAWN_ONLY)
+       "target", support=DRAWN_ONLY, example='SPI_WR SPI1 send recv Master 0 8 MSB 1000000')
 define("I2C_RD", "I2C read",
        (token("name"), token("send", "send", drawn=False), Field("recv", "var", access="write"),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C RD ", "", "", "{name}", "}"), box("{->", "{recv}", "{address}", "{register}", "}"),
        "Reads a register of an I2C device (C back ends only in LDmicro).",
-       "target", support=DRAWN_ONLY)
+       "target", support=DRAWN_ONLY, example='I2C_RD I2C1 send recv Master 0 0 MSB 100000')
 define("I2C_WR", "I2C write",
        (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C WR ", "", "", "{name}", "}"), box("{", "{address}", "{register}", "{send}", "->}"),
        "Writes a register of an I2C device (C back ends only in LDmicro).",
-       "target", support=DRAWN_ONLY)
+       "target", support=DRAWN_ONLY, example='I2C_WR I2C1 send recv Master 0 0 MSB 100000')
 define("NPULSE_OFF", "N pulse off", (), None, text("{{NPULSE OFF}}"),
        "Stops the N PULSE generator.", "target", eol=True, support=DRAWN_ONLY)
 define("QUAD_ENCOD", "quadrature encoder",
@@ -535,28 +572,29 @@ define("QUAD_ENCOD", "quadrature encoder",
         Field("zkind", "edge", access="", default="/"), integer("counts", 0, drawn=False)),
        box("~~[{a} {b}", "", "", "", "{dir}]-"), box("-{zkind}[{z}", "", " QUAD ENCOD ", "{counter}", "]^"),
        "Counts the pulses of a quadrature encoder on inputs A and B.",
-       "target", cells=2, support=DRAWN_ONLY, ld_form="quad")
+       "target", cells=2, support=DRAWN_ONLY, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0')
 define("PULSER", "pulser",
        (token("p1"), token("p0"), token("accel"), Field("counter", "var", access="rw"), bit("coil", "YR", "write")),
        box("[PULSER ", "{counter}", "", " {coil}", "]->"), box("[", "", "{p1} {p0} {accel}", "", "]--"),
        "Generates pulses with the given high and low times (in scans).",
-       "target", cells=2, support=DRAWN_ONLY)
+       "target", cells=2, support=DRAWN_ONLY, example='PULSER D1 D0 accel_decel counter Ypulse')
 define("STEPPER", "stepper motor",
        (token("name"), token("max"), token("p"), integer("size"), integer("graph"), bit("coil", "Y", "write")),
        box("[STEPPER ", "{name} {max}", "", " {coil}", "]->"), box("[", "{p}", "", " {size} {graph}", "]--"),
        "Drives a stepper motor output with an acceleration table.",
-       "target", cells=2, support=DRAWN_ONLY)
+       "target", cells=2, support=DRAWN_ONLY, example='STEPPER step stepMax P 100 1 Ystep')
 define("NPULSE", "N pulse generator",
        (Field("counter", "var", access="rw"), Field("freq", "int", access=""), bit("coil", "Y", "write")),
        box("[N PULSE ", "{counter}", "", "{coil}", "]->"), box("[", "", "{freq:hz}", "", "]--"),
        "Generates the counted number of pulses at the given frequency.",
-       "target", cells=2, support=DRAWN_ONLY)
+       "target", cells=2, support=DRAWN_ONLY, example='NPULSE counter 1000 YNpulse')
 for _key, _word, _second in (("RSFR", "Read", "dest"), ("WSFR", "Write", "src"), ("SSFR", "Sbit", "bit"),
                              ("CSFR", "Cbit", "bit"), ("TSFR", "IsBitS", "bit"), ("TCSFR", "IsBitC", "bit")):
     define(_key, f"special function register {_word.lower()}", (token("sfr"), Field(_second, "operand")),
            box("?", "{sfr} " + _word, "", "", "?", width="sfr"), box("? ", "{" + _second + "}", "", "", "?", width="sfr"),
            "Raw access to a special function register of the AVR.",
-           "target", support=DRAWN_ONLY, consts={"word": _word, "second": _second})
+           "target", support=DRAWN_ONLY, consts={"word": _word, "second": _second},
+           example=f"{_key} sfr {'1' if _second == 'bit' else _second}")
 
 
 INSTRUCTIONS: dict[str, Instruction] = {i.key: i for i in _TABLE}
@@ -600,37 +638,3 @@ def _register_widths() -> None:
 _register_widths()
 
 
-# LDmicro's editor defaults for a new element, as .ld lines: what its editor
-# inserts, and the example the reference (lang/reference.py) draws
-DEFAULT_LINES = {
-    "CONTACTS": "CONTACTS Xnew 0 0", "COIL": "COIL Ynew 0 0 0 0",
-    "TON": "TON Tnew 100000 0", "TOF": "TOF Tnew 100000 0", "RTO": "RTO Tnew 100000 0",
-    "RTL": "RTL Tnew 100000 0", "TCY": "TCY Tnew 100000 0", "THI": "THI Tnew 100000 0",
-    "TLO": "TLO Tnew 100000 0", "TIME2COUNT": "TIME2COUNT Tnew 100000 0", "TIME2DELAY": "TIME2DELAY delay 10",
-    "DELAY": "DELAY 10", "RES": "RES Tnew",
-    "CTU": "CTU Cnew 10 0 /", "CTD": "CTD Cnew -10 0 /", "CTC": "CTC Cnew 9 0 /", "CTR": "CTR Cnew -9 0 /",
-    "EQU": "EQU var 1", "NEQ": "NEQ var 1", "GRT": "GRT var 1", "GEQ": "GEQ var 1", "LES": "LES var 1",
-    "LEQ": "LEQ var 1", "IF_BIT_SET": "IF_BIT_SET var bit", "IF_BIT_CLEAR": "IF_BIT_CLEAR var bit",
-    "MOVE": "MOVE dest src", "NEG": "NEG dest src", "NOT": "NOT dest src",
-    "SET_BIT": "SET_BIT var bit", "CLEAR_BIT": "CLEAR_BIT var bit",
-    "BIN2BCD": "BIN2BCD dest src", "BCD2BIN": "BCD2BIN dest src", "SWAP": "SWAP dest src",
-    "OPPOSITE": "OPPOSITE dest src", "RANDOM": "RANDOM Rand", "SEED_RANDOM": "SEED_RANDOM Rand newSeed",
-    "SHIFT_REGISTER": "SHIFT_REGISTER reg 7",
-    "LOOK_UP_TABLE": "LOOK_UP_TABLE dest index 4 0 10 20 30 40 tabName",
-    "PIECEWISE_LINEAR": "PIECEWISE_LINEAR yvar xvar 2 0 0 10 100 name",
-    "READ_ADC": "READ_ADC ADCnew 0", "SET_PWM": "SET_PWM duty_cycle 1000 PWMoutpin 0-100%",
-    "PERSIST": "PERSIST saved", "UART_SEND": "UART_SEND var 1 0", "UART_RECV": "UART_RECV var 1 0",
-    "FORMATTED_STRING": "FORMATTED_STRING var value:\\x20\\\\3\\\\r\\\\n",
-    "GOTO": "GOTO loop", "LABEL": "LABEL loop", "SUBPROG": "SUBPROG sub", "ENDSUB": "ENDSUB sub",
-    "GOSUB": "GOSUB sub", "7SEGMENTS": "7SEGMENTS dest src C", "9SEGMENTS": "9SEGMENTS dest src C",
-    "14SEGMENTS": "14SEGMENTS dest src C", "16SEGMENTS": "16SEGMENTS dest src A",
-    "STRING": "STRING dest var frmtString", "BUS": "BUS dest src 7 6 5 4 3 2 1 0",
-    "SPI": "SPI SPI1 send recv Master 0 8 MSB 1000000", "SPI_WR": "SPI_WR SPI1 send recv Master 0 8 MSB 1000000",
-    "I2C_RD": "I2C_RD I2C1 send recv Master 0 0 MSB 100000", "I2C_WR": "I2C_WR I2C1 send recv Master 0 0 MSB 100000",
-    "QUAD_ENCOD": "QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0",
-    "PULSER": "PULSER D1 D0 accel_decel counter Ypulse", "STEPPER": "STEPPER step stepMax P 100 1 Ystep",
-    "NPULSE": "NPULSE counter 1000 YNpulse", "RSFR": "RSFR sfr dest", "WSFR": "WSFR sfr src",
-    "SSFR": "SSFR sfr 1", "CSFR": "CSFR sfr 1", "TSFR": "TSFR sfr 1", "TCSFR": "TCSFR sfr 1",
-}
-for _key in ("ADD", "SUB", "MUL", "DIV", "MOD", "AND", "OR", "XOR", "SHL", "SHR", "SR0", "ROL", "ROR"):
-    DEFAULT_LINES[_key] = f"{_key} dest src 1"

@@ -11,7 +11,7 @@ import re
 import sys
 from functools import cache
 
-from .instructions import DEFAULT_LINES, INSTRUCTIONS, Instruction
+from .instructions import INSTRUCTIONS, Instruction
 from .model import Element, Program
 from .roles import role
 
@@ -29,7 +29,7 @@ def examples() -> dict[str, Element]:
     for key in INSTRUCTIONS:
         if key in _UNDRAWN:
             continue
-        line = "COMMENT a note" if key == "COMMENT" else DEFAULT_LINES.get(key, key)
+        line = INSTRUCTIONS[key].example
         program, problems = read_ld(f"LDmicro0.2\n\nPROGRAM\nRUNG\n  {line}\nEND\n")
         elements = [element for _, element in program.elements()]
         if problems or len(elements) != 1:
@@ -74,7 +74,7 @@ def example_program(key: str) -> Program:
     coil after it when it does not end the rung itself (a comment alone)."""
     from .ldfile import read_ld
 
-    line = "COMMENT a note" if key == "COMMENT" else DEFAULT_LINES.get(key, key)
+    line = INSTRUCTIONS[key].example
     body = [line] if key == "COMMENT" else \
         ["CONTACTS Xbutton 0 0", line] + ([] if INSTRUCTIONS[key].eol else ["COIL Ylamp 0 0 0 0"])
     program, _ = read_ld("LDmicro0.2\n\nPROGRAM\nRUNG\n" + "".join(f"  {item}\n" for item in body) + "END\n")
@@ -111,7 +111,7 @@ def render() -> str:
         for key in keys:
             instruction = INSTRUCTIONS[key]
             top, glyph = drawings()[key]
-            line = "COMMENT a note" if key == "COMMENT" else DEFAULT_LINES.get(key, key)
+            line = INSTRUCTIONS[key].example
             diagram = render_program(example_program(key)).split("LADDER DIAGRAM:\n", 1)[1]
             diagram = diagram.split("\n\n", 1)[0]
             parts += [f"### {key}: {instruction.title}", "", instruction.doc, "",

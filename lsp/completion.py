@@ -23,7 +23,7 @@ from lsprotocol import types
 
 from ide import edits, names
 from ide.locate import Locator, rail_column, word_at
-from lang.instructions import DEFAULT_LINES, INSTRUCTIONS
+from lang.instructions import INSTRUCTIONS
 from lang.model import Span
 from lang.roles import role
 from lang.textform.sections import DIAGRAM, IO
@@ -300,12 +300,12 @@ def _ld(ls, analysis, line, col, text) -> list[types.CompletionItem] | None:
             return _names(analysis, line, col, text, hit.element.kind, hit.field)
         return _names(analysis, line, col, text, None, None)
     if analysis.locator.rung_at(line) is None and text.strip() not in ("",) and \
-            not any(text.strip().startswith(k) for k in DEFAULT_LINES):
+            not any(text.strip().startswith(k) for k in INSTRUCTIONS):
         return None  # a header or I/O LIST line
     edit_range = analysis.positions.range(Span.at(line, indent, len(text)))
     items = []
     for kind in sorted(k for k in INSTRUCTIONS if edits.insertable(k)):
-        default = DEFAULT_LINES.get(kind, kind)
+        default = INSTRUCTIONS[kind].example
         items.append(types.CompletionItem(
             label=kind, kind=types.CompletionItemKind.Keyword, detail=INSTRUCTIONS[kind].title,
             documentation=INSTRUCTIONS[kind].doc,
