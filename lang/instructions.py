@@ -55,6 +55,9 @@ class Instruction:
     example: str = ""
     # how messages name it: the word LDmicro draws ("" for the key with blanks: "READ ADC")
     label: str = ""
+    # the operands LDmicro's variable check (CheckVariableNames) counts as written by a general
+    # instruction (its ANY flag; lang/checks/varflags.py), some of them read ones (IF_BIT_SET's)
+    ldmicro_written: tuple[str, ...] = ()
 
     def __post_init__(self):
         object.__setattr__(self, "example", self.example or self.key)
@@ -200,6 +203,7 @@ define(
     "makes the given time, for use as a variable timer delay.",
     "timers", support=SIM_ONLY | {"avr", "pic16", "c"},
     example='TIME2COUNT Tnew 100000 0', label='T2CNT',
+    ldmicro_written=('name',),
 )
 define(
     "TIME2DELAY", "time to delay converter", (var("name"), Field("delay", "delay", access="")),
@@ -208,6 +212,7 @@ define(
     "DELAY last the given time on the selected part.",
     "timers", support=frozenset({"parse", "check", "avr", "pic16"}),
     example='TIME2DELAY delay 10', label='T2DLY',
+    ldmicro_written=('name',),
 )
 define(
     "DELAY", "busy-wait delay", (Field("delay", "operand"),),
@@ -274,6 +279,7 @@ define(
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 1.",
     "bits",
     example='IF_BIT_SET var bit', label='IF BIT SET',
+    ldmicro_written=('var',),
 )
 define(
     "IF_BIT_CLEAR", "if bit clear", (var("var", "read"), operand("bit")),
@@ -281,6 +287,7 @@ define(
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 0.",
     "bits",
     example='IF_BIT_CLEAR var bit', label='IF BIT CLR',
+    ldmicro_written=('var',),
 )
 
 # --- moves and arithmetic ---------------------------------------------------------------
@@ -291,6 +298,7 @@ define(
     "While its input is 1, copies the source (a variable or a constant) into the destination.",
     "math", eol=True,
     example='MOVE dest src', label='MOV',
+    ldmicro_written=('dest',),
 )
 for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtract", True),
                                  ("MUL", "*", "multiply", True), ("DIV", "/", "divide", True),
@@ -304,14 +312,14 @@ for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtra
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "{op1}", _sym, "{op2}", "}"),
         f"While its input is 1, sets the destination to op1 {_sym} op2 "
         "(signed integers of the destination's size; ADD and SUB set ROverflowFlagV on overflow).",
-        "math", eol=_eol, support=ALL, example=f"{_key} dest src 1",
+        "math", eol=_eol, support=ALL, example=f"{_key} dest src 1", ldmicro_written=("dest",),
     )
 for _key, _sym, _title in (("NEG", "-", "negate"), ("NOT", "~", "bitwise not")):
     define(
         _key, _title, (var("dest"), operand("op1")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "", _sym, "{op1}", "}"),
         f"While its input is 1, sets the destination to {_sym}op1.",
-        "math", example=f"{_key} dest src",
+        "math", example=f"{_key} dest src", ldmicro_written=("dest",),
     )
 define(
     "SET_BIT", "set bit", (var("var", "rw"), operand("bit")),
@@ -319,6 +327,7 @@ define(
     "While its input is 1, sets the given bit (a bit number) of the variable.",
     "bits",
     example='SET_BIT var bit', label='SET BIT',
+    ldmicro_written=('var',),
 )
 define(
     "CLEAR_BIT", "clear bit", (var("var", "rw"), operand("bit")),
@@ -326,6 +335,7 @@ define(
     "While its input is 1, clears the given bit (a bit number) of the variable.",
     "bits",
     example='CLEAR_BIT var bit', label='CLR BIT',
+    ldmicro_written=('var',),
 )
 for _key, _title, _doc in (("BIN2BCD", "binary to BCD", "converts the source to unpacked BCD (one decimal digit per byte)"),
                            ("BCD2BIN", "BCD to binary", "converts unpacked BCD (one decimal digit per byte) to binary")):
@@ -333,7 +343,7 @@ for _key, _title, _doc in (("BIN2BCD", "binary to BCD", "converts the source to 
         _key, _title, (var("dest"), operand("src")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
         f"While its input is 1, {_doc} into the destination.",
-        "math", example=f"{_key} dest src",
+        "math", example=f"{_key} dest src", ldmicro_written=("dest",),
     )
 for _key, _doc in (("SWAP", "swaps the source's nibbles (1 byte) or reverses its byte order"),
                    ("OPPOSITE", "reverses the order of the source's bits")):
@@ -341,7 +351,7 @@ for _key, _doc in (("SWAP", "swaps the source's nibbles (1 byte) or reverses its
         _key, _key.lower(), (var("dest"), operand("src")),
         box("{", "", "", "{dest}", ":=}"), box("{" + _key + " ", "", "", "{src}", "}"),
         f"While its input is 1, {_doc} and stores the result in the destination.",
-        "math", example=f"{_key} dest src",
+        "math", example=f"{_key} dest src", ldmicro_written=("dest",),
     )
 define(
     "RANDOM", "random number", (var("name"),),
@@ -350,6 +360,7 @@ define(
     "sequence, seeded by SRAND) in the variable.",
     "math",
     example='RANDOM Rand', label='RAND',
+    ldmicro_written=('name',),
 )
 define(
     "SEED_RANDOM", "seed random numbers", (var("name", "write"), operand("seed")),
@@ -378,6 +389,7 @@ define(
     "The values are listed in the DETAILS section.",
     "tables", eol=True, ld_form="lut",
     example='LOOK_UP_TABLE dest index 4 0 10 20 30 40 tabName', label='LUT',
+    ldmicro_written=('dest', 'index'),
 )
 define(
     "PIECEWISE_LINEAR", "piecewise linear",
@@ -388,6 +400,7 @@ define(
     "the table's (x, y) points at x = index. The points are listed in DETAILS.",
     "tables", eol=True, ld_form="pwl",
     example='PIECEWISE_LINEAR yvar xvar 2 0 0 10 100 name', label='PWL',
+    ldmicro_written=('dest', 'index'),
 )
 
 # --- analog, PWM, EEPROM ----------------------------------------------------------------------
@@ -399,6 +412,7 @@ define(
     "that variable (0 to 1023 on 10-bit converters).",
     "analog", eol=True,
     example='READ_ADC ADCnew 0', label='READ ADC',
+    ldmicro_written=('name',),
 )
 define(
     "SET_PWM", "set PWM duty cycle",
@@ -437,6 +451,7 @@ define(
     "passes power for that scan.",
     "serial",
     example='UART_RECV var 1 0', label='UART RECV',
+    ldmicro_written=('var',),
 )
 define(
     "UART_SEND_READY", "UART ready to send", (), text(" Is ready? "), text("[UART SEND]"),
@@ -468,6 +483,7 @@ define(
     "While its input is 1, formats the text with the variable into the string variable.",
     "serial", cells=2, ld_form="string", support=DRAWN_ONLY,
     example='STRING dest var frmtString',
+    ldmicro_written=('dest',),
 )
 
 # --- program flow ---------------------------------------------------------------------------------
@@ -524,7 +540,7 @@ for _n in ("7", "9", "14", "16"):
         "source character (C common cathode, A common anode).",
         # LDmicro has a font only for 7 segments; 9/14/16 are drawn, never run
         "display", support=ALL if _n == "7" else DRAWN_ONLY,
-        example=f"{_n}SEGMENTS dest src {'A' if _n == '16' else 'C'}",
+        example=f"{_n}SEGMENTS dest src {'A' if _n == '16' else 'C'}", ldmicro_written=("dest",),
     )
 define(
     "BUS", "bus tracer",
@@ -535,6 +551,7 @@ define(
     "(the .ld line lists b7 first; the default 7 6 5 4 3 2 1 0 copies the byte).",
     "display",
     example='BUS dest src 7 6 5 4 3 2 1 0',
+    ldmicro_written=('dest',),
 )
 
 _SPI_DETAILS = (token("mode", "Master", drawn=False), token("modes", "0", drawn=False),
@@ -544,7 +561,7 @@ define("SPI", "SPI transfer", (token("name"), Field("send", "operand"), Field("r
        + _SPI_DETAILS,
        box("{SPI ", "", "", "{name}", "}"), box("{->", "{recv}", "", "{send}", "->}"),
        "Sends and receives a byte over the SPI bus (C back ends only in LDmicro).",
-       "target", support=DRAWN_ONLY, example='SPI SPI1 send recv Master 0 8 MSB 1000000')
+       "target", support=DRAWN_ONLY, example='SPI SPI1 send recv Master 0 8 MSB 1000000', ldmicro_written=('send', 'recv'))
 define("SPI_WR", "SPI write", (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False))
        + _SPI_DETAILS,
        box("{SPI WR ", "", "", "{name}", "}"), box("{", "", '"', "{send}", '"->}'),
@@ -572,7 +589,8 @@ define("QUAD_ENCOD", "quadrature encoder",
         Field("zkind", "edge", access="", default="/"), integer("counts", 0, drawn=False)),
        box("~~[{a} {b}", "", "", "", "{dir}]-"), box("-{zkind}[{z}", "", " QUAD ENCOD ", "{counter}", "]^"),
        "Counts the pulses of a quadrature encoder on inputs A and B.",
-       "target", cells=2, support=DRAWN_ONLY, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0')
+       "target", cells=2, support=DRAWN_ONLY, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
+       ldmicro_written=('counter',))
 define("PULSER", "pulser",
        (token("p1"), token("p0"), token("accel"), Field("counter", "var", access="rw"), bit("coil", "YR", "write")),
        box("[PULSER ", "{counter}", "", " {coil}", "]->"), box("[", "", "{p1} {p0} {accel}", "", "]--"),

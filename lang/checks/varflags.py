@@ -37,25 +37,12 @@ TIMER_FLAGS = frozenset(TIMERS)
 # flags an ANY write may not meet (RTO is left out, as in LDmicro)
 ANY_BLOCKERS = frozenset({PWM, "TOF", "TON", "TCY", "RTL", "THI", "TLO"})
 
-# element kind -> the operands that get ANY
-_ANY_FIELDS: dict[str, tuple[str, ...]] = {}
-for _kind in ("MOVE", "BIN2BCD", "BCD2BIN", "SWAP", "OPPOSITE", "BUS",
-              "ADD", "SUB", "MUL", "DIV", "MOD", "SHL", "SHR", "SR0", "ROL", "ROR",
-              "AND", "OR", "XOR", "NOT", "NEG",
-              "7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS"):
-    _ANY_FIELDS[_kind] = ("dest",)
-for _kind in ("SET_BIT", "CLEAR_BIT", "IF_BIT_SET", "IF_BIT_CLEAR"):
-    _ANY_FIELDS[_kind] = ("var",)
-for _kind in ("TIME2COUNT", "TIME2DELAY", "RANDOM", "READ_ADC"):
-    _ANY_FIELDS[_kind] = ("name",)
-_ANY_FIELDS["UART_RECV"] = ("var",)
-_ANY_FIELDS["STRING"] = ("dest",)
-for _kind in (k for k, i in INSTRUCTIONS.items() if any(f.kind == "label" for f in i.fields)):
-    _ANY_FIELDS[_kind] = ("label",)
-_ANY_FIELDS["SPI"] = ("send", "recv")
-_ANY_FIELDS["LOOK_UP_TABLE"] = ("dest", "index")
-_ANY_FIELDS["PIECEWISE_LINEAR"] = ("dest", "index")
-_ANY_FIELDS["QUAD_ENCOD"] = ("counter",)
+# element kind -> the operands that get ANY: the table's, and every label (a jump target)
+_ANY_FIELDS: dict[str, tuple[str, ...]] = {
+    key: spec.ldmicro_written or tuple(f.name for f in spec.fields if f.kind == "label")
+    for key, spec in INSTRUCTIONS.items()
+    if spec.ldmicro_written or any(f.kind == "label" for f in spec.fields)
+}
 # STEPPER, PULSER and NPULSE: the operand LDmicro reads as the table name
 _PULSE_KINDS = {"STEPPER": "name", "PULSER": "p1", "NPULSE": "counter"}
 # the segment decoders also read a source that is not a literal
