@@ -4,7 +4,9 @@ storage slots it uses, and the registry of per-instruction generators.
 Every program name and every piece of per-element memory (edge bits, timer
 phases, a string's position) is a slot; the generated scan function keeps
 each slot in a local variable (`v12`) for speed and reads/writes them all
-back to the state list around a batch of scans.
+back to the state list around a batch of scans (a large program, compiled
+in chunks, keeps them in closure cells instead, filled and copied back the
+same way).
 """
 
 from __future__ import annotations
@@ -64,6 +66,7 @@ class Gen:
         self.slots: list[Slot] = []
         self.index: dict[str, int] = {}
         self.lines: list[str] = []
+        self.used: set[int] = set()  # the slots the lines written so far use: a chunk's cells
         self.depth = 0
         self.namespace: dict[str, object] = {"Fault": Fault}
         self.elements: list[tuple[int, int, Element]] = []
@@ -75,6 +78,7 @@ class Gen:
         self.uses_time = False
         self.traced = False
         self.jumps = None  # set by the compiler when the program jumps
+        self.calling = False  # whether the rung being written holds a GOSUB
         self.counter_defs: dict[str, Element] = {}  # counter name -> the element RES takes its start from
         self.eeprom_next = 0  # the next PERSIST variable's EEPROM address
 
@@ -108,6 +112,7 @@ class Gen:
                 init = False if kind == "bit" else 0
             self.index[key] = len(self.slots)
             self.slots.append(Slot(key, kind, size, init))
+        self.used.add(self.index[key])
         return f"v{self.index[key]}"
 
     def var(self, name: str) -> str:

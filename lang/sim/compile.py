@@ -6,12 +6,21 @@ stores it back (also when a fault stops it). A program with GOTO/GOSUB is
 cut into segments (one per rung, plus one after each GOSUB) inside a
 dispatch loop; one without jumps is straight-line code. The traced variant
 also records each element's output power in E.
+
+Python's compiler needs kilobytes per line of source at once, so a large
+program would cost gigabytes as one function. Its code is cut at rung starts
+into chunks, each a function compiled as soon as it is written; the scan
+function calls them in turn or, when the program jumps, calls the chunk
+holding the next segment until the scan ends. The slots are then cells that
+every chunk closes over, filled from S before the scans and copied back after.
 """
 
 from __future__ import annotations
 
+from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import CellType, CodeType, FunctionType
 
 from ..model import Element, Program, Series
 from ..values import is_literal, literal_value
@@ -23,6 +32,15 @@ from .numbers import byte_needed
 _JUMPS = {"GOTO", "GOSUB", "SUBPROG", "ENDSUB", "RETURN"}
 _TIMERS = set(gen_timers.TIMERS)
 _COUNTERS = gen_timers.COUNTERS
+
+# up to this many elements (about 100 rungs) one function is the faster:
+# no calls, and one copy of the state in and out per batch of scans
+SINGLE_ELEMENTS = 300
+# about 10 MB of compiler memory a chunk
+CHUNK_LINES = 4000
+# a chunk also ends at this many slots: CPython 3.11 gets a frame that does
+# not fit in its 16 KB block of frames from mmap, on every call
+CHUNK_SLOTS = 256
 
 
 @dataclass
@@ -46,6 +64,8 @@ class JumpTable:
         self.subprogs: dict[str, int] = {}
         self.endsubs: dict[str, int] = {}
         self.next_return = self.count + 1
+        self.chunk = 0  # the chunk being written
+        self.chunk_of: dict[int, int] = {}  # segment -> the chunk holding it
         problems = []
         for rung, element in program.elements():
             label = str(element.args.get("label", ""))
@@ -87,15 +107,23 @@ class JumpTable:
         self.next_return += 1
         return self.next_return - 1
 
-    def start(self, segment: int) -> None:
-        """End the current segment here and start `segment`, falling into it."""
+    def leave(self, segment: int) -> None:
+        """End the current segment, going on to `segment`."""
+        self.gen.emit(f"seg = {segment}")
+
+    def enter(self, segment: int) -> None:
         gen = self.gen
-        if segment:
-            gen.emit(f"seg = {segment}")
+        self.chunk_of[segment] = self.chunk
         gen.depth -= 1
         gen.emit(f"if seg == {segment}:")
         gen.depth += 1
         gen.emit("pass")
+
+    def start(self, segment: int) -> None:
+        """End the current segment here and start `segment`, falling into it."""
+        if segment:
+            self.leave(segment)
+        self.enter(segment)
 
     split = start
 
@@ -158,6 +186,14 @@ def counter_defs(program: Program) -> dict[str, Element]:
     return found
 
 
+def _power(gen: Gen, prefix: str) -> str:
+    """A variable for the power flowing in the rung. After a GOSUB the rung
+    goes on where it was, which may be in another call of its chunk's
+    function: a rung that calls a subroutine keeps these in slots."""
+    name = gen.temp(prefix)
+    return gen.slot(f"~{gen.rung}.{name}", "bit") if gen.calling else name
+
+
 def _circuit(gen: Gen, node, p: str, tail: bool) -> None:
     if isinstance(node, Element):
         gen.generate(node, p)
@@ -167,11 +203,11 @@ def _circuit(gen: Gen, node, p: str, tail: bool) -> None:
     else:
         # every branch sees the parallel's input; a branch's side effects
         # are visible to the branches below it
-        out = None if tail and not gen.traced else gen.temp("o")
+        out = None if tail and not gen.traced else _power(gen, "o")
         if out:
             gen.emit(f"{out} = False")
         for branch in node.branches:
-            b = gen.temp("b")
+            b = _power(gen, "b")
             gen.emit(f"{b} = {p}")
             _circuit(gen, branch, b, out is None)
             if out:
@@ -209,52 +245,160 @@ def _initial_values(gen: Gen, program: Program) -> None:
 DEFAULT_SEED = 1
 
 
-def _generate(program: Program, bits, sizes, traced: bool, gen: Gen | None = None) -> Gen:
-    gen = gen or Gen(program, sizes, bits)
+class _Writer:
+    """Collects one scan function's code. With cells (a program of more than
+    SINGLE_ELEMENTS elements) it is cut into chunks as it goes, each compiled
+    at once; without, it is the body of one function."""
+
+    def __init__(self, gen: Gen, name: str, cells: dict[int, CellType] | None):
+        self.gen, self.name, self.cells = gen, name, cells
+        self.chunks: list[Callable] = []
+        self.body: list[str] = []
+        gen.lines, gen.used = [], set()
+
+    def rung(self, index: int) -> None:
+        """Start rung `index`, in a new chunk if this one is full."""
+        gen, jumps = self.gen, self.gen.jumps
+        if jumps and index:
+            jumps.leave(index)
+        if self.cells is not None and (len(gen.lines) >= CHUNK_LINES or len(gen.used) >= CHUNK_SLOTS):
+            self._cut()
+        if jumps:
+            jumps.enter(index)
+
+    def finish(self) -> None:
+        gen, jumps = self.gen, self.gen.jumps
+        if self.cells is None:
+            self.body = _JUMPS_START + _dispatch(gen.lines, "break") if jumps else gen.lines
+            return
+        if jumps:
+            jumps.leave(jumps.count)  # the end of the scan
+        self._cut()
+        if not jumps:
+            self.body = [f"{chunk.__name__}(now, E)" for chunk in self.chunks]
+            return
+        # segment jumps.count, the end of the scan, has no chunk
+        table = f"{self.name}_at"
+        gen.namespace[table] = [self.chunks[jumps.chunk_of[segment]] if segment in jumps.chunk_of else None
+                                for segment in range(jumps.next_return)]
+        self.body = _JUMPS_START + [f"while seg != {jumps.count}:",
+                                    f"    seg, J = {table}[seg](now, E, seg, J, K)"]
+
+    def function(self) -> Callable:
+        """The scan function; made once both variants have allocated every
+        slot, since one that is not chunked keeps them all in locals."""
+        gen = self.gen
+        if self.cells is not None:
+            lines = _function(gen, self.name, self.body, ["for load in LOAD:", "    load(S)"],
+                              ["for store in STORE:", "    store(S)"], timed=True)
+            return _closure(lines, _relay(gen), self.cells, gen.namespace)
+        names = ", ".join(f"v{i}" for i in range(len(gen.slots))) + ","
+        load, store = ([f"{names} = S"], [f"S[:] = ({names})"]) if gen.slots else ([], [])
+        source = "\n".join(_function(gen, self.name, self.body, load, store, gen.uses_time)) + "\n"
+        exec(compile(source, "<ladder scan>", "exec"), gen.namespace)
+        return gen.namespace[self.name]
+
+    def _cut(self) -> None:
+        gen = self.gen
+        name = f"{self.name}_{len(self.chunks)}"
+        if gen.jumps:
+            lines = [f"def {name}(now, E, seg, J, K):", *_indented(_dispatch(gen.lines, "return seg, J"), 1)]
+        else:
+            lines = [f"def {name}(now, E):", *_indented(gen.lines or ["pass"], 1)]
+        gen.namespace[name] = _closure(lines, gen.used, self.cells, gen.namespace)
+        self.chunks.append(gen.namespace[name])
+        gen.lines, gen.used = [], set()
+        if gen.jumps:
+            gen.jumps.chunk = len(self.chunks)
+
+
+# every scan starts at segment 0 with no jumps made and no GOSUB to return from
+_JUMPS_START = ["K = []", "J = 0", "seg = 0"]
+
+
+def _indented(lines: list[str], depth: int) -> list[str]:
+    pad = "    " * depth
+    return [pad + line for line in lines]
+
+
+def _dispatch(lines: list[str], end: str) -> list[str]:
+    """Segments in a loop: a jump sets seg and starts the loop again. In a
+    chunk, a jump to another chunk's segment matches none and comes out."""
+    return ["while True:", *_indented(lines, 1), f"    {end}"]
+
+
+def _closure(lines: list[str], used, cells: dict[int, CellType], namespace: dict) -> Callable:
+    """Compile the function `lines` define as a closure over the cells of the
+    slots `used`: every chunk reads and writes the same variables, nearly as
+    fast as locals, with nothing to copy in and out around each call."""
+    names = [f"v{i}" for i in sorted(used)]
+    if names:
+        lines = [lines[0], f"    nonlocal {', '.join(names)}", *lines[1:]]
+    # the wrapper only gives the names a scope to be free in: its cells are
+    # never made, the function is rebuilt over the shared ones
+    wrapper = ["def _():", *([f"    {' = '.join(names)} = None"] if names else []), *_indented(lines, 1)]
+    module = compile("\n".join(wrapper) + "\n", "<ladder scan>", "exec")
+    outer = next(c for c in module.co_consts if isinstance(c, CodeType))
+    code = next(c for c in outer.co_consts if isinstance(c, CodeType))
+    return FunctionType(code, namespace, code.co_name, None, tuple(cells[int(v[1:])] for v in code.co_freevars))
+
+
+def _sync(gen: Gen, cells: dict[int, CellType]) -> None:
+    """LOAD and STORE, which copy every slot from S into its cell and back,
+    CHUNK_SLOTS at a time, around a batch of scans."""
+    loads, stores = [], []
+    for start in range(0, len(gen.slots), CHUNK_SLOTS):
+        block = range(start, min(start + CHUNK_SLOTS, len(gen.slots)))
+        names = ", ".join(f"v{i}" for i in block) + ","
+        loads.append(_closure(["def load(S):", f"    {names} = S[{block.start}:{block.stop}]"], block, cells,
+                              gen.namespace))
+        stores.append(_closure(["def store(S):", f"    S[{block.start}:{block.stop}] = {names}"], block, cells,
+                               gen.namespace))
+    gen.namespace.update(LOAD=loads, STORE=stores)
+
+
+def _generate(gen: Gen, program: Program, name: str, traced: bool, cells: dict[int, CellType] | None) -> _Writer:
     gen.traced = traced
+    gen.elements = []
     gen.counter_defs = counter_defs(program)
     gen.eeprom_next = 0
     jumps = any(e.kind in _JUMPS for _, e in program.elements())
     gen.jumps = JumpTable(gen, program) if jumps else None
-    gen.depth = 3
+    gen.depth = 1 if jumps else 0
     mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
-    if mcr:
-        gen.emit(f"{gen.bit('$mcr')} = True")
-    if jumps:
-        gen.emit("K = []")
-        gen.emit("J = 0")
-        gen.emit("seg = 0")
-        gen.emit("while True:")
-        gen.depth += 2
+    writer = _Writer(gen, name, cells)
     for index, rung in enumerate(program.rungs):
-        gen.rung, gen.position = index, -1
-        if jumps:
-            gen.jumps.start(index)
+        # temporaries die with their rung, so each rung reuses the same few
+        # names: a chunk's frame holds its slots and little more
+        gen.rung, gen.position, gen.temp_count = index, -1, 0
+        writer.rung(index)
         if rung.is_comment or not rung.circuit.items:
             continue
-        p = f"p{index}"
+        gen.calling = jumps and any(e.kind == "GOSUB" for e in rung.elements())
+        p = _power(gen, "p")
         gen.emit(f"{p} = {gen.bit('$mcr') if mcr else 'True'}")
         _circuit(gen, rung.circuit, p, True)
-    if jumps:
-        gen.depth -= 1
-        gen.emit("break")
-    return gen
+    writer.finish()
+    return writer
 
 
-def _function(gen: Gen, name: str, body: list[str]) -> list[str]:
-    names = [f"v{i}" for i in range(len(gen.slots))]
-    unpack = ", ".join(names) + ("," if len(names) == 1 else "")
-    lines = [f"def {name}(S, n, t0, E):"]
-    if names:
-        lines.append(f"    {unpack} = S")
-    lines += ["    done = 0", "    try:", "        while done < n:"]
-    if gen.uses_time:
+def _relay(gen: Gen) -> set[int]:
+    """The master relay's slot, if the program has one."""
+    return {gen.index["$mcr"]} if "$mcr" in gen.index else set()
+
+
+def _scan_start(gen: Gen) -> list[str]:
+    """Every scan starts with the master relay closed."""
+    return [f"v{mcr} = True" for mcr in _relay(gen)]
+
+
+def _function(gen: Gen, name: str, body: list[str], load: list[str], store: list[str], timed: bool) -> list[str]:
+    lines = [f"def {name}(S, n, t0, E):", *_indented(load, 1), "    done = 0", "    try:", "        while done < n:"]
+    if timed:
         lines.append(f"            now = t0 + done * {gen.cycle_us}")
-    lines += body or ["            pass"]
+    lines += _indented(_scan_start(gen) + body or ["pass"], 3)
     lines += ["            done += 1", "    except Fault as fault:", "        fault.done = done", "        raise",
-              "    finally:"]
-    lines.append(f"        S[:] = ({unpack})" if names else "        pass")
-    lines.append("    return done")
+              "    finally:", *_indented(store or ["pass"], 2), "    return done"]
     return lines
 
 
@@ -265,15 +409,14 @@ def compile_program(program: Program, peripherals) -> Compiled:
     if problems:
         raise SimulationError(problems)
     bits, sizes = variable_names(program)
-    plain = _generate(program, bits, sizes, traced=False)
-    fast_body = plain.lines
-    # the traced variant must allocate the same slots in the same order
-    plain.lines, plain.temp_count, plain.elements = [], 0, []
-    traced = _generate(program, bits, sizes, traced=True, gen=plain)
-    _initial_values(traced, program)
-    source = "\n".join(_function(traced, "run", fast_body) + [""]
-                       + _function(traced, "run_traced", traced.lines)) + "\n"
-    namespace = dict(traced.namespace, PER=peripherals, U=peripherals.uart)
-    exec(compile(source, "<ladder scan>", "exec"), namespace)
-    return Compiled(program, traced.slots, traced.index, traced.elements,
-                    namespace["run"], namespace["run_traced"])
+    gen = Gen(program, sizes, bits)
+    gen.namespace.update(PER=peripherals, U=peripherals.uart)
+    # a slot's cell is made when a chunk first uses it
+    cells = defaultdict(CellType) if sum(1 for _ in program.elements()) > SINGLE_ELEMENTS else None
+    # the two variants share one Gen, so that they number the slots alike
+    writers = [_generate(gen, program, "run", False, cells), _generate(gen, program, "run_traced", True, cells)]
+    _initial_values(gen, program)
+    if cells is not None:
+        _sync(gen, cells)
+    run, run_traced = (writer.function() for writer in writers)
+    return Compiled(program, gen.slots, gen.index, gen.elements, run, run_traced)
