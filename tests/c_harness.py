@@ -9,7 +9,7 @@ from pathlib import Path
 from test_compiler_harness import Event, mismatches, simulate
 
 import compiler
-from compiler.run import c as c_run
+from compiler.run.record import record_c
 from lang.model import Program
 from lang.sim import Simulator
 
@@ -20,26 +20,12 @@ def compared_names(program: Program, sources) -> list[str]:
     return sorted(n for n in Simulator(program).variables() if n in sources.symbols and n[0] not in "X#")
 
 
-def script(events: list[Event], scans: int) -> list[str]:
-    """The harness's commands: each scan's events, the scan, its values."""
-    lines = []
-    for scan in range(scans):
-        for event in events:
-            if event.scan == scan:
-                lines.append(f"uart {event.value}" if event.name == "uart" else f"set {event.name} {event.value}")
-        lines += ["run 1", "show"]
-    return lines
-
-
 def run_c(program: Program, events: list[Event], scans: int, folder: Path, names: list[str] | None = None,
           sanitize: bool = True) -> tuple[list[str], list[dict[str, int]]]:
     """The watched names and their values after each scan of the C build."""
-    sources = compiler.build_c(program, "program", "program.ladder")
-    names = compared_names(program, sources) if names is None else names
-    built = c_run.build(sources, "program", names, program.settings.cycle_us, program.settings.baud, folder,
-                        sanitize=sanitize)
-    rows = [line.split()[1:] for line in built.run(script(events, scans)) if line.startswith("@values")]
-    return names, [dict(zip(names, map(int, row))) for row in rows]
+    if names is None:
+        names = compared_names(program, compiler.build_c(program, "program", "program.ladder"))
+    return names, record_c(program, events, scans, names, folder, sanitize).rows
 
 
 def differential(program: Program, events: list[Event], scans: int, folder: Path, sanitize: bool = True) -> list[str]:

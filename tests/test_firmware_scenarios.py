@@ -50,21 +50,12 @@ def test_every_scenario_passes_on_the_c(capsys):
     assert " 0 failed" in out
 
 
-@needs_simavr
 @pytest.mark.slow
-def test_the_avr_programs_scenarios_pass_on_their_hex(capsys):
-    files = [str(f) for f in FILES if _family(f) == "avr"]
-    assert len(files) >= 3
-    status, out, _ = run(capsys, "test", "--on", "avr", *files)
-    assert status == 0, out
-
-
-@needs_gpsim
-@pytest.mark.slow
-def test_the_pic16_programs_scenarios_pass_on_their_hex(capsys):
-    files = [str(f) for f in FILES if _family(f) == "pic16"]
+@pytest.mark.parametrize("family", [pytest.param("avr", marks=needs_simavr), pytest.param("pic16", marks=needs_gpsim)])
+def test_each_familys_scenarios_pass_on_its_hex(family, capsys):
+    files = [str(f) for f in FILES if _family(f) == family]
     assert len(files) >= 2
-    status, out, _ = run(capsys, "test", "--on", "pic16", *files)
+    status, out, _ = run(capsys, "test", "--on", family, *files)
     assert status == 0, out
 
 

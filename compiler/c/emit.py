@@ -210,14 +210,9 @@ def _arith(w: Writer, op: ir.Arith) -> None:
 
 
 def _change_bit(w: Writer, op: ir.ChangeBitOf) -> None:
-    bits = 8 * op.dst.size
-    w.line("{")
-    w.line(f"int32_t i = {w.value(op.index)};", 2)
-    w.line(f"if (i >= 0 && i < {bits}) {{", 2)
     change = "| (UINT32_C(1) << i)" if op.value else "& ~(UINT32_C(1) << i)"
-    w.store(op.dst, f"{w.unsigned(op.dst)} {change}", 3)
-    w.line("}", 2)
-    w.line("}")
+    _guarded(w, f"int32_t i = {w.value(op.index)};", f"i >= 0 && i < {8 * op.dst.size}", op.dst,
+             f"{w.unsigned(op.dst)} {change}")
 
 
 def _divide(w: Writer, op: ir.Divide) -> None:
@@ -244,21 +239,23 @@ def _shift(w: Writer, op: ir.Shift) -> None:
         w.store(op.dst, f"{w.helper('ld_' + op.op)}({w.unsigned(op.a)}, {count}, {bits})")
 
 
+def _guarded(w: Writer, declaration: str, condition: str, dst: ir.Target, expression: str) -> None:
+    """{ declaration; if (condition) dst := expression; }: the C of an op the simulator stops at
+    for some values, which leaves its destination as it was there."""
+    w.line("{")
+    w.line(declaration, 2)
+    w.line(f"if ({condition}) {{", 2)
+    w.store(dst, expression, 3)
+    w.line("}", 2)
+    w.line("}")
+
+
 def _convert(w: Writer, op: ir.Convert) -> None:
     if op.op == "bin2bcd":
-        w.line("{")
-        w.line(f"int32_t v = {w.value(op.src)};", 2)
-        w.line("if (v >= 0 && v <= 9999) {", 2)
-        w.store(op.dst, f"{w.helper('ld_bin2bcd')}(v)", 3)
-        w.line("}", 2)
-        w.line("}")
+        _guarded(w, f"int32_t v = {w.value(op.src)};", "v >= 0 && v <= 9999", op.dst, f"{w.helper('ld_bin2bcd')}(v)")
     elif op.op == "bcd2bin":
-        w.line("{")
-        w.line(f"uint32_t v = {w.unsigned(op.src)};", 2)
-        w.line(f"if ({w.helper('ld_bcd_ok')}(v)) {{", 2)
-        w.store(op.dst, f"{w.helper('ld_bcd2bin')}(v)", 3)
-        w.line("}", 2)
-        w.line("}")
+        _guarded(w, f"uint32_t v = {w.unsigned(op.src)};", f"{w.helper('ld_bcd_ok')}(v)", op.dst,
+                 f"{w.helper('ld_bcd2bin')}(v)")
     elif op.op == "swap":
         w.store(op.dst, f"{w.helper('ld_swap')}({w.unsigned(op.src)}, {op.width})")
     else:
@@ -267,13 +264,8 @@ def _convert(w: Writer, op: ir.Convert) -> None:
 
 def _table(w: Writer, op: ir.Table) -> None:
     w.tables.append(op.values)
-    name = f"ld_table{len(w.tables)}"
-    w.line("{")
-    w.line(f"int32_t i = {w.value(op.index)};", 2)
-    w.line(f"if (i >= 0 && i < {len(op.values)}) {{", 2)
-    w.store(op.dst, f"(uint32_t){name}[i]", 3)
-    w.line("}", 2)
-    w.line("}")
+    _guarded(w, f"int32_t i = {w.value(op.index)};", f"i >= 0 && i < {len(op.values)}", op.dst,
+             f"(uint32_t)ld_table{len(w.tables)}[i]")
 
 
 def _permute(w: Writer, op: ir.Permute) -> None:

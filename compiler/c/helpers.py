@@ -85,16 +85,14 @@ static uint32_t ld_rol(uint32_t v, int32_t n, int bits)
     n %= bits;
     return n == 0 ? v : ((v << n) | (v >> (bits - n))) & mask;
 }"""),
-    "ld_ror": (("ld_mask",), """\
+    "ld_ror": (("ld_rol",), """\
+/* Right by n is left by the rest of the width. */
 static uint32_t ld_ror(uint32_t v, int32_t n, int bits)
 {
-    uint32_t mask = ld_mask(bits);
-    v &= mask;
     if (n < 0) {
         n = 0;
     }
-    n %= bits;
-    return n == 0 ? v : ((v >> n) | (v << (bits - n))) & mask;
+    return ld_rol(v, bits - n % bits, bits);
 }"""),
     "ld_bin2bcd": ((), """\
 /* Unpacked BCD, one decimal digit per byte, of 0..9999. */

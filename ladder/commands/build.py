@@ -56,7 +56,6 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     import compiler
-    from compiler.errors import CompileError
 
     if args.emit != "hex" and args.target is not None:
         print(f"ladder build: error: --target names a part; the C output (--emit {args.emit}) has none "
@@ -84,14 +83,9 @@ def run(args) -> int:
         return EXIT_PROBLEMS
     if args.emit != "hex":
         return _emit_c(args, loaded.program)
-    try:
-        build = compiler.build(loaded.program, args.target, config.find(Path(args.file)))
-    except config.ConfigError as bad:
-        print(f"ladder build: {bad}", file=sys.stderr)
-        return EXIT_USAGE
-    except CompileError as problem:
-        report(args.file, problem.diagnostics, stream=sys.stdout)
-        return EXIT_PROBLEMS
+    build = _compiled(args.file, lambda: compiler.build(loaded.program, args.target, config.find(Path(args.file))))
+    if isinstance(build, int):
+        return build
     report(args.file, build.warnings, stream=sys.stderr)
     output = Path(args.output) if args.output else Path(args.file).with_suffix(".hex")
     try:
@@ -105,12 +99,25 @@ def run(args) -> int:
     return EXIT_OK
 
 
+def _compiled(path: str, compile_it):
+    """What `compile_it()` returns, or the exit status after reporting why it could not."""
+    from compiler.errors import CompileError
+
+    try:
+        return compile_it()
+    except config.ConfigError as bad:
+        print(f"ladder build: {bad}", file=sys.stderr)
+        return EXIT_USAGE
+    except CompileError as problem:
+        report(path, problem.diagnostics, stream=sys.stdout)
+        return EXIT_PROBLEMS
+
+
 def _emit_c(args, program) -> int:
     """--emit c: FILE.c, FILE.h (and ladder.h); --emit arduino: the sketch
     folder FILE/ with FILE.ino, FILE.c, FILE.h and ladder.h."""
     import compiler
     from compiler.c import default_ladder_h
-    from compiler.errors import CompileError
 
     source = Path(args.file)
     if args.emit == "arduino":
@@ -118,19 +125,15 @@ def _emit_c(args, program) -> int:
         output = folder / f"{folder.name}.c"
     else:
         output = Path(args.output) if args.output else source.with_suffix(".c")
-    sketch = None
-    try:
-        if args.emit == "arduino":
-            sources, sketch = compiler.build_arduino(program, output.stem, source.name, args.board,
-                                                     config.find(source))
-        else:
-            sources = compiler.build_c(program, output.stem, source.name, config.find(source))
-    except config.ConfigError as bad:
-        print(f"ladder build: {bad}", file=sys.stderr)
-        return EXIT_USAGE
-    except CompileError as problem:
-        report(args.file, problem.diagnostics, stream=sys.stdout)
-        return EXIT_PROBLEMS
+    if args.emit == "arduino":
+        built = _compiled(args.file, lambda: compiler.build_arduino(program, output.stem, source.name, args.board,
+                                                                    config.find(source)))
+    else:
+        built = _compiled(args.file, lambda: (compiler.build_c(program, output.stem, source.name,
+                                                               config.find(source)), None))
+    if isinstance(built, int):
+        return built
+    sources, sketch = built
     header, ladder_h = output.with_suffix(".h"), output.with_name("ladder.h")
     files = [(output, sources.c), (header, sources.h)]
     if sketch is not None:
