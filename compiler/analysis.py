@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from lang.sim.numbers import byte_needed
+from lang.numbers import byte_needed
 
 from . import ir
 

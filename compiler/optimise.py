@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from lang.sim.numbers import cdiv, cmod, wrap
+from lang.numbers import cdiv, cmod, wrap
 
 from . import ir
 

@@ -129,3 +129,10 @@ def test_the_language_server_has_no_import_cycles():
 def test_features_reach_each_other_through_the_servers_typed_services():
     for path in (ROOT / "lsp").glob("*.py"):
         assert "extensions[" not in path.read_text() and "extensions.get(" not in path.read_text(), path.name
+
+
+def test_the_compiler_shares_semantics_through_lang_not_the_simulator():
+    # what both need (integer arithmetic, format strings, storage sizes, timer periods) is in lang
+    # proper; only compiler/run, which checks scenarios on firmware, drives the simulator itself
+    offenders = _offenders(ROOT / "compiler", ("lang.sim",))
+    assert all(path.startswith("compiler/run/") for path in offenders), offenders

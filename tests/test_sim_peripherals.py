@@ -7,7 +7,7 @@ import pytest
 from builders import coil, contact, el, program
 
 from lang.sim import SimulationError, Simulator
-from lang.sim.strings import parse_format
+from lang.strings import parse_format
 
 
 def test_read_adc_copies_the_reading_when_powered():

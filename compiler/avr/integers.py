@@ -15,7 +15,7 @@ bytes stored to the destination (the wrap-around the semantics ask for).
 
 from __future__ import annotations
 
-from lang.sim.numbers import wrap
+from lang.numbers import wrap
 
 from .. import analysis, ir
 from ..analysis import value_size

@@ -14,7 +14,7 @@ from lang.devices import Device
 from lang.instructions import COUNTERS
 from lang.labels import describe
 from lang.model import Element, Program, Series
-from lang.sim.compile import DEFAULT_SEED, counter_defs, variable_names
+from lang.storage import DEFAULT_SEED, counter_defs, variable_names
 from lang.targets import Family, family_of
 from lang.values import is_literal, literal_value
 

@@ -14,7 +14,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from lang.model import Element
-from lang.sim.codegen import CannotSimulate, timer_period
+from lang.storage import TimerError, timer_period
 from lang.values import is_literal, literal_value
 
 from .. import ir
@@ -185,6 +185,6 @@ class Builder:
     def period(self, delay: int, adjust: int, name: str) -> int:
         """A timer's period in scans, with LDmicro's checks."""
         try:
-            return timer_period(self, delay, adjust, name)
-        except CannotSimulate as problem:
-            raise fail(BAD_OPERAND, problem.message, self.element) from None
+            return timer_period(self.program.settings.cycle_us, delay, adjust, name)
+        except TimerError as problem:
+            raise fail(BAD_OPERAND, str(problem), self.element) from None

@@ -1,10 +1,10 @@
 """Peripheral instructions: ADC, PWM, PERSIST and the UART elements with
-formatted strings (lang/sim/gen_io.py and lang/sim/strings.py are the
+formatted strings (lang/sim/gen_io.py and lang/strings.py are the
 semantics followed here)."""
 
 from __future__ import annotations
 
-from lang.sim.strings import parse_format
+from lang.strings import parse_format
 
 from .. import ir
 from ..errors import BAD_OPERAND, EEPROM_FULL, fail

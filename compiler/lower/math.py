@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from itertools import pairwise
 
+from lang import numbers
 from lang.codes import code
-from lang.sim import numbers
 from lang.values import is_literal
 
 from .. import ir

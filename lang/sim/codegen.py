@@ -16,10 +16,12 @@ from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from .. import storage
+from ..instructions import JUMPS
 from ..model import Element
+from ..numbers import wrap, wrap_expr
 from ..values import is_literal, literal_value
 from .errors import BAD_OPERAND, BAD_TIMER, Fault, SimulationError, located
-from .numbers import wrap, wrap_expr
 
 DEFAULT_SIZE = 2
 
@@ -182,7 +184,7 @@ class Gen:
         self.number = len(self.elements)
         self.elements.append((self.rung, self.position, element))
         # a jump leaves the element's code at once: note its power before
-        jumps = element.kind in ("GOTO", "GOSUB", "RETURN", "ENDSUB", "SUBPROG")
+        jumps = element.kind in JUMPS
         if self.traced and jumps:
             self.emit(f"E[{self.number}] = bool({power})")
         try:
@@ -194,19 +196,8 @@ class Gen:
 
 
 def timer_period(gen: Gen, delay: int, adjust: int, name: str) -> int:
-    """LDmicro's period in scans: (delay + adjust*cycle) // cycle, with its
-    checks (TestTimerPeriod)."""
-    cycle = gen.cycle_us
-    if delay <= 0:
-        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': delay cannot be zero or negative")
-    plain = delay // cycle
-    if plain <= 0:
-        raise CannotSimulate(BAD_TIMER, f"Timer '{name}' = {delay / 1000:.3f} ms is shorter than "
-                                      f"the cycle time ({cycle / 1000:.3f} ms)")
-    if plain + adjust <= 0:
-        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': total timer delay cannot be zero or "
-                                      "negative; increase the adjust value")
-    if plain <= adjust:
-        raise CannotSimulate(BAD_TIMER, f"Timer '{name}': an adjust as large as the delay is "
-                                      "meaningless; decrease the adjust value")
-    return (delay + cycle * adjust) // cycle
+    """LDmicro's period in scans (lang/storage.py), a problem with it a located error."""
+    try:
+        return storage.timer_period(gen.cycle_us, delay, adjust, name)
+    except storage.TimerError as problem:
+        raise CannotSimulate(BAD_TIMER, str(problem)) from None

@@ -22,16 +22,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from types import CellType, CodeType, FunctionType
 
+from ..instructions import COUNTERS, JUMPS
 from ..model import Element, Program, Series
+from ..storage import DEFAULT_SEED, counter_defs, variable_names
 from ..values import is_literal, literal_value
 from . import gen_io, gen_logic, gen_math, gen_timers  # noqa: F401  (they register the generators)
 from .codegen import GENERATORS, CannotSimulate, Gen, Slot, timer_period
 from .errors import BAD_JUMP, BAD_TIMER, NOT_SIMULATED, SimulationError, located
-from .numbers import byte_needed
-
-_JUMPS = {"GOTO", "GOSUB", "SUBPROG", "ENDSUB", "RETURN"}
-_TIMERS = set(gen_timers.TIMERS)
-_COUNTERS = gen_timers.COUNTERS
 
 # up to this many elements (about 100 rungs) one function is the faster:
 # no calls, and one copy of the state in and out per batch of scans
@@ -150,42 +147,6 @@ def _unsupported(program: Program) -> list:
     return problems
 
 
-def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
-    """Bit names, and the sizes LDmicro gives integer variables: VAR LIST
-    sizes, with timers and counters sized to their values."""
-    bits = {"ROverflowFlagV"}
-    sizes = dict(program.var_sizes)
-    cycle = program.settings.cycle_us
-    for _, element in program.elements():
-        for field in element.spec.fields:
-            if field.kind == "bit" and element.args.get(field.name):
-                bits.add(str(element.args[field.name]))
-        if element.kind in ("SET_PWM", "RES") and str(element.args.get("name", "")).startswith("P"):
-            bits.add(str(element.args["name"]))
-        if element.kind in _TIMERS and isinstance(element.args.get("delay"), int) and cycle > 0:
-            sizes[element.args["name"]] = min(4, byte_needed(element.args["delay"] // cycle))
-        if element.kind in _COUNTERS:
-            init, limit = str(element.args.get("init", "0")), str(element.args["max"])
-            if is_literal(init) and is_literal(limit):
-                try:
-                    values = [literal_value(init), literal_value(limit)]
-                except ValueError:
-                    continue
-                sizes[element.args["name"]] = max(byte_needed(v) for v in values)
-    return bits, sizes
-
-
-def counter_defs(program: Program) -> dict[str, Element]:
-    """For RES C...: the first counter of that name, searching CTU, CTD, CTC
-    then CTR elements (LDmicro's order)."""
-    found: dict[str, Element] = {}
-    for kind in _COUNTERS:
-        for _, element in program.elements():
-            if element.kind == kind:
-                found.setdefault(str(element.args["name"]), element)
-    return found
-
-
 def _power(gen: Gen, prefix: str) -> str:
     """A variable for the power flowing in the rung. After a GOSUB the rung
     goes on where it was, which may be in another call of its chunk's
@@ -227,7 +188,7 @@ def _initial_values(gen: Gen, program: Program) -> None:
         kind = element.kind
         if kind == "CONTACTS" and element.args.get("set1") and str(element.args["name"]).startswith("X"):
             init(element.args["name"], True)
-        elif kind in _COUNTERS and is_literal(str(element.args.get("init", "0"))):
+        elif kind in COUNTERS and is_literal(str(element.args.get("init", "0"))):
             init(element.args["name"], literal_value(str(element.args.get("init", "0"))))
         elif kind == "TOF":
             name, delay = element.args["name"], element.args["delay"]
@@ -242,7 +203,6 @@ def _initial_values(gen: Gen, program: Program) -> None:
 
 # LDmicro seeds each SRAND sequence with C rand() at start-up; the
 # simulator uses this fixed seed instead so that runs repeat.
-DEFAULT_SEED = 1
 
 
 class _Writer:
@@ -362,7 +322,7 @@ def _generate(gen: Gen, program: Program, name: str, traced: bool, cells: dict[i
     gen.elements = []
     gen.counter_defs = counter_defs(program)
     gen.eeprom_next = 0
-    jumps = any(e.kind in _JUMPS for _, e in program.elements())
+    jumps = any(e.kind in JUMPS for _, e in program.elements())
     gen.jumps = JumpTable(gen, program) if jumps else None
     gen.depth = 1 if jumps else 0
     mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())

@@ -4,9 +4,9 @@ objects (`PER`, `U`) that the user drives from outside."""
 
 from __future__ import annotations
 
+from ..strings import make_sender, parse_format
 from .codegen import CannotSimulate, Gen, handles
 from .errors import BAD_OPERAND, UART_STALL
-from .strings import make_sender, parse_format
 
 
 @handles("READ_ADC")

@@ -4,10 +4,11 @@ so that the simulation matches the MCU scan for scan."""
 
 from __future__ import annotations
 
+from ..instructions import RELATIONS
+from ..numbers import bit_mask
 from ..values import is_literal
 from .codegen import Gen, handles
 from .errors import LOCKED, RUNAWAY, STACK
-from .numbers import bit_mask
 
 MAX_JUMPS_PER_SCAN = 100_000
 STACK_DEPTH = 8
@@ -103,13 +104,12 @@ def bit_mask_expr(gen: Gen, token) -> str:
     return f"bit_mask({gen.var(token)})"
 
 
-_COMPARE = {"EQU": "==", "NEQ": "!=", "GRT": ">", "GEQ": ">=", "LES": "<", "LEQ": "<="}
 
 
-@handles(*_COMPARE)
+@handles(*RELATIONS)
 def compare(gen: Gen, el, p: str) -> None:
     a, b = gen.operand(el.args["op1"]), gen.operand(el.args["op2"])
-    gen.emit(f"{p} = {p} and {a} {_COMPARE[el.kind]} {b}")
+    gen.emit(f"{p} = {p} and {a} {RELATIONS[el.kind]} {b}")
 
 
 @handles("IF_BIT_SET", "IF_BIT_CLEAR")

@@ -4,8 +4,8 @@ destination's size; operands are read as the signed values they hold."""
 
 from __future__ import annotations
 
+from .. import numbers
 from ..values import is_literal
-from . import numbers
 from .codegen import CannotSimulate, Gen, handles
 from .errors import BAD_OPERAND, BAD_VALUE, DIVIDE_BY_ZERO, TABLE_INDEX
 from .gen_logic import bit_mask_expr

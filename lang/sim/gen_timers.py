@@ -4,12 +4,10 @@ each element instance has its own edge memory."""
 
 from __future__ import annotations
 
+from ..instructions import TIMERS
 from ..values import is_literal
 from .codegen import CannotSimulate, Gen, handles, timer_period
 from .errors import BAD_OPERAND
-
-TIMERS = ("TON", "TOF", "RTO", "RTL", "TCY", "THI", "TLO")
-COUNTERS = ("CTU", "CTD", "CTC", "CTR")
 
 
 def period(gen: Gen, el) -> str:

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 from ..diagnostics import error
 from ..model import Program
+from ..numbers import wrap
 from .compile import Compiled, compile_program
 from .errors import Fault, SimulationError
-from .numbers import wrap
 from .peripherals import ADC_MAX, Peripherals, PwmOutput, Uart
 
 
