@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 from .numbers import cdiv
 
-_ESCAPES = {"a": 7, "b": 8, "e": 27, "f": 12, "n": 10, "r": 13, "t": 9, "v": 11,
+ESCAPES = {"a": 7, "b": 8, "e": 27, "f": 12, "n": 10, "r": 13, "t": 9, "v": 11,
             "'": 39, '"': 34, "?": 63, "\\": 92}
-_HEX = "0123456789abcdefABCDEF"
+HEX = "0123456789abcdefABCDEF"
 
 
 @dataclass(frozen=True)
@@ -53,12 +53,12 @@ def parse_format(text: str) -> Format:
             while i < len(text) and text[i] == "0":
                 i += 1
             esc = text[i] if i < len(text) else ""
-            if esc in _ESCAPES:
-                steps.append(("c", _ESCAPES[esc]))
+            if esc in ESCAPES:
+                steps.append(("c", ESCAPES[esc]))
                 i += 1
             elif esc in ("x", "X"):
                 pair = text[i + 1:i + 3]
-                if len(pair) != 2 or any(c not in _HEX for c in pair):
+                if len(pair) != 2 or any(c not in HEX for c in pair):
                     raise ValueError("Bad escape: correct form is \\xAB.")
                 steps.append(("c", int(pair, 16)))
                 i += 3

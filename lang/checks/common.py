@@ -9,7 +9,9 @@ from ..diagnostics import Fix, Related, Rename, report
 from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
 from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
+from ..numbers import cdiv
 from ..roles import ROLES, role
+from ..strings import ESCAPES, HEX
 from ..values import format_delay, is_literal, literal_value
 
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
@@ -157,12 +159,6 @@ def table_numbers(values) -> list[int] | None:
 TIMED = TIMERS + ("TIME2COUNT",)
 
 
-def _trunc_div(a: int, b: int) -> int:
-    """C integer division (toward zero)."""
-    q = abs(a) // abs(b)
-    return q if (a >= 0) == (b > 0) else -q
-
-
 def timer_periods(program, index) -> list[tuple]:
     """(rung, element, delay_us, adjust, P, Padj) for every timer with a
     constant delay, as LDmicro's TestTimerPeriod computes them (P = delay /
@@ -182,8 +178,8 @@ def timer_periods(program, index) -> list[tuple]:
         except (TypeError, ValueError):
             adjust = 0
         if cycle and cycle > 0:
-            period = _trunc_div(delay, cycle)
-            adjusted = _trunc_div(delay + adjust * cycle, cycle)
+            period = cdiv(delay, cycle)
+            adjusted = cdiv(delay + adjust * cycle, cycle)
         else:
             period = adjusted = None
         found.append((rung, element, delay, adjust, period, adjusted))
@@ -200,8 +196,6 @@ def delay_text(microseconds: int) -> str:
     return format_delay(microseconds)
 
 
-_FSTRING_ESCAPES = frozenset("abefnrtv\\'\"?")
-_HEX = frozenset("0123456789abcdefABCDEF")
 
 
 def scan_format(text: str) -> tuple[list[str], list[tuple[str, str]]]:
@@ -226,12 +220,12 @@ def scan_format(text: str) -> tuple[list[str], list[tuple[str, str]]]:
                                       "for a literal backslash write \\\\"))
             i = j + 1
         elif nxt == "x":
-            if text[i + 2:i + 3] in _HEX and text[i + 3:i + 4] in _HEX and i + 3 < n:
+            if text[i + 2:i + 3] in HEX and text[i + 3:i + 4] in HEX and i + 3 < n:
                 i += 4
             else:
                 bad.append((text[i:i + 4], "the correct form is \\xAB, two hex digits"))
                 i += 2
-        elif nxt in _FSTRING_ESCAPES and nxt:
+        elif nxt in ESCAPES and nxt:
             i += 2
         else:
             bad.append((text[i:i + 2], "unknown escape; for a literal backslash write \\\\"))
