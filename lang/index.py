@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
-from .model import Element, Program, Series, Span
+from .model import Element, Parallel, Program, Series, Span
 from .targets import FAMILIES
 
 # Operand kinds that hold variable names (or, for operands, a constant).
@@ -187,25 +187,46 @@ class ProgramIndex:
                     found.append(use)
 
         def walk(node, rung: int) -> None:
-            cls = node.__class__
-            if cls is element_class:
-                add(node, rung)
-            elif cls is series_class:
-                series.append((rung, node))
-                items = node.items
-                last = len(items) - 1
-                for position, item in enumerate(items):
-                    if item.__class__ is element_class:
-                        add(item, rung)
-                        if position < last and item.kind in eol_kinds:
-                            followed.append((rung, node, position))
-                    else:
-                        walk(item, rung)
-                        if position < last and item.__class__ is not series_class:
-                            followed.append((rung, node, position))
-            else:
-                for branch in node.branches:
-                    walk(branch, rung)
+            # a loop, not recursion (blocks may nest a thousand deep): a block
+            # met in a series or a parallel is walked next, and the walk then
+            # goes on after it from `stack`'s (block, position), innermost last
+            stack: list[tuple[Series | Parallel, int]] = []
+            start = 0
+            while True:
+                inner = None
+                cls = node.__class__
+                if cls is series_class:
+                    items = node.items
+                    last = len(items) - 1
+                    if start == 0:
+                        series.append((rung, node))
+                    elif start <= last and items[start - 1].__class__ is not series_class:
+                        followed.append((rung, node, start - 1))  # back from a block that something follows
+                    for position, item in enumerate(items[start:] if start else items, start):
+                        if item.__class__ is element_class:
+                            add(item, rung)
+                            if position < last and item.kind in eol_kinds:
+                                followed.append((rung, node, position))
+                        else:
+                            inner, after = item, position + 1
+                            break
+                elif cls is element_class:
+                    add(node, rung)
+                else:
+                    branches = node.branches
+                    for position, branch in enumerate(branches[start:] if start else branches, start):
+                        if branch.__class__ is element_class:
+                            add(branch, rung)
+                        else:
+                            inner, after = branch, position + 1
+                            break
+                if inner is not None:
+                    stack.append((node, after))
+                    node, start = inner, 0
+                elif stack:
+                    node, start = stack.pop()
+                else:
+                    return
 
         for rung_index, rung in enumerate(program.rungs):
             walk(rung.circuit, rung_index)

@@ -871,8 +871,7 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
     spans: dict[int, Span | None] = {}
     for number, rung in enumerate(program.rungs, 1):
         out.append("RUNG" if version == "0.1" else f"RUNG {number}")
-        for item in rung_circuit(rung.circuit).items:
-            _write_node(item, 1, out, spans, version, encoding, in_parallel=False)
+        _write_circuit(rung_circuit(rung.circuit), out, spans, version, encoding)
         out.append("END")
     text = "\n".join(out) + "\n"
     if diagnostics is not None:
@@ -900,31 +899,40 @@ def write_ld_bytes(program: Program, encoding: str = "cp1252", newline: str = "\
     return encode_text(text.replace("\n", newline), encoding)
 
 
-def _write_node(node: Node, depth: int, out: list[str], spans: dict, version: str,
-                encoding: str, in_parallel: bool) -> None:
+def _write_circuit(circuit: Series, out: list[str], spans: dict, version: str, encoding: str) -> None:
+    """A rung's lines: its root series is the rung, written without SERIES."""
+    # (nodes still to write, their depth, whether they are a parallel's branches,
+    # the line that closes them), innermost last: a loop, not recursion, as
+    # blocks may nest a thousand deep
+    frames = [(iter(circuit.items), 1, False, None)]
+    while frames:
+        rest, depth, in_parallel, closing = frames[-1]
+        for node in rest:
+            if isinstance(node, Element):
+                spans[len(out)] = node.span
+                out.append("  " * depth + element_line(node, version, encoding))
+            else:
+                frames.append(_open_block(node, depth, in_parallel, out))
+                break
+        else:
+            frames.pop()
+            if closing is not None:
+                out.append(closing)
+
+
+def _open_block(node: Series | Parallel, depth: int, in_parallel: bool, out: list[str]):
+    """Writes a block's opening line, if it has one; the frame of its contents."""
     pad = "  " * depth
-    if isinstance(node, Element):
-        spans[len(out)] = node.span
-        out.append(pad + element_line(node, version, encoding))
-    elif isinstance(node, Parallel):
+    if isinstance(node, Parallel):
         if in_parallel:  # never in a normalised tree; LDmicro needs a SERIES between
             out.append(pad + "SERIES")
-            _write_node(node, depth + 1, out, spans, version, encoding, in_parallel=False)
-            out.append(pad + "END")
-            return
+            return iter([node]), depth + 1, False, pad + "END"
         out.append(pad + "PARALLEL")
-        for branch in node.branches:
-            _write_node(branch, depth + 1, out, spans, version, encoding, in_parallel=True)
-        out.append(pad + "END")
-    else:
-        if not in_parallel:  # a series in a series is spliced into it
-            for item in node.items:
-                _write_node(item, depth, out, spans, version, encoding, in_parallel=False)
-            return
-        out.append(pad + "SERIES")
-        for item in node.items:
-            _write_node(item, depth + 1, out, spans, version, encoding, in_parallel=False)
-        out.append(pad + "END")
+        return iter(node.branches), depth + 1, True, pad + "END"
+    if not in_parallel:  # a series in a series is spliced into it
+        return iter(node.items), depth, False, None
+    out.append(pad + "SERIES")
+    return iter(node.items), depth + 1, False, pad + "END"
 
 
 def _text_token(text: str) -> str:

@@ -131,14 +131,14 @@ class Program:
 def iter_elements(node: Node) -> Iterator[Element]:
     """Elements of a circuit in evaluation order: series left to right,
     parallel branches top to bottom."""
-    if isinstance(node, Element):
-        yield node
-    elif isinstance(node, Series):
-        for item in node.items:
-            yield from iter_elements(item)
-    else:
-        for branch in node.branches:
-            yield from iter_elements(branch)
+    # the nodes still to visit on a list, next last: blocks may nest a thousand deep
+    stack = [node]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Element):
+            yield node
+        else:
+            stack.extend(reversed(_children(node)))
 
 
 def normalise(node: Node) -> Node:
@@ -146,31 +146,55 @@ def normalise(node: Node) -> Node:
     no series directly inside a series, no empty subcircuits."""
     if isinstance(node, Element):
         return node
-    if isinstance(node, Series):
-        items: list[Node] = []
-        for item in node.items:
-            item = normalise(item)
-            if isinstance(item, Series):
-                items.extend(item.items)
-            elif isinstance(item, Parallel) and not item.branches:
-                continue
+    # (block, its children still to normalise, its normal children so far),
+    # innermost last: a loop, not recursion, as blocks may nest a thousand deep
+    frames = [(node, iter(_children(node)), [])]
+    while True:
+        block, rest, kept = frames[-1]
+        for child in rest:
+            if isinstance(child, Element):
+                kept.append(child)  # all _keep does with an element, in a series or a parallel
             else:
-                items.append(item)
-        return Series(items, node.span)
-    branches: list[Node] = []
-    for branch in node.branches:
-        branch = normalise(branch)
-        if isinstance(branch, Series) and len(branch.items) == 1:
-            branch = branch.items[0]
-        if isinstance(branch, Series) and not branch.items:
-            continue
-        if isinstance(branch, Parallel):
-            branches.extend(branch.branches)
+                frames.append((child, iter(_children(child)), []))
+                break
         else:
-            branches.append(branch)
-    if len(branches) == 1:
-        return branches[0]
-    return Parallel(branches, node.span)
+            frames.pop()
+            done = _closed(block, kept)
+            if not frames:
+                return done
+            parent, _, siblings = frames[-1]
+            _keep(parent, siblings, done)
+
+
+def _children(block: Series | Parallel) -> list[Node]:
+    return block.items if isinstance(block, Series) else block.branches
+
+
+def _closed(block: Series | Parallel, kept: list[Node]) -> Node:
+    """The block with its normal children; a parallel of one branch is that branch."""
+    if isinstance(block, Series):
+        return Series(kept, block.span)
+    return kept[0] if len(kept) == 1 else Parallel(kept, block.span)
+
+
+def _keep(parent: Series | Parallel, kept: list[Node], child: Node) -> None:
+    """Adds a normal child to its parent's: a series's items are spliced into
+    a series, a parallel's branches into a parallel, a one-item series stands
+    for its item in a parallel, and empty blocks go."""
+    if isinstance(parent, Series):
+        if isinstance(child, Series):
+            kept.extend(child.items)
+        elif not (isinstance(child, Parallel) and not child.branches):
+            kept.append(child)
+        return
+    if isinstance(child, Series) and len(child.items) == 1:
+        child = child.items[0]
+    if isinstance(child, Series) and not child.items:
+        return
+    if isinstance(child, Parallel):
+        kept.extend(child.branches)
+    else:
+        kept.append(child)
 
 
 def rung_circuit(node: Node) -> Series:

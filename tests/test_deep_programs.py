@@ -10,7 +10,6 @@ import json
 import time
 from functools import cache
 
-import pytest
 from builders import coil, contact
 from hypothesis import given
 from hypothesis import strategies as st
@@ -96,9 +95,6 @@ def test_every_command_takes_a_rung_of_1500_lines(capsys, tmp_path):
     _ok(capsys, "check", tmp_path / "p.ld")  # no block over LDmicro's 63 entries
 
 
-@pytest.mark.xfail(strict=True, raises=RecursionError, reason=(
-    "still recursive outside lang/textform and lang/dump.py: lang/model.py normalise and iter_elements "
-    "(every reader and writer), lang/ldfile.py _write_node, lang/index.py walk (check)"))
 def test_every_command_takes_blocks_nested_a_thousand_deep(capsys, tmp_path):
     _every_command(capsys, tmp_path, "deep")
 

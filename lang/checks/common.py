@@ -129,15 +129,18 @@ def node_text(node) -> str:
 
 def terminal(node) -> Element | None:
     """The end-of-line element a circuit ends in (any branch of a parallel), or None."""
-    if isinstance(node, Element):
-        return node if node.kind in EOL_KINDS else None
-    if isinstance(node, Series):
-        return terminal(node.items[-1]) if node.items else None
-    if isinstance(node, Parallel):
-        for branch in node.branches:
-            found = terminal(branch)
-            if found is not None:
-                return found
+    # a list of nodes still to look at, first branch first: a rung may nest hundreds deep
+    pending = [node]
+    while pending:
+        node = pending.pop()
+        if isinstance(node, Element):
+            if node.kind in EOL_KINDS:
+                return node
+        elif isinstance(node, Series):
+            if node.items:
+                pending.append(node.items[-1])
+        elif isinstance(node, Parallel):
+            pending.extend(reversed(node.branches))
     return None
 
 

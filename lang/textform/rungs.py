@@ -311,9 +311,13 @@ class _RungReader:
             folded = self._fold_short_open_quiet(row)
         glyphs = [(s, e) for kind, s, e, _ in folded if kind in ("glyph", "short", "open")]
         chars = list(name_line.text[:name_line.end])
-        for line, col in self.claimed:
-            if line == row - 1 and col < len(chars):
+        # a claimed cell is a `|` inside the drawing: look up this line's own,
+        # not every claimed cell of the rung for every row (a tall rung has thousands)
+        col = name_line.text.find("|", name_line.start, name_line.end)
+        while col >= 0:
+            if (row - 1, col) in self.claimed:
                 chars[col] = " "  # a connector, not part of a name
+            col = name_line.text.find("|", col + 1, name_line.end)
         text = "".join(chars)
         for match in TOP_TOKEN.finditer(text, name_line.start):
             word = (match.start(), match.end())
