@@ -58,6 +58,7 @@ from .model import (
     Span,
     rung_circuit,
 )
+from .roles import BUS_PIN_SUFFIXES
 from .trampoline import run
 from .values import decode_bytes, encode_text, escape_ld, is_literal, literal_value, unescape_ld
 
@@ -121,7 +122,6 @@ _BAUD_FORMS = (
     re.compile(rf"BAUD={_I}"),
 )
 _IO_RE = re.compile(r"[ \t]*(\S+)[ \t]+at[ \t]+(\S+)(?:[ \t]+(\S+))?(?:[ \t]+(\S+))?")
-_IO_BUS_PINS = ("_MOSI", "_MISO", "_SCK", "__SS", "_SCL", "_SDA")
 _IO_PREFIXES = "XYAPIMCH"
 _VAR_RE = re.compile(r"[ \t]*([+-]?[0-9]{1,40})[ \t]+bytes[ \t]+(\S+)(?:[ \t].*)?\Z")
 _VAR_LEGACY_RE = re.compile(r"[ \t]*(\S+)[ \t]+signed[ \t]+([+-]?[0-9]{1,40})[ \t]+bit variable\Z")
@@ -348,7 +348,7 @@ class _Reader:
                       f"'{self.quoted(tok)}'", span)
             return
         name, pin_text, slave_text, reg_text = match.groups()
-        if not any(part in name for part in _IO_BUS_PINS) and name[0] not in _IO_PREFIXES:
+        if not any(part in name for part in BUS_PIN_SUFFIXES) and name[0] not in _IO_PREFIXES:
             self.warn(LD_SYNTAX, f"line skipped in IO LIST: '{name}' is no pin name "
                       f"(X, Y, A, P, I, M, C or H): '{self.quoted(tok)}'", span)
             return

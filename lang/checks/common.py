@@ -238,7 +238,6 @@ def scan_format(text: str) -> tuple[list[str], list[tuple[str, str]]]:
 
 # --- pins ------------------------------------------------------------------------
 
-BUS_PIN_SUFFIXES = ("_MOSI", "_MISO", "_SCK", "__SS", "_SCL", "_SDA")
 
 
 def is_assigned(assignment) -> bool:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import BUS_PIN_SUFFIXES, adc_names, is_assigned, pin_text, pwm_names
+from ..roles import BUS_PIN_SUFFIXES
+from .common import adc_names, is_assigned, pin_text, pwm_names
 
 CODE = rule_code(__name__)
 

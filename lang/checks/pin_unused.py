@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import BUS_PIN_SUFFIXES, is_assigned, pin_text
+from ..roles import BUS_PIN_SUFFIXES
+from .common import is_assigned, pin_text
 
 CODE = rule_code(__name__)
 
