@@ -108,3 +108,13 @@ def test_a_subroutine_no_gosub_reaches_still_compiles(tmp_path):
              Rung(Series([element("ENDSUB", label="sub")]))]
     program = Program(Settings(mcu="", cycle_us=10_000), rungs)
     assert differential(program, [Event(3, "Xa", 1)], 10, tmp_path) == []
+
+
+def test_a_runtime_with_ldmicros_older_spelling_links_through_one_define(capsys, tmp_path):
+    c_file = _emit(capsys, ROOT / "examples" / "conveyor.ladder", tmp_path)
+    done = subprocess.run(["gcc", *WARNINGS, "-DLDMICRO_OLD_NAMES", "-c", "-o", str(tmp_path / "x.o"), str(c_file)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    symbols = subprocess.run(["nm", "-u", str(tmp_path / "x.o")], capture_output=True, text=True).stdout.split()
+    assert {"Read_U_b_Xstart", "Read_U_b_Xstop", "Read_U_b_Ymotor", "Write_U_b_Ymotor"} <= set(symbols)
+    assert not [s for s in symbols if "_Ub_" in s]

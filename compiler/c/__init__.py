@@ -170,6 +170,13 @@ def _h_file(unit: Unit, names: Names, w: Writer) -> str:
            f"{unit.cycle_us / 1000:g} ms */",
            "void setupPlc(void);"]
     hooks = _hooks(w)
+    old = [hook for hook in sorted(w.hooks) if re.match(r"(Read|Write)_Ub_[XYAP]", hook)]
+    if old:
+        # older LDmicro releases spelled the I/O functions Read_U_b_Xname: a runtime written for them
+        # defines LDMICRO_OLD_NAMES in its ladder.h, and every call and prototype below follows
+        out += ["", "#ifdef LDMICRO_OLD_NAMES"]
+        out += [f"#define {hook} {hook.replace('_Ub_', '_U_b_', 1)}" for hook in old]
+        out += ["#endif"]
     if hooks:
         out += ["", "/* You provide these functions. */"]
         out += [f"PROTO({text};)" for text, _ in hooks]
@@ -205,6 +212,9 @@ def default_ladder_h() -> str:
 #else
   #define PROTO(x) x
 #endif
+
+/* Define LDMICRO_OLD_NAMES if your I/O functions are spelled as older LDmicro releases did
+   (Read_U_b_Xname, Write_U_b_Yname). */
 
 /* Define DO_LDSTUBS to get empty I/O functions (to check that the files compile). */
 #ifdef DO_LDSTUBS
