@@ -2,7 +2,8 @@
 (what an editor sees), on the 2,000-rung program of parse_bench.py:
 
 * didChange (a one-character edit inside one rung) -> publishDiagnostics
-  for that version, with `ladder.diagnosticsDelayMs` = 0 (no debounce);
+  for that version, with `ladder.diagnosticsDelayMs` = 0 (no debounce), or with
+  the shipped settings (`--defaults`: the adaptive delay);
   also for an edit that adds a line (every rung below moves);
 * hover on a name, and completion of a name, on the unchanged document.
 
@@ -42,7 +43,7 @@ def report(name: str, samples: list[float], target: float) -> None:
           f"(target < {target:.0f} ms) {flag}")
 
 
-async def main(rounds: int) -> None:
+async def main(rounds: int, defaults: bool = False) -> None:
     client = make_test_lsp_client()
     published: dict[int, float] = {}
     waiters: dict[int, asyncio.Future] = {}
@@ -56,7 +57,8 @@ async def main(rounds: int) -> None:
             future.set_result(params)
 
     client.protocol.fm._features[types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = on_diagnostics
-    client.set_configuration({"diagnosticsDelayMs": 0}, section="ladder")
+    if not defaults:
+        client.set_configuration({"diagnosticsDelayMs": 0}, section="ladder")
     await client.start_io(sys.executable, "-m", "ladder", "lsp")
     await client.initialize_session(types.InitializeParams(capabilities=client_capabilities("visual-studio-code")))
     await asyncio.sleep(0.3)
@@ -132,4 +134,7 @@ async def main(rounds: int) -> None:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=30)
-    asyncio.run(main(parser.parse_args().rounds))
+    parser.add_argument("--defaults", action="store_true",
+                        help="the shipped settings (adaptive diagnostics delay) instead of no debounce")
+    args = parser.parse_args()
+    asyncio.run(main(args.rounds, args.defaults))

@@ -31,7 +31,7 @@ from .image import Build
 from .lower import lower_program
 from .lower.io import PWM_FULL
 from .optimise import optimise
-from .target import BACKENDS, _first_use, machine_for
+from .target import BACKENDS, first_use, machine_for
 
 # Each registers its back end on import; the lead adds "compiler.pic16".
 _BACKEND_MODULES = ("compiler.avr", "compiler.pic16")
@@ -115,7 +115,7 @@ def build_arduino(program: Program, stem: str, source: str, board: str,
 
 
 def _board_pin(program: Program, board, name: str, kind: str) -> SketchPin:
-    where = _first_use(program, name)
+    where = first_use(program, name)
     assignment = program.pins.get(name)
     if assignment is None or assignment.pin in (0, "", None):
         raise fail(NOT_COMPILED, f"'{name}' has no pin: give it one of the {board.title}'s (D2, A0) or a port "

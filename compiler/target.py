@@ -68,12 +68,12 @@ def machine_for(program: Program, device: Device) -> Machine:
         duty_pin=duty if duty is not None and duty.is_io else None,
         config_word=settings.config_word or None,
         cycle_timer=settings.cycle_timer if settings.cycle_timer >= 0 else None,
-        locate=lambda name: _first_use(program, name),
+        locate=lambda name: first_use(program, name),
         elements=lambda kind: [element for _, element in program.elements() if element.kind == kind],
     )
 
 
-def _first_use(program: Program, name: str):
+def first_use(program: Program, name: str):
     for _, element in program.elements():
         if name in {str(v) for v in element.args.values()}:
             return element

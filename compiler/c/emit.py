@@ -22,14 +22,14 @@ from .names import C_TYPES, Names
 STACK_DEPTH = 8  # the simulator's GOSUB depth (docs/semantics.md)
 
 
-def _const(value: int) -> str:
+def c_constant(value: int) -> str:
     value = ((value + (1 << 31)) & 0xFFFFFFFF) - (1 << 31)
     if value == -(1 << 31):
         return "INT32_MIN"
     return str(value) if -32767 <= value <= 32767 else f"INT32_C({value})"
 
 
-def _comment(text: str) -> str:
+def comment_safe(text: str) -> str:
     # nothing a comment holds may end it early or form a trigraph
     return text.replace("*/", "* /").replace("??", "? ?")
 
@@ -60,14 +60,14 @@ class Writer:
     def value(self, operand: ir.Operand) -> str:
         """An int32_t expression."""
         if isinstance(operand, ir.Const):
-            return _const(operand.value)
+            return c_constant(operand.value)
         if isinstance(operand, ir.Byte):
             return f"(int32_t)(((uint32_t){self.var(operand.var)} >> {8 * operand.index}) & 0xFFu)"
         return f"(int32_t){self.var(operand)}"
 
     def unsigned(self, operand: ir.Operand) -> str:
         if isinstance(operand, ir.Const):
-            return f"(uint32_t){_const(operand.value)}"
+            return f"(uint32_t){c_constant(operand.value)}"
         return f"(uint32_t){self.value(operand)}"
 
     def var(self, var: ir.Var) -> str:
@@ -115,12 +115,12 @@ def label_name(label: str) -> str:
 
 def _note(w: Writer, op: ir.Note) -> None:
     if op.rung is None:
-        w.line(f"/* {_comment(op.text)} */")
+        w.line(f"/* {comment_safe(op.text)} */")
         return
     w.lines.append("")
-    w.line(f"/* {_comment(op.text)}")
+    w.line(f"/* {comment_safe(op.text)}")
     for text in w.drawing(op.rung):
-        w.line(f" * {_comment(text)}".rstrip())
+        w.line(f" * {comment_safe(text)}".rstrip())
     w.line(" */")
 
 
@@ -186,7 +186,7 @@ def _bit_op(w: Writer, op) -> None:
 def _move(w: Writer, op: ir.Move) -> None:
     if isinstance(op.src, ir.Const) and isinstance(op.dst, ir.Var):
         half = 1 << (8 * op.dst.size - 1)
-        w.line(f"{w.var(op.dst)} = {_const(((op.src.value + half) & (2 * half - 1)) - half)};")
+        w.line(f"{w.var(op.dst)} = {c_constant(((op.src.value + half) & (2 * half - 1)) - half)};")
     else:
         w.store(op.dst, w.unsigned(op.src))
 

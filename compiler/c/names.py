@@ -58,7 +58,3 @@ class Names:
         found = [("BOOLEAN_t", c, name) for name, c in self.bits.items() if self.classes[name] in (ir.MEMORY, ir.TEMP)]
         found += [(C_TYPES[self.sizes[name]], c, name) for name, c in self.vars.items()]
         return found
-
-    def io(self) -> list[tuple[str, str]]:
-        """(class, C name) of every input and output, in name order."""
-        return [(self.classes[name], c) for name, c in self.bits.items() if self.classes[name] in (ir.INPUT, ir.OUTPUT)]
