@@ -28,7 +28,7 @@ from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
 from lang import codes
-from lang.diagnostics import Diagnostic, Related, error
+from lang.diagnostics import Diagnostic, error
 from lang.instructions import INSTRUCTIONS
 from lang.loader import LD_KIND, parse
 from lang.model import Element, Parallel, Program, Rung, Series, Span
@@ -204,7 +204,7 @@ class IncrementalReader:
         rung, found, at = cached
         if at != first:
             rung = shift_rung(rung, first - at) if rung is not None else None
-            found = [shift_problem(p, first - at) for p in found]
+            found = [p.shifted(first - at) for p in found]
         return _Block(first, last, rung, list(found), number_at, _detailed(rung))
 
     # --- an edit ------------------------------------------------------------------------
@@ -267,7 +267,7 @@ class IncrementalReader:
                     self.moved[id(new.rung)] = (old.rung, delta)
         problems = [q for q in state.raw_problems if q.span is None or q.span.line < start]
         problems += raw_problems
-        problems += [shift_problem(q, delta) if delta else q for q in state.raw_problems
+        problems += [q.shifted(delta) if delta else q for q in state.raw_problems
                      if q.span is not None and q.span.line >= end]
         self.last_mode = "window"
         self.last_window = (start, new_end)
@@ -367,9 +367,7 @@ _new = object.__new__
 
 
 def shift_span(span: Span | None, delta: int) -> Span | None:
-    if span is None:
-        return None
-    return Span(span.line + delta, span.col, span.end_line + delta, span.end_col)
+    return span.shifted(delta) if span is not None else None
 
 
 def _shift_node(node, delta: int, detailed: list | None = None):
@@ -397,15 +395,10 @@ def shift_rung(rung: Rung, delta: int, detailed: list | None = None) -> Rung:
     return Rung(_shift_node(rung.circuit, delta, detailed), shift_span(rung.span, delta))
 
 
-def shift_problem(problem: Diagnostic, delta: int) -> Diagnostic:
-    return replace(problem, span=shift_span(problem.span, delta),
-                   related=tuple(Related(shift_span(r.span, delta), r.message) for r in problem.related))
-
-
 def shift_block(block: _Block, delta: int) -> _Block:
     detailed: list[Element] = []
     rung = shift_rung(block.rung, delta, detailed) if block.rung is not None else None
-    problems = [shift_problem(p, delta) for p in block.problems] if block.problems else []
+    problems = [p.shifted(delta) for p in block.problems] if block.problems else []
     return _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, detailed)
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from .codes import CODES
 from .model import Span
@@ -49,6 +49,11 @@ class Diagnostic:
     span: Span | None
     related: tuple[Related, ...] = field(default=())
     fixes: tuple[Fix, ...] = field(default=(), compare=False)
+
+    def shifted(self, lines: int) -> Diagnostic:
+        """The diagnostic with every place moved `lines` lines down (up when negative)."""
+        return replace(self, span=self.span.shifted(lines) if self.span is not None else None,
+                       related=tuple(Related(r.span.shifted(lines), r.message) for r in self.related))
 
     def format(self, path: str) -> str:
         """`path:line:col: severity CODE message`, 1-based line and column."""

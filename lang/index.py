@@ -11,14 +11,24 @@ the timer periods, the selected device) are computed once and kept in
 `ProgramIndex.cache`.
 
 The language server re-checks after every edit, so this pass is written for
-speed: one walk, no generators per element, tuples for the records.
+speed: one walk, no generators per element, tuples for the records; and
+after an edit it is brought up to date rather than built again
+(`ProgramIndex.replace`: every list is sorted by rung, so the entries of the
+rungs an edit touched are one slice of it). `ProgramIndex.view` is the index
+of a few rungs, `ProgramIndex.of_names` that of a few names: the incremental
+checks (`lang.checks.incremental`) run the rules on them.
 """
 
 from __future__ import annotations
 
+from bisect import bisect_left
+from collections.abc import Iterable
 from functools import cached_property
+from operator import itemgetter
 from typing import NamedTuple
 
+from .flags import MARKING, Mark
+from .flags import marks as marks_of
 from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
 from .model import Element, Parallel, Program, Series, Span
@@ -56,7 +66,6 @@ class Use(NamedTuple):
     element: Element
     field: str  # the operand's field name ("name", "dest", ...; "table" for a LUT/PWL table)
     access: str  # "read", "write", "rw" (both) or "table" (a LUT/PWL table name)
-    order: int  # position of the element in evaluation order
 
     @property
     def span(self) -> Span | None:
@@ -113,22 +122,81 @@ def _stages(element: Element) -> list[tuple[str, str, str]]:
 
 class ProgramIndex:
     """Elements in order, by kind, every use of every name, every constant
-    operand, and every series (for the rules about rung shapes)."""
+    operand, every flag LDmicro's variable check gives a name, and every
+    series (for the rules about rung shapes)."""
 
     def __init__(self, program: Program, for_build: bool = False, family: str | None = None):
         self.program = program
         self.for_build = for_build  # the checks run before compiling (LD501 is an error then)
         self.family = family  # compiled for this family (lang.targets) rather than the part's
+        self.rungs: Iterable[int] = range(len(program.rungs))  # the rungs indexed
+        self._empty()
+        self.names: dict[str, list[Use]] = self.uses  # every name the program uses (a view's: the program's)
+        self._build(program, self.rungs)
+
+    def _empty(self) -> None:
         self.elements: list[tuple[int, Element]] = []
         self.by_kind: dict[str, list[tuple[int, Element]]] = {}
         self.uses: dict[str, list[Use]] = {}  # in order of first use
+        self.marks: dict[str, list[Mark]] = {}  # lang.flags, in order of first mark
         self.literals: list[Literal] = []
         self.series: list[tuple[int, Series]] = []  # every series, rung circuits included
         # (rung, series, position) of every end-of-line element or parallel
         # block that something follows in its series (LD201, LD202)
         self.followed: list[tuple[int, Series, int]] = []
         self.cache: dict[str, object] = {}
-        self._build(program)
+
+    def _part(self, program: Program, rungs: Iterable[int]) -> ProgramIndex:
+        part = ProgramIndex.__new__(ProgramIndex)
+        part.program = program
+        part.for_build, part.family = self.for_build, self.family
+        part.rungs = rungs
+        part._empty()
+        part.names = self.names
+        if "device" in self.__dict__:
+            part.__dict__["device"] = self.device
+        part._build(program, rungs)
+        return part
+
+    def view(self, rungs: Iterable[int]) -> ProgramIndex:
+        """The index of some rungs of the program (sorted), with the whole
+        program's names for the rules that ask whether a name is used."""
+        return self._part(self.program, rungs)
+
+    def of_names(self, names: Iterable[str]) -> ProgramIndex:
+        """The uses and marks of some names only, whole."""
+        part = self._part(self.program, ())
+        part.uses = {name: self.uses[name] for name in names if name in self.uses}
+        part.marks = {name: self.marks[name] for name in names if name in self.marks}
+        return part
+
+    def replace(self, program: Program, first: int, end: int, before: ProgramIndex) -> ProgramIndex:
+        """Bring the index up to date with `program`, the indexed program with
+        rungs first..end-1 read again and the same number of rungs (and the
+        same settings). `before` is the old index's view of the rungs among
+        them whose content changed (the others only moved); the index of the
+        new rungs first..end-1 is returned."""
+        part = self._part(program, range(first, end))
+        self.program = program
+        self.rungs = range(len(program.rungs))
+        self.cache = {}
+        for items, new, at in ((self.elements, part.elements, 0), (self.literals, part.literals, 1),
+                               (self.series, part.series, 0), (self.followed, part.followed, 0)):
+            _splice(items, first, end, new, at)
+        for table, new_table, old_table, at in ((self.by_kind, part.by_kind, before.by_kind, 0),
+                                                (self.uses, part.uses, before.uses, 1),
+                                                (self.marks, part.marks, before.marks, 2)):
+            for key in old_table.keys() | new_table.keys():
+                new = new_table.get(key, [])
+                items = table.get(key)
+                if items is None:
+                    if new:
+                        table[key] = list(new)
+                    continue
+                _splice(items, first, end, new, at)
+                if not items:
+                    del table[key]
+        return part
 
     @property
     def pins_matter(self) -> bool:
@@ -136,16 +204,15 @@ class ProgramIndex:
         for no part (whose runtime reads and writes the I/O)."""
         return self.device is not None and (self.family is None or bool(FAMILIES[self.family].parts))
 
-    def _build(self, program: Program) -> None:
+    def _build(self, program: Program, rungs: Iterable[int]) -> None:
         # one walk; everything it touches is bound to a local name (hot loop)
-        elements, by_kind, uses = self.elements, self.by_kind, self.uses
+        elements, by_kind, uses, marks = self.elements, self.by_kind, self.uses, self.marks
         literals, series, followed = self.literals, self.series, self.followed
-        eol_kinds = EOL_KINDS
+        eol_kinds, marking = EOL_KINDS, MARKING
         plans, table_kinds, is_literal_, new = _PLANS, _TABLE_KINDS, is_literal_fast, _new
         element_class, series_class = Element, Series
 
         def add(element: Element, rung: int) -> None:
-            order = len(elements)
             pair = (rung, element)
             elements.append(pair)
             kind = element.kind
@@ -155,6 +222,13 @@ class ProgramIndex:
             else:
                 same.append(pair)
             args = element.args
+            if kind in marking:
+                for mark in marks_of(rung, element):
+                    found = marks.get(mark.name)
+                    if found is None:
+                        marks[mark.name] = [mark]
+                    else:
+                        found.append(mark)
             if kind == "SHIFT_REGISTER":
                 names = _stages(element)
             else:
@@ -166,7 +240,7 @@ class ProgramIndex:
                     if is_literal_(value):
                         literals.append(new(Literal, (value, rung, element, field)))
                         continue
-                    use = new(Use, (value, rung, element, field, access, order))
+                    use = new(Use, (value, rung, element, field, access))
                     found = uses.get(value)
                     if found is None:
                         uses[value] = [use]
@@ -179,7 +253,7 @@ class ProgramIndex:
                     return
                 names = [(table, "table", "table")]
             for name, field, access in names:
-                use = new(Use, (name, rung, element, field, access, order))
+                use = new(Use, (name, rung, element, field, access))
                 found = uses.get(name)
                 if found is None:
                     uses[name] = [use]
@@ -228,8 +302,9 @@ class ProgramIndex:
                 else:
                     return
 
-        for rung_index, rung in enumerate(program.rungs):
-            walk(rung.circuit, rung_index)
+        all_rungs = program.rungs
+        for rung_index in rungs:
+            walk(all_rungs[rung_index].circuit, rung_index)
 
     # --- look-ups ------------------------------------------------------------
 
@@ -256,3 +331,12 @@ class ProgramIndex:
 
         return find_device(mcu)
 
+
+
+def _splice(items: list, first: int, end: int, new: list, at: int) -> None:
+    """Put `new` in place of the entries of rungs first..end-1 of a list
+    sorted by rung (`at`: where an entry holds its rung)."""
+    key = itemgetter(at)
+    low = bisect_left(items, first, key=key)
+    high = bisect_left(items, end, lo=low, key=key)
+    items[low:high] = new

@@ -26,6 +26,10 @@ class Span:
     def at(line: int, col: int, end_col: int | None = None) -> Span:
         return Span(line, col, line, col + 1 if end_col is None else end_col)
 
+    def shifted(self, lines: int) -> Span:
+        """The same range `lines` lines further down (up when negative)."""
+        return Span(self.line + lines, self.col, self.end_line + lines, self.end_col)
+
     def union(self, other: Span | None) -> Span:
         if other is None:
             return self

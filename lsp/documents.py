@@ -5,7 +5,9 @@ helpers the features share (locator, name index, position conversion).
 An analysis belongs to one exact text: features ask `Documents.analysis(uri)`,
 which re-reads only when the text changed since the last request. The text
 reader caches rungs by their lines, so after a one-character edit only the
-touched rung is read again (`ide.incremental` keeps the rest of the program).
+touched rung is read again (`ide.incremental` keeps the rest of the program),
+and each document's `Checker` checks again only what the edit can change
+(`lang.checks.incremental`); its symbol table serves the features too.
 """
 
 from __future__ import annotations
@@ -20,11 +22,11 @@ from lsprotocol import types
 from ide.incremental import IncrementalReader
 from ide.locate import Locator
 from lang import codes, config
-from lang.checks import check_program
+from lang.checks import Checker
 from lang.config import NONE, Severities
 from lang.diagnostics import ERROR, WARNING, Diagnostic
 from lang.index import ProgramIndex
-from lang.model import Program, Span
+from lang.model import Program, Rung, Span
 
 from .positions import Positions
 
@@ -63,7 +65,8 @@ class Analysis:
     """Everything known about one version of one document."""
 
     def __init__(self, uri: str, version: int | None, kind: str, text: str, program: Program,
-                 problems: list[Diagnostic], codec):
+                 problems: list[Diagnostic], codec, checker: Checker | None = None,
+                 moved: dict[int, tuple[Rung, int]] | None = None):
         self.uri = uri
         self.version = version
         self.kind = kind
@@ -78,6 +81,9 @@ class Analysis:
         # for the rungs it kept (same object: same text at the same place)
         self.memo: dict[tuple[str, int], tuple[object, object]] = {}
         self.results: dict[str, object] = {}  # whole-document results for this exact text
+        self._checker = checker or Checker()  # the document's: it knows the program checked last
+        # rungs moved since the program the checker checked last (ide.incremental's `moved`)
+        self.moved = moved or {}
 
     def per_rung(self, feature: str, index: int, compute):
         rung = self.program.rungs[index]
@@ -109,7 +115,11 @@ class Analysis:
         program that was read without errors."""
         if self.too_large or self.has_errors or any(p.code == codes.UNREADABLE for p in self.problems):
             return []
-        return check_program(self.program, severities=self.severities)
+        return self._checker.check(self.program, self.moved, self.severities)
+
+    @property
+    def checked(self) -> bool:
+        return "checks" in self.__dict__
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -117,6 +127,11 @@ class Analysis:
 
     @cached_property
     def index(self) -> ProgramIndex:
+        """The symbol table: the checker's when it has checked this program
+        (it is brought up to date in place by the next check: use it at once)."""
+        index = self._checker.index
+        if index is not None and index.program is self.program:
+            return index
         return ProgramIndex(self.program)
 
     @cached_property
@@ -137,6 +152,7 @@ class Documents:
         self.server = server
         self._analyses: dict[str, Analysis] = {}
         self._readers: dict[str, IncrementalReader] = {}
+        self._checkers: dict[str, Checker] = {}
         # feature -> fn(value, lines moved): how a per-rung result follows its rung
         self.shifters: dict[str, object] = {}
         self._config_errors: set[str] = set()
@@ -189,6 +205,7 @@ class Documents:
             return None
         if len(text) > MAX_CHARS:
             self._readers.pop(uri, None)
+            self._checkers.pop(uri, None)
             problem = Diagnostic(TOO_LARGE, WARNING, f"this file is too large for the language server "
                                  f"({len(text) / 1e6:.1f} MB; it reads files up to {MAX_CHARS / 1e6:g} MB): "
                                  "not analysed", Span.at(0, 0))
@@ -200,9 +217,13 @@ class Documents:
         reader = self._readers.get(uri)
         if reader is None or reader.kind != kind:
             reader = self._readers[uri] = IncrementalReader(kind)
+            self._checkers[uri] = Checker()
         program, problems = reader.read(text)
+        moved = reader.moved
+        if cached is not None and not cached.checked and cached.moved is not moved:
+            moved = moved_since(cached.moved, program, moved)  # the version before was read, not checked
         analysis = Analysis(uri, document.version, kind, text, program, problems,
-                            self.server.workspace.position_codec)
+                            self.server.workspace.position_codec, self._checkers[uri], moved)
         analysis.severities = self.severities(uri)
         if cached is not None and cached.memo:
             analysis.memo = self._carry(cached.memo, program, reader.moved)
@@ -249,6 +270,27 @@ class Documents:
     def forget(self, uri: str) -> None:
         self._analyses.pop(uri, None)
         self._readers.pop(uri, None)
+        self._checkers.pop(uri, None)
 
     def uris(self) -> list[str]:
         return list(self._analyses)
+
+
+def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,
+                moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+    """The rungs of `program` moved since the program checked last, given
+    those the previous version (read, never checked) had moved, `earlier`, and
+    those the reader moved since it."""
+    if not earlier:
+        return moved
+    found = {}
+    for rung in program.rungs:
+        step = moved.get(id(rung))
+        if step is None:
+            origin = earlier.get(id(rung))  # the same rung as in the previous version
+        else:
+            before = earlier.get(id(step[0]))
+            origin = (before[0], before[1] + step[1]) if before is not None else step
+        if origin is not None:
+            found[id(rung)] = origin
+    return found

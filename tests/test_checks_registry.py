@@ -23,7 +23,7 @@ from lang.codes import CODES, LDMICRO_VERDICTS
 from lang.codes_doc import expected_of, fixture_of, render
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "diagnostics.md"
-_HELPERS = {"common", "index", "varflags"}
+_HELPERS = {"common", "incremental", "varflags"}
 
 
 def test_every_rule_module_has_a_row():

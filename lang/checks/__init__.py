@@ -3,8 +3,8 @@
 Each rule module has `CODE = rule_code(__name__)` (its row in the registry,
 `lang/codes.toml`, names the module) and `check(program, index)` returning its
 diagnostics. `RULES` is built from the registry; `check_program` builds the shared
-`ProgramIndex` once and runs every rule on it. docs/diagnostics.md documents
-every code.
+`ProgramIndex` once and runs every rule on it; a `Checker` checks a program
+again after an edit (`incremental`). docs/diagnostics.md documents every code.
 """
 
 from __future__ import annotations
@@ -20,15 +20,9 @@ from ..model import Program
 # Every rule, in code order: the registry (lang/codes.toml) names each code's module.
 RULES = tuple(importlib.import_module(f"{__name__}.{rule}") for rule in rules())
 
-__all__ = ["RULES", "ProgramIndex", "check_program", "position"]
+from .incremental import Checker, position  # noqa: E402 (it reads RULES)
 
-
-def position(diagnostic: Diagnostic) -> tuple:
-    """Sort key: source position (diagnostics without one first), then code."""
-    span = diagnostic.span
-    if span is None:
-        return (-1, -1, diagnostic.code, diagnostic.message)
-    return (span.line, span.col, diagnostic.code, diagnostic.message)
+__all__ = ["RULES", "Checker", "ProgramIndex", "check_program", "position"]
 
 
 def check_program(program: Program, for_build: bool = False, severities: Severities = NONE,
@@ -38,10 +32,4 @@ def check_program(program: Program, for_build: bool = False, severities: Severit
     compiled (`ladder build`, compile on save), where a rule may be stricter
     (LD501) and no error is lowered; `family` when it is compiled for another
     family than its part's (C)."""
-    index = ProgramIndex(program, for_build, family)
-    found: list[Diagnostic] = []
-    for rule in RULES:
-        found.extend(rule.check(program, index))
-    found = severities.apply(found, building=for_build)
-    found.sort(key=position)
-    return found
+    return Checker(for_build, family).check(program, severities=severities)

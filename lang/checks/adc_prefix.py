@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import token
 from ..values import is_literal
-from .common import arg_span, prefix_fixes, rung_no
+from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import COUNTERS, TIMERS
 from ..labels import label
-from .common import rung_no
+from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 _SKIP = frozenset(("READ_ADC", "RES") + TIMERS + COUNTERS)  # those have their own rules
 

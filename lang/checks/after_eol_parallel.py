@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import Related, report
 from ..labels import describe
 from ..model import Parallel
-from .common import node_span, node_text, rung_no, terminal
+from .common import RUNGS, node_span, node_text, rung_no, terminal
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

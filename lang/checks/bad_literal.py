@@ -8,9 +8,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import label
 from ..values import is_literal, literal_value
-from .common import arg_span, rung_no
+from .common import RUNGS, arg_span, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 @lru_cache(maxsize=4096)

@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from ..labels import label
-from .common import rung_no
+from .common import NAMES, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = NAMES
 
 _WHAT = {"X": "an input pin", "Y": "an output pin", "M": "a Modbus coil"}
 # operands that take any integer name (those with a prefix rule of their own are left out)

@@ -5,9 +5,10 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import label, token
-from .common import arg_span, prefix_fixes, rung_no
+from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

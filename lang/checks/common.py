@@ -14,6 +14,18 @@ from ..roles import ROLES, role
 from ..strings import ESCAPES, HEX
 from ..values import format_delay, is_literal, literal_value
 
+# What a rule's diagnostics depend on, its module's SCOPE (lang.checks.incremental
+# re-runs a rule after an edit on what the edit touched, by its scope):
+# RUNGS: each diagnostic on a rung is a function of that rung alone (and the
+#   settings, pins and variable sizes; the program's names only for the renames
+#   a fix offers), so the rule runs on the index of the changed rungs;
+# NAMES: each is a function of one name's uses and marks, whole, so the rule runs
+#   on the index of the names the changed rungs use;
+# PROGRAM (a module without SCOPE): anything else; it runs on the whole index.
+RUNGS = "rungs"
+NAMES = "names"
+PROGRAM = "program"
+
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
 
 # Names the compiler writes itself (§4.2): never "read but never written".
@@ -320,7 +332,17 @@ def prefix_fixes(index, element: Element, field_name: str) -> tuple[Fix, ...]:
         return ()
     body = name[1:] if name[0] in ROLES and len(name) > 1 else name
     return tuple(Fix(f"Rename '{name}' to '{p + body}' ({role(p)[0]})", Rename(name, p + body))
-                 for p in field.prefixes if p + body != name and p + body not in index.uses)
+                 for p in field.prefixes if p + body != name and p + body not in index.names)
+
+
+def offering(name: str) -> set[str]:
+    """The names whose `prefix_fixes` may offer a rename to `name` (with the
+    first letter replaced or put in front), and so change when it comes into
+    use or goes out of it."""
+    if len(name) < 2:
+        return set()
+    body = name[1:]
+    return ({letter + body for letter in ROLES} | {body}) - {name}
 
 
 def misnamed(index, code: str, kinds, letter: str, noun: str):

@@ -9,9 +9,10 @@ from ..diagnostics import report
 from ..instructions import COUNTERS, RELATIONS
 from ..labels import label, token
 from ..values import is_literal
-from .common import arg_span, fits, is_decimal, literal_or_none, range_text, rung_no, var_size
+from .common import RUNGS, arg_span, fits, is_decimal, literal_or_none, range_text, rung_no, var_size
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 # (kind, constant's field) -> (the field naming the variable it must fit, its role)
 _TARGETS: dict[tuple[str, str], tuple[str, str]] = {("MOVE", "src"): ("dest", "source")}

@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import describe
 from ..model import Element
-from .common import node_text, rung_no
+from .common import RUNGS, node_text, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -6,9 +6,10 @@ from ..codes import rule_code
 from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from ..labels import label
-from .common import arg_span, rung_no
+from .common import RUNGS, arg_span, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 # (kind, field) of every operand an instruction writes
 _WRITES = frozenset(

@@ -5,9 +5,10 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import token
-from .common import rung_no
+from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -7,9 +7,10 @@ from ..diagnostics import report
 from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from ..labels import label, token
 from ..values import is_literal
-from .common import arg_span, prefix_fixes, rung_no
+from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 # contacts, coils, timers, counters, RES, SET PWM and READ ADC have rules of their own
 _OWN_RULE = frozenset(("CONTACTS", "COIL", "RES", "SET_PWM", "READ_ADC") + TIMERS + COUNTERS)

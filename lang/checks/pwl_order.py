@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, rung_no, table_numbers
+from .common import RUNGS, arg_span, rung_no, table_numbers
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

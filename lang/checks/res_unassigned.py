@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, rung_no
+from .common import NAMES, arg_span, rung_no
 from .varflags import analyse
 
 CODE = rule_code(__name__)
+SCOPE = NAMES
 
 
 def check(program, index):

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import rung_no
+from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):
     return [
-        report(CODE, f"{rung_no(number)} has no elements and does nothing; delete it", rung.span)
-        for number, rung in enumerate(program.rungs)
-        if not rung.circuit.items
+        report(CODE, f"{rung_no(number)} has no elements and does nothing; delete it", program.rungs[number].span)
+        for number in index.rungs
+        if not program.rungs[number].circuit.items
     ]

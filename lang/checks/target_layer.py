@@ -13,9 +13,10 @@ from ..diagnostics import ERROR, report
 from ..instructions import INSTRUCTIONS
 from ..labels import describe
 from ..targets import FAMILIES, family_of
-from .common import rung_no
+from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -5,9 +5,10 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import describe
-from .common import UART_KINDS, rung_no
+from .common import RUNGS, UART_KINDS, rung_no
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..instructions import TIMERS
-from .common import misnamed
+from .common import RUNGS, misnamed
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 
 def check(program, index):

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import arg_span, delay_text, rung_no, timer_periods, timer_text
+from .common import RUNGS, arg_span, delay_text, rung_no, timer_periods, timer_text
 
 CODE = rule_code(__name__)
+SCOPE = RUNGS
 
 MAX = (1 << 31) - 1
 

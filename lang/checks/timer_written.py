@@ -5,10 +5,11 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..labels import label
-from .common import arg_span, mark_related, mark_text, rung_no
+from .common import NAMES, arg_span, mark_related, mark_text, rung_no
 from .varflags import PWM, analyse
 
 CODE = rule_code(__name__)
+SCOPE = NAMES
 
 
 def check(program, index):

@@ -6,9 +6,10 @@ from ..codes import TRUNCATED
 from ..diagnostics import report
 from ..instructions import INSTRUCTIONS
 from ..labels import label
-from .common import arg_span, rung_no
+from .common import RUNGS, arg_span, rung_no
 
 CODE = TRUNCATED  # registered in lang.codes: the readers know it too
+SCOPE = RUNGS
 
 # operands the index does not record as names or constants (labels, table names, bus names...)
 _OTHER_FIELDS = {

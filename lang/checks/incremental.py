@@ -1,0 +1,195 @@
+"""Checking a program again after an edit, doing again only what the edit can
+change (the language server checks after every keystroke).
+
+`Checker.check(program, moved)` gives what `check_program(program)` gives
+(tests/test_checks_incremental.py compares them after random edits). It keeps
+the last program's symbol table (`ProgramIndex`) and its diagnostics, split by
+the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
+
+* a rung that is the same object as the one at its place before is unchanged;
+  one the reader moved (`moved`: id(new rung) -> (old rung, lines moved)) has
+  the same content, lines further down or up; every other rung is *changed*;
+* the index replaces the entries of the changed and moved rungs (one slice of
+  each of its lists);
+* the RUNGS rules run on the index of the changed rungs, before and after: the
+  diagnostics the old rungs gave are taken out of the kept ones, the new ones
+  put in; the same for the NAMES rules on the index of the names the changed
+  rungs use (old and new uses); the kept diagnostics of moved rungs move with
+  them. When a name comes into use or goes out of it, the rungs that
+  use a name a fix could offer to rename to it are changed too (a rename is
+  offered only to an unused name);
+* the PROGRAM rules run on the whole index, every time.
+
+Anything else (other settings, pins or variable sizes, another number of
+rungs, most rungs changed) is checked whole.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from collections import Counter
+from collections.abc import Iterable
+from dataclasses import dataclass, field, replace
+
+from ..config import NONE, Severities
+from ..diagnostics import Diagnostic, Related
+from ..index import ProgramIndex
+from ..model import Program, Rung, Span
+from . import RULES
+from .common import NAMES, PROGRAM, RUNGS, offering
+
+BY_SCOPE = {scope: tuple(rule for rule in RULES if getattr(rule, "SCOPE", PROGRAM) == scope)
+            for scope in (RUNGS, NAMES, PROGRAM)}
+
+
+def run(scope: str, program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    found: list[Diagnostic] = []
+    for rule in BY_SCOPE[scope]:
+        found.extend(rule.check(program, index))
+    return found
+
+
+def position(diagnostic: Diagnostic) -> tuple:
+    """Sort key: source position (diagnostics without one first), then code."""
+    span = diagnostic.span
+    if span is None:
+        return (-1, -1, diagnostic.code, diagnostic.message)
+    return (span.line, span.col, diagnostic.code, diagnostic.message)
+
+
+def same_context(old: Program, new: Program) -> bool:
+    """Everything a RUNGS or NAMES rule reads besides the rungs is unchanged."""
+    return (old.settings == new.settings and old.pins == new.pins and old.var_sizes == new.var_sizes
+            and len(old.rungs) == len(new.rungs))
+
+
+@dataclass
+class _Edit:
+    changed: list[int] = field(default_factory=list)  # rung numbers
+    moved: list[int] = field(default_factory=list)  # rung numbers
+    # the moved rungs' old lines, sorted: first lines, last lines, how far each moved
+    starts: list[int] = field(default_factory=list)
+    ends: list[int] = field(default_factory=list)
+    lines: list[int] = field(default_factory=list)
+
+    def shifted(self, diagnostic: Diagnostic) -> Diagnostic:
+        """The diagnostic of a rung that moved, at its new place (one that
+        did not move is returned as it is)."""
+        if not self.starts:
+            return diagnostic
+        span = diagnostic.span
+        if (span is None or span.line < self.starts[0]) and \
+                all(related.span.line < self.starts[0] for related in diagnostic.related):
+            return diagnostic
+        return replace(diagnostic, span=self._move(span) if span is not None else None,
+                       related=tuple(Related(self._move(r.span), r.message) for r in diagnostic.related))
+
+    def _move(self, span: Span) -> Span:
+        at = bisect_right(self.starts, span.line) - 1
+        if at < 0 or span.line > self.ends[at]:
+            return span
+        return span.shifted(self.lines[at])
+
+
+class Checker:
+    def __init__(self, for_build: bool = False, family: str | None = None):
+        self.for_build = for_build
+        self.family = family
+        self.index: ProgramIndex | None = None  # the last program's
+        self._rungs: list[Diagnostic] = []  # the RUNGS rules' diagnostics of the last program
+        self._names: list[Diagnostic] = []  # the NAMES rules'
+        self.last = ""  # how the last check went: "whole" or "edit" (tests, benchmarks)
+
+    def check(self, program: Program, moved: dict[int, tuple[Rung, int]] | None = None,
+              severities: Severities = NONE) -> list[Diagnostic]:
+        """Every rule's diagnostics at the chosen severities, sorted by position."""
+        index = self.index
+        edit = _edit(index.program, program, moved or {}) if index is not None else None
+        if index is None or edit is None:
+            self._whole(program)
+        else:
+            self._edit(index, program, edit)
+        assert self.index is not None
+        found = self._rungs + self._names + run(PROGRAM, program, self.index)
+        found = severities.apply(found, building=self.for_build)
+        found.sort(key=position)
+        return found
+
+    def _whole(self, program: Program) -> None:
+        self.last = "whole"
+        self.index = index = ProgramIndex(program, self.for_build, self.family)
+        self._rungs = run(RUNGS, program, index)
+        self._names = run(NAMES, program, index)
+
+    def _edit(self, index: ProgramIndex, program: Program, edit: _Edit) -> None:
+        self.last = "edit"
+        old_program = index.program
+        changed = edit.changed
+        before = index.view(changed)
+        after = index._part(program, changed)
+        names = _names(before) | _names(after)
+        came_or_went = {name for name in names
+                        if (name in index.uses) != (len(index.uses.get(name, ())) - len(before.uses.get(name, ()))
+                                                    + len(after.uses.get(name, ())) > 0)}
+        if came_or_went:
+            offered = _offering(index, came_or_went) - set(changed)
+            if offered:
+                changed = sorted(offered.union(changed))
+                before = index.view(changed)
+        gone_rungs = Counter(run(RUNGS, old_program, before))
+        gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
+
+        touched = changed + edit.moved
+        if touched:
+            index.replace(program, min(touched), max(touched) + 1, before)
+        else:
+            index.program = program
+        self._rungs = _kept(self._rungs, gone_rungs, edit) + run(RUNGS, program, index.view(changed))
+        self._names = _kept(self._names, gone_names, edit) + run(NAMES, program, index.of_names(names))
+
+
+def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Edit | None:
+    """How `new` differs from `old` rung by rung, or None to check it whole."""
+    if not same_context(old, new):
+        return None
+    edit = _Edit()
+    for number, (rung, was) in enumerate(zip(new.rungs, old.rungs)):
+        if rung is was:
+            continue
+        origin = moved.get(id(rung))
+        if origin is not None and origin[0] is was and was.span is not None:
+            edit.moved.append(number)
+            edit.starts.append(was.span.line)
+            edit.ends.append(was.span.end_line)
+            edit.lines.append(origin[1])
+        else:
+            edit.changed.append(number)
+    if 2 * len(edit.changed) > len(new.rungs):
+        return None
+    return edit
+
+
+def _names(index: ProgramIndex) -> set[str]:
+    return index.uses.keys() | index.marks.keys()
+
+
+def _offering(index: ProgramIndex, names: set[str]) -> set[int]:
+    """The rungs (numbers) that use a name a fix may offer to rename to one of `names`."""
+    numbers = set()
+    for name in names:
+        for old in offering(name):
+            numbers.update(use.rung for use in index.uses.get(old, ()))
+            numbers.update(mark.rung for mark in index.marks.get(old, ()))
+    return numbers
+
+
+def _kept(found: Iterable[Diagnostic], gone: Counter, edit: _Edit) -> list[Diagnostic]:
+    """`found` without the diagnostics in `gone` (as many times as they are
+    there), those of the rungs that moved moved with them."""
+    kept = []
+    for diagnostic in found:
+        if gone and gone[diagnostic] > 0:
+            gone[diagnostic] -= 1
+            continue
+        kept.append(edit.shifted(diagnostic))
+    return kept

@@ -1,0 +1,133 @@
+"""Checking again after an edit (lang.checks.incremental, what the language
+server does on every keystroke) gives what checking the new program whole
+gives — diagnostics, their order, places, related places and fixes — and its
+symbol table equals a fresh one; an edit inside one rung is checked as an edit."""
+
+from __future__ import annotations
+
+import random
+
+from builders import coil, contact, program
+from generators import programs
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_lsp_incremental import EDIT_CHARS, EXAMPLE, apply, big_text, edits
+
+from ide.incremental import IncrementalReader
+from lang.checks import Checker, check_program
+from lang.index import ProgramIndex
+from lang.textform.writer import render_program
+
+
+def full(diagnostics):
+    return [(d, d.fixes) for d in diagnostics]
+
+
+def table(index: ProgramIndex):
+    """Everything in a symbol table, elements by identity (dicts in any order)."""
+    def pairs(items):
+        return [(rung, id(element)) for rung, element in items]
+
+    def entries(by_name):
+        return {name: [(u[1], id(u[2])) + tuple(u[3:]) if hasattr(u, "access") else (u[1], u[2], id(u[3]), u[4])
+                       for u in items] for name, items in by_name.items()}
+
+    return (pairs(index.elements), {kind: pairs(items) for kind, items in index.by_kind.items()},
+            entries(index.uses), entries(index.marks),
+            [(lit.text, lit.rung, id(lit.element), lit.field) for lit in index.literals],
+            [(rung, id(series)) for rung, series in index.series],
+            [(rung, id(series), position) for rung, series, position in index.followed])
+
+
+class Session:
+    """A document edited in the language server: read incrementally, checked incrementally."""
+
+    def __init__(self):
+        self.reader = IncrementalReader("ladder")
+        self.checker = Checker()
+
+    def same(self, text: str) -> None:
+        program, _ = self.reader.read(text)
+        assert full(self.checker.check(program, self.reader.moved)) == full(check_program(program))
+        assert table(self.checker.index) == table(ProgramIndex(program))
+
+
+@settings(max_examples=150, suppress_health_check=[HealthCheck.too_slow], deadline=None)
+@given(data=st.data())
+def test_edits_of_the_example(data):
+    session = Session()
+    text = EXAMPLE + "\nDETAILS:\n  TON Twarn: adjust -1\n"
+    session.same(text)
+    for step in data.draw(edits(text)):
+        text = apply(text, step)
+        session.same(text)
+
+
+@settings(max_examples=80, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large], deadline=None)
+@given(program=programs(), data=st.data())
+def test_edits_of_generated_programs(program, data):
+    text = render_program(program)
+    session = Session()
+    session.same(text)
+    for step in data.draw(edits(text)):
+        text = apply(text, step)
+        session.same(text)
+
+
+def test_random_edits_of_a_larger_text():
+    rng = random.Random(11)
+    for _ in range(30):
+        text = big_text(24)
+        session = Session()
+        session.same(text)
+        for _ in range(6):
+            step = (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]), rng.randrange(10**6),
+                    rng.randrange(10**6), rng.choice(EDIT_CHARS))
+            text = apply(text, step)
+            session.same(text)
+
+
+def test_an_edit_in_one_rung_is_checked_as_an_edit():
+    text = big_text(200)
+    session = Session()
+    session.same(text)
+    assert session.checker.last == "whole"
+    lines = text.splitlines(keepends=True)
+    target = max(i for i in range(len(lines) // 2) if "Xstart" in lines[i])
+    for new in ("Xstert", "Xstart"):
+        lines[target] = lines[target].replace("Xstart" if new == "Xstert" else "Xstert", new)
+        session.same("".join(lines))
+        assert session.checker.last == "edit"
+    blank = next(i for i in range(target, len(lines)) if lines[i].strip().replace(" ", "") == "||||")
+    lines.insert(blank, lines[blank])  # a line added: the rungs below move
+    session.same("".join(lines))
+    assert session.checker.last == "edit"
+
+
+def test_a_rename_offered_follows_the_names_used_elsewhere():
+    text = render_program(program([contact("Xa"), coil("lamp")], [contact("Xb"), coil("Rx")]))
+    session = Session()
+    session.same(text)
+    offered = [f.change.new for d in session.checker.check(session.reader.read(text)[0]) for f in d.fixes]
+    assert "Rlamp" in offered
+    session.same(text.replace("Rx   ", "Rlamp"))  # now used: no longer offered for rung 1
+    session.same(text)
+
+
+def test_versions_read_but_not_checked_in_between():
+    """The server reads every version (a hover, the semantic tokens) but checks
+    only some: the moves of the versions in between add up."""
+    from lsp.documents import moved_since
+
+    text = big_text(200)
+    reader, checker = IncrementalReader("ladder"), Checker()
+    checker.check(reader.read(text)[0])
+    lines = text.splitlines(keepends=True)
+    blanks = [i for i, line in enumerate(lines) if line.strip().replace(" ", "") == "||||"]
+    moved: dict = {}
+    for at in (blanks[40], blanks[10], blanks[60] + 1):  # rungs below move 1, 2 or 3 lines
+        lines.insert(at, lines[at])
+        program, _ = reader.read("".join(lines))
+        moved = moved_since(moved, program, reader.moved)
+    assert full(checker.check(program, moved)) == full(check_program(program))
+    assert checker.last == "edit"
