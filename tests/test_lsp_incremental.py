@@ -1,5 +1,6 @@
-"""The language server's incremental reading (ide.incremental) gives exactly
-what a fresh `read_text` gives, spans included, after any sequence of edits;
+"""Reading a text again after an edit (lang.textform.reader.TextReader, what
+the language server does through ide.incremental) gives exactly what a reader
+that never saw the text gives, spans included, after any sequence of edits;
 and an edit inside one rung reads only that rung."""
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ide.incremental import IncrementalReader
-from lang.textform import reader
+from lang.textform.reader import TextReader
 from lang.textform.writer import render_program
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,8 +35,7 @@ def snapshot(value):
 
 
 def fresh(text: str):
-    reader._CACHE.clear()  # the reader's module cache keeps DETAILS from earlier texts
-    return reader.read_text(text)
+    return TextReader(cache_size=0).read(text)  # no state, nothing cached
 
 
 def same(incremental: IncrementalReader, text: str) -> None:
@@ -189,5 +189,4 @@ def test_format_read_matches_the_formatter():
 def fresh_format(text: str):
     from lang.textform.formatter import format_text
 
-    reader._CACHE.clear()
     return format_text(text)[0]

@@ -69,10 +69,32 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
             raise NotSeriesParallel(
                 "this element is bypassed by a bare wire (a branch without any element)", edge.span
             )
+    row = _row(edges)
+    if row is not None:
+        return row
     left = _Reduction(edges).run()
     if len(left) == 1 and (left[0].start, left[0].end) == (LEFT, RIGHT):
         return left[0].node
     raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(left, nodes))
+
+
+def _row(edges: list[Edge]) -> Node | None:
+    """The circuit of edges that make one path from rail to rail, in order
+    (most rungs: one row, no branch), as the reduction would give it; None
+    for any other shape."""
+    if edges[0].start != LEFT or edges[-1].end != RIGHT:
+        return None
+    for before, after in zip(edges, edges[1:]):
+        if before.end != after.start:
+            return None
+    if len(edges) == 1:
+        return edges[0].node
+    if len({edge.start for edge in edges} - {RIGHT}) != len(edges):
+        return None  # a node left twice: not a simple path
+    span = edges[0].span
+    for edge in edges[1:]:
+        span = span.union(edge.span)
+    return Series([edge.node for edge in edges], span)
 
 
 class _Reduction:
@@ -138,7 +160,7 @@ class _Reduction:
         # a series in an edge was made by a merge here and belongs to that
         # edge alone: it grows in place, so a long row is not copied again
         # and again
-        items = first.node.items if isinstance(first.node, Series) else [first.node]
+        items: list[Node] = first.node.items if isinstance(first.node, Series) else [first.node]
         items.extend(second.node.items if isinstance(second.node, Series) else [second.node])
         span = first.span.union(second.span)
         self.remove(first)
