@@ -31,6 +31,8 @@ from lang.textform.sections import DIAGRAM, IO
 from .documents import LD
 from .navigation import newline
 
+MAX_NAMES = 200  # names offered at once (clangd offers 100, VS Code shows a dozen)
+
 
 def register(server) -> None:
     @server.on(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["'"]))
@@ -41,8 +43,8 @@ def register(server) -> None:
         line, col = analysis.positions.from_client(params.position)
         col = min(col, len(analysis.line(line)))
         items = complete(ls, analysis, line, col)
-        if items is None:
-            return None
+        if items is None or isinstance(items, types.CompletionList):
+            return items
         return types.CompletionList(is_incomplete=False, items=items)
 
 
@@ -50,7 +52,7 @@ def _snippets(ls) -> bool:
     return ls.client_supports("text_document", "completion", "completion_item", "snippet_support")
 
 
-def complete(ls, analysis, line: int, col: int) -> list[types.CompletionItem] | None:
+def complete(ls, analysis, line: int, col: int) -> list[types.CompletionItem] | types.CompletionList | None:
     text = analysis.line(line)
     if analysis.kind == LD:
         return _ld(ls, analysis, line, col, text)
@@ -83,17 +85,19 @@ def _word_range(analysis, line: int, col: int, text: str) -> tuple[int, int, str
     return word[0], word[1], text[word[0]:col]
 
 
-def _names(analysis, line, col, text, kind, field) -> list[types.CompletionItem]:
+def _names(analysis, line, col, text, kind, field) -> types.CompletionList:
+    """The names that fit, the first MAX_NAMES of them: a big program has
+    thousands, and the client asks again as more is typed (`isIncomplete`)."""
     start, end, typed = _word_range(analysis, line, col, text)
     found = names.candidates(analysis.program, analysis.index, kind, field, typed)
     edit_range = analysis.positions.range(Span.at(line, start, end))
     items = []
-    for name in found:
+    for name in found[:MAX_NAMES]:
         short = role(name)[0]
         items.append(types.CompletionItem(
             label=name, kind=types.CompletionItemKind.Variable, detail=short,
             text_edit=types.TextEdit(range=edit_range, new_text=name)))
-    return items
+    return types.CompletionList(is_incomplete=len(found) > MAX_NAMES, items=items)
 
 
 # --- the header and the I/O table ------------------------------------------------------------
@@ -189,10 +193,10 @@ def _rungs(ls, analysis, line, col, text) -> list[types.CompletionItem]:
     items = []
     for order, kind in enumerate(_menu()):
         try:
-            lines, places = _rung_snippet(kind, columns)
+            snippet, places = _rung_snippet(kind, columns)
         except edits.EditError:
             continue
-        lines = list(lines)
+        lines = list(snippet)
         for index, drawn in enumerate(lines):
             if drawn[:4].strip().isdigit():
                 lines[index] = f"{number:04d}" + drawn[4:]
@@ -240,6 +244,7 @@ def _insert_here(ls, analysis, line, col, rung_index) -> list[types.CompletionIt
     else:
         anchor, after = min(on_line, key=lambda item: item[0].col)[1], False
     extent = locator.rung_lines(rung_index)
+    assert extent is not None  # the rung was found where it is drawn
     first, last = extent
     columns = edits.columns_of(analysis.text, analysis.program)
     nl = newline(analysis)

@@ -16,14 +16,14 @@ import traceback
 from typing import TYPE_CHECKING
 
 from lsprotocol import types
-from pygls.exceptions import JsonRpcException, JsonRpcInternalError
+from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInternalError
 from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 
 from .documents import Documents
 from .protocol import Raw
 from .settings import Settings
-from .transport import LadderProtocol, ResyncReader
+from .transport import LadderProtocol, PipeReader, ResyncReader
 
 if TYPE_CHECKING:
     from .diagnostics import Publisher
@@ -55,6 +55,10 @@ class LadderServer(LanguageServer):
         self.diagnostics: Publisher | None = None
         self.simulations: Simulations | None = None
         self._listeners: dict[str, list] = {}
+        # requests about one document, answered ContentModified once an edit of it was read
+        # after them (lsp/transport.py); each document's revision counts the events that change it
+        self.sheddable: set[str] = set()
+        self._revisions: dict[str, int] = {}
         from .idle import IdleCollector
 
         self.idle = IdleCollector()
@@ -66,8 +70,13 @@ class LadderServer(LanguageServer):
         `fn(server, None)` on "configured"."""
         self._listeners.setdefault(event, []).append(fn)
 
+    def revision(self, uri: str) -> int:
+        return self._revisions.get(uri, 0)
+
     def emit(self, event: str, uri: str | None) -> None:
         self.idle.touch()
+        if uri is not None and event in ("opened", "changed", "closed"):
+            self._revisions[uri] = self._revisions.get(uri, 0) + 1
         for fn in self._listeners.get(event, ()):
             try:
                 fn(self, uri)
@@ -80,8 +89,18 @@ class LadderServer(LanguageServer):
         """Register a feature handler `fn(server, params)`, sync or async."""
 
         def decorator(fn):
+            def run(params):
+                self.idle.touch()
+                try:
+                    self._maybe_fail(method)
+                    return fn(self, params)
+                except JsonRpcException:
+                    raise
+                except Exception as problem:
+                    raise self._failure(method, problem) from problem
+
             if asyncio.iscoroutinefunction(fn):
-                async def handler(params):
+                async def run_async(params):
                     self.idle.touch()
                     self._maybe_fail(method)
                     try:
@@ -90,16 +109,18 @@ class LadderServer(LanguageServer):
                         raise
                     except Exception as problem:
                         raise self._failure(method, problem) from problem
+                handler = run_async
+            elif _about_a_document(method):
+                self.sheddable.add(method)
+
+                async def run_request(params):
+                    arrived = self.protocol.arrivals.pop(id(params), None)
+                    if arrived is not None and self.revision(params.text_document.uri) != arrived:
+                        raise JsonRpcContentModified(message="the document changed: ask again")
+                    return run(params)
+                handler = run_request
             else:
-                def handler(params):
-                    self.idle.touch()
-                    try:
-                        self._maybe_fail(method)
-                        return fn(self, params)
-                    except JsonRpcException:
-                        raise
-                    except Exception as problem:
-                        raise self._failure(method, problem) from problem
+                handler = run
             # no functools.wraps: pygls reads the signature to decide what to pass
             handler.__name__ = fn.__name__
             self.feature(method, options)(handler)
@@ -112,7 +133,7 @@ class LadderServer(LanguageServer):
 
         def decorator(fn):
             if asyncio.iscoroutinefunction(fn):
-                async def handler(*args):
+                async def run_async(*args):
                     self._maybe_fail(name)
                     try:
                         return await fn(self, *args)
@@ -120,8 +141,9 @@ class LadderServer(LanguageServer):
                         raise
                     except Exception as problem:
                         raise self._failure(name, problem) from problem
+                handler = run_async
             else:
-                def handler(*args):
+                def run(*args):
                     try:
                         self._maybe_fail(name)
                         return fn(self, *args)
@@ -129,6 +151,7 @@ class LadderServer(LanguageServer):
                         raise
                     except Exception as problem:
                         raise self._failure(name, problem) from problem
+                handler = run
             handler.__name__ = fn.__name__
             self.command(name)(handler)
             return fn
@@ -182,7 +205,8 @@ class LadderServer(LanguageServer):
     def start_io(self, stdin=None, stdout=None):
         """pygls's stdio loop with the resynchronising reader."""
         self._stop_event = threading.Event()
-        self._reader = ResyncReader(StdinAsyncReader(stdin or sys.stdin.buffer, self.thread_pool))
+        stdin = stdin or sys.stdin.buffer
+        self._reader = ResyncReader(PipeReader(stdin, StdinAsyncReader(stdin, self.thread_pool)))
         self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
         try:
             asyncio.run(run_async(stop_event=self._stop_event, reader=self._reader, protocol=self.protocol,
@@ -193,6 +217,14 @@ class LadderServer(LanguageServer):
             pass
         finally:
             self.shutdown()
+
+
+def _about_a_document(method: str) -> bool:
+    """A request (not a notification) whose params name a text document."""
+    kinds = types.METHOD_TO_TYPES.get(method)
+    if kinds is None or kinds[1] is None:
+        return False
+    return any(field.name == "text_document" for field in getattr(kinds[2], "__attrs_attrs__", ()))
 
 
 def create_server() -> LadderServer:

@@ -9,10 +9,12 @@ from dataclasses import dataclass, field
 
 from lang.config import NONE, ConfigError, Severities, parse
 
-# the debounce when diagnosticsDelayMs is not set: none while a check is quick,
-# this much once checking takes longer (a big document), so typing stays smooth
+# the debounce when diagnosticsDelayMs is not set: none while a check is quick
+# (an edit is checked incrementally: a few ms even for thousands of rungs), this
+# much after one that took longer (a whole check of a big document), so that
+# typing right after it is not held up by another
 ADAPTIVE_DELAY_MS = 150
-QUICK_CHECK_MS = 20
+QUICK_CHECK_MS = 100
 
 
 @dataclass

@@ -8,10 +8,22 @@ the client would wait forever; `LadderProtocol` answers it with InvalidParams.
 After a frame whose Content-Length is wrong, the rest of the body runs into
 the next header and pygls never finds a frame again; `ResyncReader` skips to
 the next `Content-Length:` header once a body fails to parse.
+
+A request about a document that an edit read after it has made stale is
+answered ContentModified instead of being worked out (as rust-analyzer does):
+while the client types faster than the server answers, the work queued up is
+dropped instead of growing. For that the server must see the edits that
+arrived after a request before it works the request out: `PipeReader` reads
+standard input in the event loop, so every message that has arrived is read,
+one after the other, before any request's handler runs (pygls's reader hands
+each line to a thread, which lets handlers run between two messages), and
+`LadderProtocol` notes, as it reads a request, which revision of its
+document it was made on (`LadderServer.on` compares when it runs).
 """
 
 from __future__ import annotations
 
+import asyncio
 import logging
 
 from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
@@ -34,6 +46,11 @@ def _request_id(data: dict) -> int | str | None:
 
 
 class LadderProtocol(LanguageServerProtocol):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # id(params) of a request read, not yet worked out -> the revision of its document then
+        self.arrivals: dict[int, int] = {}
+
     def structure_message(self, data):
         try:
             return super().structure_message(data)
@@ -41,7 +58,9 @@ class LadderProtocol(LanguageServerProtocol):
             if "method" not in data or "id" not in data:
                 raise  # a notification or a response: nobody waits for an answer
             log.warning("request %r: %s", data.get("method"), error.message)
-            self._send_response(_request_id(data), error=error.to_response_error())
+            # an error answer's id is null when the request's is unreadable (JSON-RPC); pygls's MsgId leaves None out,
+            # the ResponseErrorMessage it builds takes it
+            self._send_response(_request_id(data), error=error.to_response_error())  # type: ignore[arg-type]
             return ANSWERED
 
     def handle_message(self, message):
@@ -50,8 +69,14 @@ class LadderProtocol(LanguageServerProtocol):
         if isinstance(message, dict):
             # JSON without "jsonrpc": not a message; a request-shaped one still gets its answer
             if "method" in message and "id" in message:
-                self._send_response(_request_id(message), error=JsonRpcInvalidRequest().to_response_error())
+                self._send_response(_request_id(message),  # type: ignore[arg-type]  # a null id, as above
+                                    error=JsonRpcInvalidRequest().to_response_error())
             return
+        params = getattr(message, "params", None)
+        document = getattr(params, "text_document", None)
+        if document is not None and getattr(message, "id", None) is not None \
+                and getattr(message, "method", None) in self._server.sheddable:
+            self.arrivals[id(params)] = self._server.revision(document.uri)
         super().handle_message(message)
 
 
@@ -79,3 +104,43 @@ class ResyncReader:
 
     def readexactly(self, n: int):
         return self.inner.readexactly(n)
+
+
+class PipeReader:
+    """Standard input read by the event loop (a pipe: what an editor gives a
+    language server), so that reading every message already arrived never
+    lets a handler run in between; `fallback` (pygls's reader) for anything
+    else."""
+
+    def __init__(self, stdin, fallback):
+        self.stdin = stdin
+        self.fallback = fallback
+        self._stream: asyncio.StreamReader | None = None
+        self._tried = False
+
+    async def _source(self):
+        if not self._tried:
+            self._tried = True
+            stream = asyncio.StreamReader(limit=1 << 30)  # a lost frame's body is read as one line
+            try:
+                await asyncio.get_running_loop().connect_read_pipe(
+                    lambda: asyncio.StreamReaderProtocol(stream), self.stdin)
+                self._stream = stream
+            except (ValueError, OSError):  # a regular file, or no file descriptor
+                pass
+        return self._stream
+
+    async def readline(self) -> bytes:
+        stream = await self._source()
+        if stream is None:
+            return await self.fallback.readline()
+        return await stream.readline()
+
+    async def readexactly(self, n: int) -> bytes:
+        stream = await self._source()
+        if stream is None:
+            return await self.fallback.readexactly(n)
+        try:
+            return await stream.readexactly(n)
+        except asyncio.IncompleteReadError as cut:
+            return cut.partial
