@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from functools import cached_property
 
-from lang.model import Element, Program, Span
+from lang.model import Element, Program, Rung, Span
 from lang.textform.elements import GLYPH_RE
 from lang.textform.sections import DIAGRAM, split_sections
 
@@ -57,22 +57,40 @@ def in_box(span: Span, line: int, col: int, end_inclusive: bool = False) -> bool
 
 
 class Locator:
-    def __init__(self, program: Program, lines: list[str], kind: str = "ladder"):
+    def __init__(self, program: Program, lines: list[str], kind: str = "ladder",
+                 previous: Locator | None = None, moved: dict[int, tuple[Rung, int]] | None = None):
+        """`previous`: the locator of the text before an edit, whose rungs'
+        lines are taken for the rungs kept (the same objects) and moved
+        (`moved`, as the reader gives it) instead of walking them again."""
         self.program = program
         self.lines = lines
         self.kind = kind
-        starts, extents = [], []
+        known: dict[int, tuple[int, int]] = {}
+        if previous is not None:
+            rungs = previous.program.rungs
+            known = {id(rungs[index]): (first, last) for first, last, index in previous._extents}
+        starts: list[int] = []
+        extents: list[tuple[int, int, int]] = []
         for index, rung in enumerate(program.rungs):
-            first, last = self._extent(rung)
-            if first is None:
+            extent = known.get(id(rung))
+            if extent is None and moved:
+                origin = moved.get(id(rung))
+                before = known.get(id(origin[0])) if origin is not None else None
+                if before is not None:
+                    extent = (before[0] + origin[1], before[1] + origin[1])
+            if extent is None:
+                extent = self._extent(rung)
+            if extent is None:
                 continue
+            first, last = extent
             starts.append(first)
             extents.append((first, last, index))
         self._starts = starts
         self._extents = extents
+        self._lines_of = {index: (first, last) for first, last, index in extents}
 
     @staticmethod
-    def _extent(rung) -> tuple[int | None, int | None]:
+    def _extent(rung) -> tuple[int, int] | None:
         first = rung.span.line if rung.span else None
         last = rung.span.end_line if rung.span else None
         for element in rung.elements():
@@ -80,7 +98,7 @@ class Locator:
                 continue
             first = element.span.line if first is None else min(first, element.span.line)
             last = element.span.end_line if last is None else max(last, element.span.end_line)
-        return first, last
+        return None if first is None or last is None else (first, last)
 
     # --- rungs -------------------------------------------------------------------
 
@@ -99,10 +117,7 @@ class Locator:
 
     def rung_lines(self, index: int) -> tuple[int, int] | None:
         """First and last source line of a rung (None for a rung not drawn)."""
-        for first, last, found in self._extents:
-            if found == index:
-                return first, last
-        return None
+        return self._lines_of.get(index)
 
     def rung_extents(self) -> list[tuple[int, int, int]]:
         """(first line, last line, rung index) of every drawn rung, in order."""
@@ -119,9 +134,9 @@ class Locator:
         rung = self.program.rungs[index]
         elements = list(rung.elements())
         for element in elements:
-            for field, span in element.arg_spans.items():
-                if span.line == line and (span.col <= col < span.end_col
-                                          or (end_inclusive and col == span.end_col)):
+            for field, arg_span in element.arg_spans.items():
+                if arg_span.line == line and (arg_span.col <= col < arg_span.end_col
+                                              or (end_inclusive and col == arg_span.end_col)):
                     return Hit(index, element, field, "operand")
         for element in elements:
             span = element.span

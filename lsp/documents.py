@@ -84,6 +84,9 @@ class Analysis:
         self._checker = checker or Checker()  # the document's: it knows the program checked last
         # rungs moved since the program the checker checked last (ide.incremental's `moved`)
         self.moved = moved or {}
+        # the locator of the version read before, if it had one, and the rungs the reader
+        # moved since: the rungs' lines carry over
+        self._previous_locator: tuple[Locator, dict[int, tuple[Rung, int]]] | None = None
 
     def per_rung(self, feature: str, index: int, compute):
         rung = self.program.rungs[index]
@@ -136,7 +139,10 @@ class Analysis:
 
     @cached_property
     def locator(self) -> Locator:
-        return Locator(self.program, self.lines, self.kind)
+        previous, self._previous_locator = self._previous_locator, None
+        if previous is None:
+            return Locator(self.program, self.lines, self.kind)
+        return Locator(self.program, self.lines, self.kind, *previous)
 
     @cached_property
     def positions(self) -> Positions:
@@ -227,6 +233,8 @@ class Documents:
         analysis.severities = self.severities(uri)
         if cached is not None and cached.memo:
             analysis.memo = self._carry(cached.memo, program, reader.moved)
+        if cached is not None and cached.kind == kind and "locator" in cached.__dict__:
+            analysis._previous_locator = (cached.locator, reader.moved)
         self._analyses[uri] = analysis
         return analysis
 

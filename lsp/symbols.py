@@ -4,11 +4,14 @@ rung and per section).
 
 Clients ask for both after every edit (VS Code's breadcrumbs and outline), so
 each rung's part is computed once and kept while the rung is unchanged
-(`Analysis.per_rung`), and the answer is built as JSON directly (`Raw`): for
-a 2,000-rung program, building and converting thousands of lsprotocol objects
-would cost more than the rest of the request."""
+(`Analysis.per_rung`), with its JSON text, and the answer is those texts
+joined (`Encoded`): for a 2,000-rung program, building and converting
+thousands of lsprotocol objects, or encoding 1.5 MB of JSON again, would cost
+more than the rest of the request."""
 
 from __future__ import annotations
+
+import json
 
 from lsprotocol import types
 
@@ -16,7 +19,7 @@ from ide.outline import outputs, rung_logic, rung_title
 from lang.model import Span
 
 from .documents import LADDER
-from .protocol import Raw
+from .protocol import Encoded, Raw
 
 SECTION_NAMES = {"header": "Header"}
 
@@ -61,17 +64,28 @@ def _rung_symbol(analysis, index: int) -> dict:
     return symbol
 
 
-def rung_symbols(analysis) -> list[dict]:
+def _encoded(symbol: dict) -> str:
+    return json.dumps(symbol, separators=(",", ":"))
+
+
+def _with_text(symbol: dict) -> tuple[dict, str]:
+    return symbol, _encoded(symbol)
+
+
+def rung_symbols(analysis) -> list[tuple[dict, str]]:
+    """Each drawn rung's symbol, with its JSON text."""
     found = []
     for _, _, index in analysis.locator.rung_extents():
-        symbol = analysis.per_rung("symbol", index, lambda i: _rung_symbol(analysis, i))
+        symbol, text = analysis.per_rung("symbol", index, lambda i: _with_text(_rung_symbol(analysis, i)))
         name = rung_title(analysis.program, index)  # the number changes when rungs are added above
-        found.append(symbol if symbol["name"] == name else dict(symbol, name=name))
+        if symbol["name"] != name:
+            symbol, text = _with_text(dict(symbol, name=name))
+        found.append((symbol, text))
     return found
 
 
-def document_symbols(analysis) -> list[dict]:
-    """DocumentSymbol objects in JSON form."""
+def document_symbols(analysis) -> list[tuple[dict, str]]:
+    """The top-level DocumentSymbol objects in JSON form, each with its JSON text."""
     rungs = rung_symbols(analysis)
     if analysis.kind != LADDER:
         return rungs
@@ -82,11 +96,13 @@ def document_symbols(analysis) -> list[dict]:
         symbol = {"name": SECTION_NAMES.get(title, title), "kind": int(types.SymbolKind.Namespace),
                   "range": _range(analysis, Span(first, 0, last, len(analysis.line(last)))),
                   "selectionRange": _range(analysis, Span.at(first, 0, len(analysis.line(first))))}
+        text = _encoded(symbol)
         if title == "LADDER DIAGRAM":
-            children = [s for s in rungs if first <= s["range"]["start"]["line"] <= last]
+            children = [(s, t) for s, t in rungs if first <= s["range"]["start"]["line"] <= last]
             if children:
-                symbol["children"] = children
-        result.append(symbol)
+                symbol["children"] = [s for s, _ in children]
+                text = text[:-1] + ',"children":[' + ",".join(t for _, t in children) + "]}"
+        result.append((symbol, text))
     return result
 
 
@@ -130,6 +146,10 @@ def _shift_range(r: dict, delta: int) -> dict:
             "end": {"line": r["end"]["line"] + delta, "character": r["end"]["character"]}}
 
 
+def _shift_symbol_text(symbol: tuple[dict, str], delta: int) -> tuple[dict, str]:
+    return _with_text(_shift_symbol(symbol[0], delta))
+
+
 def _shift_symbol(symbol: dict, delta: int) -> dict:
     moved = dict(symbol, range=_shift_range(symbol["range"], delta),
                  selectionRange=_shift_range(symbol["selectionRange"], delta))
@@ -145,7 +165,7 @@ def _shift_fold(fold: dict | None, delta: int) -> dict | None:
 
 
 def register(server) -> None:
-    server.documents.shifters["symbol"] = _shift_symbol
+    server.documents.shifters["symbol"] = _shift_symbol_text
     server.documents.shifters["fold"] = _shift_fold
     @server.on(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     def symbols(ls, params: types.DocumentSymbolParams):
@@ -154,8 +174,8 @@ def register(server) -> None:
             return None
         found = analysis.once("symbols", lambda: document_symbols(analysis))
         if ls.client_supports("text_document", "document_symbol", "hierarchical_document_symbol_support"):
-            return Raw(found)
-        return Raw(_flat(found, analysis.uri))
+            return Encoded("[" + ",".join(text for _, text in found) + "]")
+        return Raw(_flat([symbol for symbol, _ in found], analysis.uri))
 
     @server.on(types.TEXT_DOCUMENT_FOLDING_RANGE)
     def folding(ls, params: types.FoldingRangeParams):

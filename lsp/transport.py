@@ -24,10 +24,14 @@ document it was made on (`LadderServer.on` compares when it runs).
 from __future__ import annotations
 
 import asyncio
+import inspect
+import json
 import logging
 
 from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
-from pygls.protocol import LanguageServerProtocol
+from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol
+
+from .protocol import Encoded
 
 log = logging.getLogger("ladder.lsp")
 HEADER = b"Content-Length:"
@@ -50,6 +54,16 @@ class LadderProtocol(LanguageServerProtocol):
         super().__init__(*args, **kwargs)
         # id(params) of a request read, not yet worked out -> the revision of its document then
         self.arrivals: dict[int, int] = {}
+
+    def _send_data(self, data):
+        result = getattr(data, "result", None)
+        if not isinstance(data, JsonRPCResponseMessage) or not isinstance(result, Encoded) or self.writer is None:
+            return super()._send_data(data)
+        body = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": {result.text}}}'
+        header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n"
+        written = self.writer.write((header + body).encode(self.CHARSET))
+        if inspect.isawaitable(written):
+            asyncio.ensure_future(written)
 
     def structure_message(self, data):
         try:

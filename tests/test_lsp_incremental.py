@@ -190,3 +190,23 @@ def fresh_format(text: str):
     from lang.textform.formatter import format_text
 
     return format_text(text)[0]
+
+
+def test_a_locator_built_on_the_one_before_equals_a_new_one():
+    import random
+
+    from ide.locate import Locator
+
+    rng = random.Random(5)
+    for _ in range(20):
+        text = big_text(24)
+        incremental = IncrementalReader("ladder")
+        program, _ = incremental.read(text)
+        locator = Locator(program, text.splitlines())
+        for _ in range(6):
+            step = (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]), rng.randrange(10**6),
+                    rng.randrange(10**6), rng.choice(EDIT_CHARS))
+            text = apply(text, step)
+            program, _ = incremental.read(text)
+            locator = Locator(program, text.splitlines(), "ladder", locator, incremental.moved)
+            assert locator.rung_extents() == Locator(program, text.splitlines()).rung_extents()
