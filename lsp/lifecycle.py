@@ -8,6 +8,8 @@ import asyncio
 
 from lsprotocol import types
 
+from lang.textform.elements import prepare
+
 from .settings import ladder_section
 
 
@@ -15,6 +17,7 @@ def register(server) -> None:
     @server.on(types.INITIALIZED)
     def initialized(ls, params: types.InitializedParams):
         ls.idle.start()
+        prepare()
         if ls.client_supports("workspace", "configuration"):
             asyncio.ensure_future(pull_configuration(ls))
 

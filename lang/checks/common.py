@@ -266,24 +266,18 @@ def pin_text(assignment) -> str:
     return f"pin {pin}" if isinstance(pin, int) or str(pin).isdigit() else str(pin)
 
 
-def adc_names(index) -> set[str]:
-    """Names that are A/D inputs: A names and whatever READ ADC reads."""
-    found = index.cache.get("adc_names")
-    if found is None:
-        found = {name for name in index.uses if name.startswith("A")}
-        found.update(token(e.args.get("name")) for _, e in index.of_kind("READ_ADC"))
-        index.cache["adc_names"] = found
-    return found
+def is_analog(index, name: str) -> bool:
+    """An A/D input: an A name, or one a READ ADC reads into."""
+    return name.startswith("A") or _named_by(index, name, "READ_ADC")
 
 
-def pwm_names(index) -> set[str]:
-    """Names that are PWM outputs: P names and whatever SET PWM drives."""
-    found = index.cache.get("pwm_names")
-    if found is None:
-        found = {name for name in index.uses if name.startswith("P")}
-        found.update(token(e.args.get("name")) for _, e in index.of_kind("SET_PWM"))
-        index.cache["pwm_names"] = found
-    return found
+def is_pwm(index, name: str) -> bool:
+    """A PWM output: a P name, or one a SET PWM drives."""
+    return name.startswith("P") or _named_by(index, name, "SET_PWM")
+
+
+def _named_by(index, name: str, kind: str) -> bool:
+    return any(use.element.kind == kind and use.field == "name" for use in index.uses.get(name, ()))
 
 
 def used_pins(program, index) -> list[tuple]:

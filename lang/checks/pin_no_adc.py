@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import adc_names, pin_text, used_pins
+from .common import is_analog, pin_text, used_pins
 
 CODE = rule_code(__name__)
 
@@ -12,9 +12,8 @@ CODE = rule_code(__name__)
 def check(program, index):
     found = []
     device = index.device
-    analog = adc_names(index)
     for name, assignment, pin in used_pins(program, index):
-        if pin is None or name not in analog or pin.name in device.adc:
+        if pin is None or not is_analog(index, name) or pin.name in device.adc:
             continue
         if not pin.is_io:
             continue  # LD403 says it

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import pin_text, pwm_names, used_pins
+from .common import is_pwm, pin_text, used_pins
 
 CODE = rule_code(__name__)
 
@@ -12,9 +12,8 @@ CODE = rule_code(__name__)
 def check(program, index):
     found = []
     device = index.device
-    pwm = pwm_names(index)
     for name, assignment, pin in used_pins(program, index):
-        if pin is None or name not in pwm or pin.name in device.pwm or not pin.is_io:
+        if pin is None or not is_pwm(index, name) or pin.name in device.pwm or not pin.is_io:
             continue
         choices = ", ".join(sorted(n for n in device.pwm if device.pin(n) is not None)) or "none"
         found.append(report(

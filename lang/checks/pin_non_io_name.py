@@ -5,22 +5,19 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import report
 from ..roles import BUS_PIN_SUFFIXES
-from .common import adc_names, is_assigned, pin_text, pwm_names
+from .common import is_analog, is_assigned, is_pwm, pin_text
 
 CODE = rule_code(__name__)
 
 
 def check(program, index):
     found = []
-    analog = pwm = None
     for name, assignment in program.pins.items():
         if not is_assigned(assignment) or name[:1] in ("X", "Y", "A", "P") or name not in index.uses:
             continue
         if any(suffix in name for suffix in BUS_PIN_SUFFIXES):
             continue
-        if analog is None:
-            analog, pwm = adc_names(index), pwm_names(index)
-        if name in analog or name in pwm:
+        if is_analog(index, name) or is_pwm(index, name):
             continue
         found.append(report(
             CODE,

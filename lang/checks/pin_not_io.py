@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import adc_names, pin_text, used_pins
+from .common import is_analog, pin_text, used_pins
 
 CODE = rule_code(__name__)
 
@@ -12,13 +12,10 @@ CODE = rule_code(__name__)
 def check(program, index):
     found = []
     device = index.device
-    analog = None
     for name, assignment, pin in used_pins(program, index):
         if pin is None or pin.is_io:
             continue
-        if analog is None:
-            analog = adc_names(index)
-        if name in analog and pin.name in device.adc:
+        if is_analog(index, name) and pin.name in device.adc:
             continue
         found.append(report(
             CODE,

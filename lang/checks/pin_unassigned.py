@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import report
-from .common import adc_names, is_assigned, pwm_names
+from .common import NAMES, is_analog, is_assigned, is_pwm
 
 CODE = rule_code(__name__)
+SCOPE = NAMES
 
 # A classic two-field SET_PWM has no name; LDmicro's loader calls it "P", and
 # classic LDmicro drove the part's one PWM pin without an assignment (the
@@ -20,10 +21,10 @@ _WHAT = {"X": "input", "Y": "output", "A": "A/D input", "P": "PWM output"}
 def check(program, index):
     if not index.pins_matter:
         return []
-    analog, pwm = adc_names(index), pwm_names(index)
     found = []
-    for name in index.uses:  # in order of first use
-        if name[:1] not in ("X", "Y") and name not in analog and name not in pwm:
+    for name in index.uses:
+        analog = is_analog(index, name)
+        if name[:1] not in ("X", "Y") and not analog and not is_pwm(index, name):
             continue
         if name.endswith("~"):
             continue  # LD010
@@ -36,7 +37,7 @@ def check(program, index):
         if not uses:
             continue
         first = uses[0]
-        what = _WHAT.get(name[0]) or ("A/D input" if name in analog else "PWM output")
+        what = _WHAT.get(name[0]) or ("A/D input" if analog else "PWM output")
         found.append(report(
             CODE,
             f"{what} '{name}' has no pin: assign it a pin of the {index.device.title} "
