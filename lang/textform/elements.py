@@ -74,6 +74,12 @@ def _by_head_char() -> dict[str, tuple[Candidate, ...]]:
     return {key: tuple(value) for key, value in table.items()}
 
 
+def prepare() -> None:
+    """Build the glyph tables now (the language server does when it starts,
+    so that the first document it opens does not wait for them)."""
+    _by_head_char()
+
+
 def _shape_key(glyph: str) -> str:
     stripped = glyph.lstrip("/\\o^-")
     return stripped[:1]
