@@ -46,6 +46,7 @@ def target_device(program: Program, target: str | None) -> Device:
         what = f"'{name}'" if name else "no part"
         raise fail(NO_TARGET, f"cannot compile for {what}: ladder build compiles for {parts_text()}")
     family = family_of(device)
+    assert family is not None  # compiled() found it
     if family.key not in BACKENDS:
         raise fail(NO_TARGET, f"cannot compile for '{name}': the {family.title} back end is not installed "
                               "(no module registered it)")
@@ -118,8 +119,10 @@ def _board_pin(program: Program, board, name: str, kind: str) -> SketchPin:
     where = first_use(program, name)
     assignment = program.pins.get(name)
     if assignment is None or assignment.pin in (0, "", None):
+        mcu = find_device(board.part)
+        assert mcu is not None  # boards.json names parts by their device files
         raise fail(NOT_COMPILED, f"'{name}' has no pin: give it one of the {board.title}'s (D2, A0) or a port "
-                                 f"bit of its {find_device(board.part).title} (PD2)", where)
+                                 f"bit of its {mcu.title} (PD2)", where)
     number = None
     if isinstance(assignment.pin, str):
         number = board.number(assignment.pin)

@@ -42,7 +42,7 @@ def loop_labels(ops: list[ir.Op]) -> set[str]:
     for op in ops:
         if isinstance(op, ir.Label):
             seen.add(op.name)
-        elif isinstance(op, ir.Call) or (getattr(op, "target", None) in seen):
+        elif isinstance(op, ir.Call) or (isinstance(op, ir.JUMPS) and op.target in seen):
             loops.add(op.target)
     return loops
 

@@ -109,7 +109,7 @@ class Analysis:
         self.code = code  # address -> its instruction, None where nothing can be decoded
         self.bounds = bounds  # loop-head address -> its bound
         self.placed = placed  # whether an address can be named in the program (else: its caller's site)
-        self._done: dict[int, Worst] = {}
+        self._done: dict[int | tuple[int, int], Worst] = {}
         self._active: set[int] = set()
 
     def routine(self, entry: int, end: int | None = None) -> Worst:
@@ -128,6 +128,11 @@ class Analysis:
             problems.append(Unbounded(target, "a subroutine that calls itself", at))
             return Worst(0)
         return self.routine(target)
+
+
+def _target(ins: Instruction) -> int:
+    assert ins.target is not None, f"{ins.text} at word 0x{ins.address:X} decoded without its target"
+    return ins.target
 
 
 class _Routine:
@@ -150,11 +155,11 @@ class _Routine:
         if ins.flow == NEXT:
             return [_Edge(ins.next, ins.cycles)]
         if ins.flow == JUMP:
-            return [_Edge(ins.target, ins.cycles)]
+            return [_Edge(_target(ins), ins.cycles)]
         if ins.flow in (BRANCH, SKIP):
-            return [_Edge(ins.next, ins.cycles), _Edge(ins.target, ins.taken)]
+            return [_Edge(ins.next, ins.cycles), _Edge(_target(ins), ins.taken)]
         if ins.flow == CALL:
-            callee = self.analysis.called(address, ins.target, self.problems)
+            callee = self.analysis.called(address, _target(ins), self.problems)
             self.problems += [_placed(self.analysis, u, address) for u in callee.unbounded]
             return [_Edge(ins.next, ins.cycles + callee.cycles, call=callee)]
         if ins.flow == RETURN:
@@ -289,7 +294,8 @@ class _Routine:
         """Replace the loop by its head, whose edges leave it with the cost
         of all its passes."""
         dist, _ = self._longest(head, body, head)
-        one_pass, leave = 0, {}
+        one_pass = 0
+        leave: dict[int, int] = {}  # exit -> the longest way to it in one pass
         for node in body:
             if node not in dist:
                 continue
@@ -401,19 +407,23 @@ class Budget:
     @property
     def dominant(self) -> tuple[Wait, ...]:
         """The (at most three) loops that take a tenth of the worst case or more."""
+        if self.cycles is None:
+            return ()
         return tuple(w for w in self.loops if w.cycles >= MENTIONED_SHARE * self.cycles)[:3]
 
     @property
     def overruns(self) -> bool:
         """A bounded worst case longer than the cycle."""
-        return self.cycles is not None and self.us > self.cycle_us
+        us = self.us
+        return us is not None and us > self.cycle_us
 
     def summary(self) -> str:
         """`scan: at most 1,234 cycles = 247 µs of the 10 ms cycle (2.5%)`."""
-        if self.cycles is None:
+        us = self.us
+        if us is None:
             return f"scan: no bound ({'; '.join(self.unbounded)})"
-        line = (f"scan: at most {self.cycles:,} cycles = {_us(self.us)} of the {self.cycle_us / 1000:g} ms cycle "
-                f"({100 * self.us / self.cycle_us:.1f}%)")
+        line = (f"scan: at most {self.cycles:,} cycles = {_us(us)} of the {self.cycle_us / 1000:g} ms cycle "
+                f"({100 * us / self.cycle_us:.1f}%)")
         if self.dominant:
             line += "; mostly " + ", ".join(w.text() for w in self.dominant)
         return line
@@ -492,9 +502,10 @@ def _loops(worst: Worst, rung_of) -> tuple[Wait, ...]:
 def overrun_warning(program: Program, budget: Budget) -> Diagnostic | None:
     """LD712 when the worst case does not fit the cycle, on the rung that
     takes the most."""
-    if not budget.overruns:
+    us = budget.us
+    if us is None or not budget.overruns:
         return None
-    message = (f"a scan may take up to {_us(budget.us)} ({budget.cycles:,} cycles), more than the "
+    message = (f"a scan may take up to {_us(us)} ({budget.cycles:,} cycles), more than the "
                f"{budget.cycle_us / 1000:g} ms cycle: every timer would run slow")
     if budget.dominant:
         message += "; mostly " + ", ".join(w.text() for w in budget.dominant)

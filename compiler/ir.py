@@ -128,6 +128,10 @@ class Call(Op):
     keep: frozenset = frozenset()
 
 
+# the ops that go on at their `target` label (a Call has one too, but comes back)
+JUMPS = (Jump, JumpIfBit, JumpIf, JumpIfBitOf)
+
+
 @dataclass
 class Return(Op):
     pass
@@ -283,7 +287,7 @@ class Permute(Op):
 
 @dataclass
 class ReadAdc(Op):
-    dst: Target
+    dst: Var
     channel: int
     refs: int
 

@@ -44,7 +44,7 @@ def optimise(code: ir.Code) -> ir.Code:
 # --- control flow helpers ------------------------------------------------------------
 
 def _target(op: ir.Op) -> str | None:
-    return getattr(op, "target", None) if isinstance(op, (ir.Jump, ir.JumpIfBit, ir.JumpIf, ir.JumpIfBitOf)) else None
+    return op.target if isinstance(op, ir.JUMPS) else None
 
 
 def _label_positions(ops: list[ir.Op]) -> dict[str, int]:
@@ -94,7 +94,7 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
     ops = _labels_after_bit_tests(ops)
     positions = _label_positions(ops)
     # labels entered by a backward jump or a call: nothing is known there
-    backward = {op.target for i, op in enumerate(ops) if _target(op) and positions[op.target] <= i}
+    backward = {op.target for i, op in enumerate(ops) if isinstance(op, ir.JUMPS) and positions[op.target] <= i}
     backward |= {op.target for op in ops if isinstance(op, ir.Call)}
     incoming: dict[str, list[dict]] = {}
     out: list[ir.Op] = []
@@ -114,7 +114,9 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
             test = ops[i] if i < len(ops) else None
             if not isinstance(test, ir.JumpIfBit) or test.bit.name not in state:
                 return label
-            after = test.target if state[test.bit.name] == test.value else ops[i + 1].name
+            past = ops[i + 1]
+            assert isinstance(past, ir.Label)  # _labels_after_bit_tests put it there
+            after = test.target if state[test.bit.name] == test.value else past.name
             if positions[after] <= here:
                 return label
             label = after
@@ -135,9 +137,10 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
         if known is None:
             out.append(op)  # unreachable; _jumps removes it
             continue
-        op = _fold_bit_op(op, known)
-        if op is None:
+        folded = _fold_bit_op(op, known)
+        if folded is None:
             continue
+        op = folded
         if isinstance(op, ir.JumpIfBit):
             taken = dict(known)
             if op.bit.name in tracked:
@@ -145,7 +148,7 @@ def _known_bits(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
                 known[op.bit.name] = not op.value
             op = replace(op, target=thread(op.target, taken, i))
             incoming.setdefault(op.target, []).append(taken)
-        elif _target(op):
+        elif isinstance(op, ir.JUMPS):
             op = replace(op, target=thread(op.target, known, i))
             incoming.setdefault(op.target, []).append(dict(known))
             if isinstance(op, ir.Jump):
@@ -241,13 +244,14 @@ def _jumps(ops: list[ir.Op]) -> list[ir.Op]:
             i = positions[label]
             while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
                 i += 1
-            if i < len(ops) and isinstance(ops[i], ir.Jump):
-                label = ops[i].target
+            jump = ops[i] if i < len(ops) else None
+            if isinstance(jump, ir.Jump):
+                label = jump.target
             else:
                 break
         return label
 
-    threaded = [replace(op, target=resolve(op.target)) if _target(op) else op for op in ops]
+    threaded = [replace(op, target=resolve(op.target)) if isinstance(op, ir.JUMPS) else op for op in ops]
     # drop what no path reaches, and jumps to the op after them
     kept: list[ir.Op] = []
     reachable = True
@@ -351,9 +355,9 @@ def _successors(ops: list[ir.Op], i: int, positions: dict[str, int]) -> list[int
     return following + ([positions[target]] if target else [])
 
 
-def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> list[frozenset]:
+def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> list[frozenset[str]]:
     """live_in[i]: the temporaries op i or a later one reads before writing."""
-    live_in = [frozenset()] * len(ops)
+    live_in: list[frozenset[str]] = [frozenset()] * len(ops)
     changed = True
     while changed:
         changed = False

@@ -351,6 +351,7 @@ def example_rung(kind: str) -> Rung:
     """A rung that shows an instruction in use: a contact, the instruction,
     and a coil when the instruction does not end the rung itself."""
     spec = INSTRUCTIONS[kind]
+    kinds: tuple[str, ...]
     if kind == "CONTACTS":
         kinds = ("CONTACTS", "COIL")
     elif kind in ("SUBPROG", "ENDSUB", "LABEL"):

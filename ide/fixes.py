@@ -34,8 +34,8 @@ def apply_edits(text: str, line_edits: list[LineEdit], text_edits: list[TextEdit
     for edit in sorted(text_edits, key=lambda e: (e.line, e.col), reverse=True):
         line = lines[edit.line]
         lines[edit.line] = line[:edit.col] + edit.text + line[edit.end_col:]
-    for edit in sorted(line_edits, key=lambda e: e.first, reverse=True):
-        lines[edit.first:edit.last] = list(edit.lines)
+    for line_edit in sorted(line_edits, key=lambda e: e.first, reverse=True):
+        lines[line_edit.first:line_edit.last] = list(line_edit.lines)
     return newline.join(lines) + (newline if text.endswith(("\n", "\r")) else "")
 
 

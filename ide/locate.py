@@ -65,6 +65,8 @@ class Locator:
         self.program = program
         self.lines = lines
         self.kind = kind
+        self._starts: list[int] = []
+        self._extents: list[tuple[int, int, int]] = []  # (first line, last line, rung index), in order
         known: dict[int, tuple[int, int]] = {}
         if previous is not None:
             rungs = previous.program.rungs
@@ -73,9 +75,9 @@ class Locator:
         extents: list[tuple[int, int, int]] = []
         for index, rung in enumerate(program.rungs):
             extent = known.get(id(rung))
-            if extent is None and moved:
-                origin = moved.get(id(rung))
-                before = known.get(id(origin[0])) if origin is not None else None
+            origin = moved.get(id(rung)) if extent is None and moved else None
+            if origin is not None:
+                before = known.get(id(origin[0]))
                 if before is not None:
                     extent = (before[0] + origin[1], before[1] + origin[1])
             if extent is None:

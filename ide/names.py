@@ -42,7 +42,7 @@ def pin_of(program: Program, name: str) -> PinInfo | None:
 
         device = find_device(program.settings.mcu)
     pin = device.pin(assignment.pin) if device else None
-    if pin is None:
+    if pin is None or device is None:
         return PinInfo(assignment.pin, assignment.pin if isinstance(assignment.pin, int) else None, "", "",
                        f"{device.title} {device.package}" if device else "")
     return PinInfo(assignment.pin, pin.number, pin.name if pin.is_io else "", pin.label or pin.name,

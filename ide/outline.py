@@ -13,6 +13,7 @@ from __future__ import annotations
 from lang.instructions import RELATIONS
 from lang.labels import label as instruction_label
 from lang.model import Element, Node, Program, Rung, Series
+from lang.textform.writer import comment_text
 from lang.values import format_delay
 
 MAX_LENGTH = 400
@@ -148,7 +149,7 @@ def _node(node: Node, p: tuple[str, int], actions: list[str], at_end: bool) -> t
 def rung_logic(rung: Rung) -> str:
     """The rung's logic in one line; a comment rung gives its text."""
     if rung.is_comment:
-        return "; " + str(rung.circuit.items[0].args.get("text", "")).replace("\n", " ")
+        return "; " + comment_text(rung).replace("\n", " ")
     if not rung.circuit.items:
         return "(empty rung)"
     actions: list[str] = []
@@ -163,7 +164,7 @@ def rung_title(program: Program, index: int) -> str:
     """"Rung 3" or "Rung 3: <first comment line>"."""
     rung = program.rungs[index]
     if rung.is_comment:
-        first = str(rung.circuit.items[0].args.get("text", "")).split("\n")[0].strip()
+        first = comment_text(rung).split("\n")[0].strip()
         return f"Rung {index + 1}: ; {first}" if first else f"Rung {index + 1}"
     return f"Rung {index + 1}"
 

@@ -79,7 +79,7 @@ def rule_code(module: str) -> str:
 
 def rules() -> list[str]:
     """The check modules, in code order."""
-    return [CODES[c].rule for c in sorted(_BY_RULE.values())]
+    return sorted(_BY_RULE, key=lambda rule: _BY_RULE[rule])
 
 
 # reading the text form and LDmicro files

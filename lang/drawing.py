@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import cache
 
 from . import values
 
@@ -49,11 +50,11 @@ def _format_field(kind: str, fmt: str | None, value: object) -> str:
     if fmt == "delay":
         return values.format_delay(value) if isinstance(value, int) else str(value)
     if fmt == "hz":
-        return values.format_frequency(int(value))
+        return values.format_frequency(values.as_int(value))
     if fmt == "us":
         return f"{value} us" if values.is_literal(str(value)) else str(value)
     if fmt == "last":
-        return str(int(value) - 1)
+        return str(values.as_int(value) - 1)
     if kind == "edge":
         return "-" if value in ("-", "", None) else str(value)
     return str(value)
@@ -89,28 +90,37 @@ def _parse_field(kind: str, fmt: str | None, text: str) -> object:
 _PLACEHOLDER = re.compile(r"\{\{|\}\}|\{(\w+)(?::(\w+))?(?:\?([^|}]*)\|([^}]*))?\}")
 
 
+@cache
+def _parts(text: str) -> tuple[tuple, ...]:
+    found: list[tuple] = []
+    pos = 0
+    literal = ""
+    for match in _PLACEHOLDER.finditer(text):
+        literal += text[pos:match.start()]
+        pos = match.end()
+        if match.group(1) is None:  # an escaped brace
+            literal += match.group(0)[0]
+            continue
+        if literal:
+            found.append(("lit", literal))
+            literal = ""
+        found.append(("field", match.group(1), match.group(2), match.group(3), match.group(4)))
+    literal += text[pos:]
+    if literal:
+        found.append(("lit", literal))
+    return tuple(found)
+
+
 @dataclass(frozen=True)
 class Template:
     """Literal text with ``{field}``, ``{field:format}`` and ``{flag?yes|no}``."""
 
     text: str
 
-    def parts(self):
-        pos = 0
-        literal = ""
-        for match in _PLACEHOLDER.finditer(self.text):
-            literal += self.text[pos:match.start()]
-            pos = match.end()
-            if match.group(1) is None:  # an escaped brace
-                literal += match.group(0)[0]
-                continue
-            if literal:
-                yield ("lit", literal)
-                literal = ""
-            yield ("field", match.group(1), match.group(2), match.group(3), match.group(4))
-        literal += self.text[pos:]
-        if literal:
-            yield ("lit", literal)
+    def parts(self) -> tuple[tuple, ...]:
+        """("lit", text) and ("field", name, format, yes, no) in order (read
+        once per template: every element read or drawn asks)."""
+        return _parts(self.text)
 
     def fields(self) -> list[str]:
         return [part[1] for part in self.parts() if part[0] == "field"]

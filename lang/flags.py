@@ -15,7 +15,7 @@ from typing import NamedTuple
 from .instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from .labels import token
 from .model import Element
-from .values import is_literal
+from .values import as_int, is_literal
 
 RES = "RES"
 PWM = "PWM"
@@ -73,6 +73,14 @@ def _literal(text: str) -> bool:
     return (first == "-" or first == "+") and len(text) > 1 and text[1] in _DIGITS
 
 
+def shift_stages(element: Element) -> int:
+    """A shift register's number of stages (0 when it is not a number)."""
+    try:
+        return as_int(element.args.get("stages") or 0)
+    except ValueError:
+        return 0
+
+
 def marks(rung: int, element: Element) -> list[Mark]:
     """The flags one element gives to names, in LDmicro's order."""
     kind = element.kind
@@ -86,10 +94,7 @@ def marks(rung: int, element: Element) -> list[Mark]:
                 found.append(_new(Mark, (text, flag, rung, element, field)))
     elif kind == "SHIFT_REGISTER":
         base = token(args.get("name"))
-        try:
-            stages = int(args.get("stages") or 0)
-        except (TypeError, ValueError):
-            stages = 0
+        stages = shift_stages(element)
         if base:
             for i in range(1, stages):
                 found.append(Mark(f"{base}{i}", ANY, rung, element, "name"))

@@ -27,7 +27,7 @@ from functools import cached_property
 from operator import itemgetter
 from typing import NamedTuple
 
-from .flags import MARKING, Mark
+from .flags import MARKING, Mark, shift_stages
 from .flags import marks as marks_of
 from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
@@ -107,10 +107,7 @@ def _stages(element: Element) -> list[tuple[str, str, str]]:
     writes; the register reads name0..name(n-2) and writes name1..name(n-1)."""
     args = element.args
     base = token(args.get("name"))
-    try:
-        stages = int(args.get("stages") or 0)
-    except (TypeError, ValueError):
-        stages = 0
+    stages = shift_stages(element)
     if not base or is_literal_fast(base):
         return []
     found = []
@@ -180,21 +177,23 @@ class ProgramIndex:
         self.program = program
         self.rungs = range(len(program.rungs))
         self.cache = {}
-        for items, new, at in ((self.elements, part.elements, 0), (self.literals, part.literals, 1),
-                               (self.series, part.series, 0), (self.followed, part.followed, 0)):
+        lists: list[tuple[list, list, int]] = [(self.elements, part.elements, 0), (self.literals, part.literals, 1),
+                                               (self.series, part.series, 0), (self.followed, part.followed, 0)]
+        for items, new, at in lists:
             _splice(items, first, end, new, at)
-        for table, new_table, old_table, at in ((self.by_kind, part.by_kind, before.by_kind, 0),
-                                                (self.uses, part.uses, before.uses, 1),
-                                                (self.marks, part.marks, before.marks, 2)):
+        tables: list[tuple[dict[str, list], dict[str, list], dict[str, list], int]] = [
+            (self.by_kind, part.by_kind, before.by_kind, 0), (self.uses, part.uses, before.uses, 1),
+            (self.marks, part.marks, before.marks, 2)]
+        for table, new_table, old_table, at in tables:
             for key in old_table.keys() | new_table.keys():
                 new = new_table.get(key, [])
-                items = table.get(key)
-                if items is None:
+                found = table.get(key)
+                if found is None:
                     if new:
                         table[key] = list(new)
                     continue
-                _splice(items, first, end, new, at)
-                if not items:
+                _splice(found, first, end, new, at)
+                if not found:
                     del table[key]
         return part
 
@@ -224,15 +223,14 @@ class ProgramIndex:
             args = element.args
             if kind in marking:
                 for mark in marks_of(rung, element):
-                    found = marks.get(mark.name)
-                    if found is None:
+                    marked = marks.get(mark.name)
+                    if marked is None:
                         marks[mark.name] = [mark]
                     else:
-                        found.append(mark)
+                        marked.append(mark)
             if kind == "SHIFT_REGISTER":
                 names = _stages(element)
             else:
-                names = None
                 for field, access in plans.get(kind, ()):
                     value = args.get(field)
                     if value.__class__ is not str or not value or value == "(none)":

@@ -49,8 +49,9 @@ def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
                 bits.add(str(element.args[field.name]))
         if element.kind in ("SET_PWM", "RES") and str(element.args.get("name", "")).startswith("P"):
             bits.add(str(element.args["name"]))
-        if element.kind in TIMERS and isinstance(element.args.get("delay"), int) and cycle > 0:
-            sizes[element.args["name"]] = min(4, byte_needed(element.args["delay"] // cycle))
+        delay = element.args.get("delay")
+        if element.kind in TIMERS and isinstance(delay, int) and cycle > 0:
+            sizes[str(element.args["name"])] = min(4, byte_needed(delay // cycle))
         if element.kind in COUNTERS:
             init, limit = str(element.args.get("init", "0")), str(element.args["max"])
             if is_literal(init) and is_literal(limit):
@@ -58,7 +59,7 @@ def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
                     values = [literal_value(init), literal_value(limit)]
                 except ValueError:
                     continue
-                sizes[element.args["name"]] = max(byte_needed(v) for v in values)
+                sizes[str(element.args["name"])] = max(byte_needed(v) for v in values)
     return bits, sizes
 
 

@@ -59,7 +59,8 @@ def parts_text() -> str:
     """`AVR: ATmega8, ATmega16, ...; PIC16: PIC16F628A, ...` for messages and --help."""
     groups = []
     for family in FAMILIES.values():
-        titles = [find_device(part).title for part in compiled_parts(family)]
+        devices = [find_device(part) for part in compiled_parts(family)]
+        titles = [device.title for device in devices if device is not None]
         if titles:
             groups.append(f"{family.title}: {', '.join(titles)}")
     return "; ".join(groups)

@@ -59,6 +59,12 @@ def literal_value(token: str) -> int:
         raise ValueError(f"bad number {token}") from None
 
 
+def as_int(value: object) -> int:
+    """An element's integer operand as int() reads it: the readers keep an
+    int, or the text they could not read as one."""
+    return int(value if isinstance(value, int) else str(value))
+
+
 _NAME_RE = re.compile(r"[A-Za-z_$#@][A-Za-z0-9_$#@\[\].]*\Z")
 
 
@@ -192,9 +198,9 @@ def _lossless_decode(error: UnicodeError):
         chunk = error.object[error.start:error.end]
         return "".join(chr(b) for b in chunk), error.end
     if isinstance(error, UnicodeEncodeError):
-        chunk = error.object[error.start:error.end]
-        if all(ord(c) < 0x100 for c in chunk):
-            return bytes(ord(c) for c in chunk), error.end
+        text = error.object[error.start:error.end]
+        if all(ord(c) < 0x100 for c in text):
+            return bytes(ord(c) for c in text), error.end
     raise error
 
 

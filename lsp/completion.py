@@ -296,7 +296,7 @@ def edits_describe(element) -> str:
 
 # --- .ld files ---------------------------------------------------------------------------------
 
-def _ld(ls, analysis, line, col, text) -> list[types.CompletionItem] | None:
+def _ld(ls, analysis, line, col, text) -> list[types.CompletionItem] | types.CompletionList | None:
     indent = len(text) - len(text.lstrip())
     first_word_end = indent + len(text.lstrip().split(" ")[0]) if text.strip() else indent
     if col > first_word_end:  # an operand

@@ -31,7 +31,7 @@ def _uri_argument(args) -> str:
     return args[0]
 
 
-def convert(ls, uri: str, target: str) -> dict:
+def convert(ls, uri: str, target: object) -> dict:
     if target not in ("ladder", "ld"):
         raise UserError(f"target must be \"ladder\" or \"ld\", not {target!r}")
     if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:

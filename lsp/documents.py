@@ -13,8 +13,10 @@ and each document's `Checker` checks again only what the edit can change
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from functools import cached_property
 from pathlib import Path, PurePath
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 from lsprotocol import types
@@ -160,7 +162,7 @@ class Documents:
         self._readers: dict[str, IncrementalReader] = {}
         self._checkers: dict[str, Checker] = {}
         # feature -> fn(value, lines moved): how a per-rung result follows its rung
-        self.shifters: dict[str, object] = {}
+        self.shifters: dict[str, Callable[[Any, int], Any]] = {}
         self._config_errors: set[str] = set()
 
     def _document(self, uri: str):
@@ -265,7 +267,7 @@ class Documents:
         live = {id(rung): rung for rung in program.rungs}
         carried = {key: value for key, value in memo.items() if live.get(key[1]) is value[0]}
         if moved:
-            by_old = {}
+            by_old: dict[int, list[tuple[str, Rung, object]]] = {}
             for (feature, old_id), (old_rung, value) in memo.items():
                 by_old.setdefault(old_id, []).append((feature, old_rung, value))
             for new_id, (old_rung, delta) in moved.items():

@@ -7,6 +7,7 @@ reformatted; `.ld` files are LDmicro's own format and are left as they are."""
 from __future__ import annotations
 
 import difflib
+from collections.abc import Sequence
 
 from lsprotocol import types
 
@@ -43,6 +44,7 @@ def line_edits(old: str, new: str) -> list[types.TextEdit]:
         tail += 1
     a_mid, b_mid = a[head:len(a) - tail], b[head:len(b) - tail]
     edits = []
+    opcodes: Sequence[tuple[str, int, int, int, int]]
     if len(a_mid) * len(b_mid) > 4_000_000:
         opcodes = [("replace", 0, len(a_mid), 0, len(b_mid))]
     else:

@@ -54,7 +54,8 @@ def _known(analysis, word: str) -> bool:
 
 def label_places(analysis, label: str) -> tuple[list[Span], list[Span]]:
     """(definitions: LABEL/SUBPROG, uses: GOTO/GOSUB/ENDSUB) of a label."""
-    definitions, uses = [], []
+    definitions: list[Span] = []
+    uses: list[Span] = []
     for _, element in analysis.program.elements():
         if element.kind in LABEL_KINDS and element.args.get("label") == label:
             span = element.arg_spans.get("label") or element.span

@@ -13,7 +13,7 @@ import os
 import sys
 import threading
 import traceback
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInternalError
@@ -114,7 +114,7 @@ class LadderServer(LanguageServer):
                 self.sheddable.add(method)
 
                 async def run_request(params):
-                    arrived = self.protocol.arrivals.pop(id(params), None)
+                    arrived = cast(LadderProtocol, self.protocol).arrivals.pop(id(params), None)
                     if arrived is not None and self.revision(params.text_document.uri) != arrived:
                         raise JsonRpcContentModified(message="the document changed: ask again")
                     return run(params)

@@ -396,7 +396,7 @@ def register(server) -> None:
         first, last = params.range.start.line, params.range.end.line
         values = session.sim.variables()
         hints = []
-        seen = set()
+        seen: set[int] = set()  # lines given their hint
         rungs = analysis.program.rungs
         for rung_first, rung_last, index in analysis.locator.rung_extents():
             if rung_last < first or rung_first > last:

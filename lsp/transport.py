@@ -27,11 +27,15 @@ import asyncio
 import inspect
 import json
 import logging
+from typing import TYPE_CHECKING, cast
 
 from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
 from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol
 
 from .protocol import Encoded
+
+if TYPE_CHECKING:
+    from .server import LadderServer
 
 log = logging.getLogger("ladder.lsp")
 HEADER = b"Content-Length:"
@@ -88,9 +92,10 @@ class LadderProtocol(LanguageServerProtocol):
             return
         params = getattr(message, "params", None)
         document = getattr(params, "text_document", None)
+        server = cast("LadderServer", self._server)
         if document is not None and getattr(message, "id", None) is not None \
-                and getattr(message, "method", None) in self._server.sheddable:
-            self.arrivals[id(params)] = self._server.revision(document.uri)
+                and getattr(message, "method", None) in server.sheddable:
+            self.arrivals[id(params)] = server.revision(document.uri)
         super().handle_message(message)
 
 

@@ -109,3 +109,12 @@ def test_malformed_scenario_is_reported(capsys, tmp_path):
     scenario.write_text(f"program {SAMPLES / 'traffic.ld'}\nsoon expect Yred = 1\n", encoding="utf-8")
     status, out, _ = run(capsys, "test", str(scenario))
     assert status == 1 and f"{scenario}:2: error" in out
+
+
+def test_a_uart_expectation_with_a_number_is_reported(capsys, tmp_path):
+    # the UART's output is bytes: `uart = 5` or `uart in 1..2` once crashed or misled
+    for condition in ("uart = 5", "uart in 1..2"):
+        scenario = tmp_path / "uart.scn"
+        scenario.write_text(f"program {SAMPLES / 'hello.ld'}\nat 2 s expect {condition}\n", encoding="utf-8")
+        status, out, _ = run(capsys, "test", str(scenario))
+        assert status == 1 and f"{scenario}:2: error" in out and 'uart "text"' in out, out

@@ -57,9 +57,9 @@ class AvrBackend:
                      loops=dict(cx.e.bounds))
 
 
-def _pwm_elements(machine: Machine) -> dict:
+def _pwm_elements(machine: Machine) -> dict[str, object]:
     """The first SET PWM of each PWM unit, to locate its diagnostics."""
-    found = {}
+    found: dict[str, object] = {}
     for element in machine.elements("SET_PWM"):
         pin = machine.pins.get(str(element.args.get("name")))
         if pin is not None and pin.name in machine.device.pwm:

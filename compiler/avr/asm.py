@@ -257,20 +257,20 @@ def compress_skips(items: list[Item]) -> None:
         while i < len(items):
             item = items[i]
             following = items[i + 1] if i + 1 < len(items) else None
-            jump = isinstance(following, Jump) and not following.call
-            if isinstance(item, Ins) and item.op in isa.SKIP_INVERSE and jump:
-                if _falls_into(items, i + 2, following.target):
+            jump = following if isinstance(following, Jump) and not following.call else None
+            if isinstance(item, Ins) and item.op in isa.SKIP_INVERSE and jump is not None:
+                if _falls_into(items, i + 2, jump.target):
                     i += 2
                     changed = True
                     continue
                 third = items[i + 2] if i + 2 < len(items) else None
-                if isinstance(third, (Ins, Jump)) and _falls_into(items, i + 3, following.target):
+                if isinstance(third, (Ins, Jump)) and _falls_into(items, i + 3, jump.target):
                     out += [Ins(isa.SKIP_INVERSE[item.op], item.args, item.comment), third]
                     i += 3
                     changed = True
                     continue
-            if isinstance(item, Branch) and jump and _falls_into(items, i + 2, item.target):
-                out.append(Branch(isa.INVERSE[item.op], following.target, item.comment))
+            if isinstance(item, Branch) and jump is not None and _falls_into(items, i + 2, item.target):
+                out.append(Branch(isa.INVERSE[item.op], jump.target, item.comment))
                 i += 2
                 changed = True
                 continue

@@ -79,7 +79,8 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
     for name, kind in code.bits.items():
         if kind in (ir.INPUT, ir.OUTPUT):
             pin = machine.pins[name]
-            bits[name] = MemBit(part.port("PIN" if kind == ir.INPUT else "PORT", pin.port), pin.bit, False)
+            port, bit = pin.port_bit
+            bits[name] = MemBit(part.port("PIN" if kind == ir.INPUT else "PORT", port), bit, False)
     # memory bits: the most used in registers
     memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
     counts = use_counts(code.scan, set(memory))
@@ -88,19 +89,19 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
     for name, slot in zip(ranked, slots):
         bits[name] = slot
     ram_bits += ranked[len(slots):]
-    homes = tuple(sorted({bits[n].reg for n in ranked[:len(slots)]}))
+    homes = tuple(sorted({slot.reg for _, slot in zip(ranked, slots)}))
     # temporaries: interval allocation over the scan's ops
     temps = {n for n, k in code.bits.items() if k == ir.TEMP}
     free = [RegBit(r, b) for r in TEMP_REGISTERS for b in range(8)]
-    active: list[tuple[int, str]] = []
+    active: list[tuple[int, RegBit]] = []  # (last use, the bit) of the temporaries in registers
     for name, (start, end) in sorted(live_intervals(code.scan, temps).items(), key=lambda kv: kv[1]):
-        for last, other in list(active):
+        for last, held in list(active):
             if last < start:
-                active.remove((last, other))
-                free.append(bits[other])
+                active.remove((last, held))
+                free.append(held)
         if free:
-            bits[name] = free.pop(0)
-            active.append((end, name))
+            bits[name] = held = free.pop(0)
+            active.append((end, held))
         else:
             ram_bits.append(name)
     # RAM: bit bytes, then variables

@@ -109,7 +109,8 @@ def pwm_setting(part: Part, unit: str, freq: int, crystal_hz: int, element=None)
 def check_pwm(cx, ops: list[ir.Op], elements) -> list:
     """Warnings for approximated frequencies; an error when two outputs of
     one timer ask for different frequencies."""
-    found, timers = [], {}
+    found = []
+    timers: dict[int, PwmSetting] = {}
     for op in ops:
         if not isinstance(op, ir.SetPwm):
             continue
@@ -206,6 +207,7 @@ def baud_divisor(crystal_hz: int, baud: int) -> tuple[int, bool]:
         error = abs(crystal_hz / (divisor * (ubrr + 1)) - baud) / baud
         if best is None or error < best[0] - 1e-12:
             best = (error, ubrr, double)
+    assert best is not None  # the loop tried both settings
     error, ubrr, double = best
     if ubrr > 4095 or error > BAUD_TOLERANCE:
         actual = crystal_hz / ((8 if double else 16) * (ubrr + 1))

@@ -51,12 +51,13 @@ def _pins(machine: Machine) -> dict[str, tuple[int, int]]:
     for name, pin in machine.pins.items():
         if not pin.is_io or name[:1] not in ("X", "Y", "P"):
             continue
-        ddr, port = ports.setdefault(pin.port, [0, 0])
+        letter, bit = pin.port_bit
+        ddr, port = ports.setdefault(letter, [0, 0])
         if name[0] == "X":
-            pulled = machine.pullups.get(pin.port, 0xFF) >> pin.bit & 1
-            ports[pin.port] = [ddr, port | pulled << pin.bit]
+            pulled = machine.pullups.get(letter, 0xFF) >> bit & 1
+            ports[letter] = [ddr, port | pulled << bit]
         else:
-            ports[pin.port] = [ddr | 1 << pin.bit, port]
+            ports[letter] = [ddr | 1 << bit, port]
     return {letter: (ddr, port) for letter, (ddr, port) in ports.items()}
 
 
@@ -96,7 +97,7 @@ def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
 def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part = cx.e, cx.part
     pin = machine.duty_pin  # LDmicro's YPlcCycleDuty: high while the scan runs
-    duty = MemBit(part.port("PORT", pin.port), pin.bit, False) if pin is not None else None
+    duty = MemBit(part.port("PORT", pin.port_bit[0]), pin.port_bit[1], False) if pin is not None else None
     select_bits, counts = cycle_timer(cx.crystal_hz, machine.cycle_us)
     _write(cx, "TCCR1A", 0)
     _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP

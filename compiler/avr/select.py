@@ -79,6 +79,7 @@ def _delay(cx: Context, op: ir.Delay) -> None:
         e.branch("brmi", done)
         bound = LoopBound(None, "a DELAY by a variable")
     else:
+        assert isinstance(op.amount, ir.Const)  # a delay that does not loop is a constant time
         count = round(op.amount.value * cx.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
         if not count:
             return

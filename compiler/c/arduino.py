@@ -78,7 +78,7 @@ class Sketch:
 
 
 def _hook_names(sources: CSources) -> set[str]:
-    return {re.search(r"(\w+)\(", text).group(1) for text in sources.hooks}
+    return {re.findall(r"(\w+)\(", text)[0] for text in sources.hooks}
 
 
 def ino(stem: str, source: str, sources: CSources, sketch: Sketch) -> str:

@@ -14,6 +14,7 @@ it, so a subroutine that calls itself cannot clobber its caller's.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from .. import ir
@@ -37,7 +38,7 @@ def comment_safe(text: str) -> str:
 @dataclass
 class Writer:
     names: Names
-    drawing: object  # rung index -> the rung's drawing lines
+    drawing: Callable[[int], list[str]]  # rung index -> the rung's drawing lines
     lines: list[str] = field(default_factory=list)
     helpers: set[str] = field(default_factory=set)
     tables: list[tuple[int, ...]] = field(default_factory=list)

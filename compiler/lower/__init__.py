@@ -16,7 +16,7 @@ from lang.labels import describe
 from lang.model import Element, Program, Series
 from lang.storage import DEFAULT_SEED, counter_defs, variable_names
 from lang.targets import Family, family_of
-from lang.values import is_literal, literal_value
+from lang.values import as_int, is_literal, literal_value
 
 from .. import ir
 from ..errors import NOT_COMPILED, fail
@@ -91,17 +91,17 @@ class TargetBuilder(Builder):
             raise fail(NOT_COMPILED, f"{element.kind} cannot be compiled for {self.family.title}", element)
         LOWERINGS[element.kind](self, element, power)
 
-    def _pin(self, name: str):
+    def _pin(self, device: Device, name: str):
         assignment = self.program.pins.get(name)
-        pin = self.device.pin(assignment.pin) if assignment is not None else None
+        pin = device.pin(assignment.pin) if assignment is not None else None
         if pin is None:
-            raise fail(NOT_COMPILED, f"'{name}' has no pin of the {self.device.title}", self.element)
+            raise fail(NOT_COMPILED, f"'{name}' has no pin of the {device.title}", self.element)
         return pin
 
     def adc_channel(self, name: str) -> int:
         if self.device is None:
             return 0
-        pin = self._pin(name)
+        pin = self._pin(self.device, name)
         if pin.name not in self.device.adc:
             raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no A/D channel", self.element)
         return self.device.adc[pin.name]
@@ -109,7 +109,7 @@ class TargetBuilder(Builder):
     def pwm_unit(self, name: str) -> str:
         if self.device is None:
             return name
-        pin = self._pin(name)
+        pin = self._pin(self.device, name)
         if pin.name not in self.device.pwm:
             raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no PWM output", self.element)
         return self.device.pwm[pin.name]
@@ -153,7 +153,7 @@ def _initial_values(b: TargetBuilder, program: Program) -> list[ir.Op]:
             name, delay = str(element.args["name"]), element.args["delay"]
             t = b.var(name)
             if isinstance(delay, int):
-                ops.append(ir.Move(t, ir.Const(b.period(delay, int(element.args.get("adjust", 0) or 0), name))))
+                ops.append(ir.Move(t, ir.Const(b.period(delay, as_int(element.args.get("adjust", 0) or 0), name))))
             else:
                 # LDmicro cannot start a variable-delay TOF; start it expired
                 ops.append(ir.Move(t, ir.Const((1 << (8 * t.size - 1)) - 1)))
@@ -172,7 +172,8 @@ def lower_program(program: Program, device: Device | None, delay_loop_cycles: in
     with no device, for `family`), whose back end's variable delay loop
     takes `delay_loop_cycles` per count."""
     bits, sizes = variable_names(program)
-    family = family or family_of(device)
+    family = family or (family_of(device) if device is not None else None)
+    assert family is not None, "a part of a compiled family, or the family to lower for"
     # on a part the X and Y names with pins are I/O; in C every one is (the user's runtime reads and writes it)
     pinned = program.pins if device is not None else bits
     b = TargetBuilder(program, device, family, delay_loop_cycles, bits, sizes, _classes(pinned))

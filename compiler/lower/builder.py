@@ -162,7 +162,9 @@ class Builder:
     # --- operands ----------------------------------------------------------------------
 
     def arg(self, field: str):
-        return self.element.args.get(field, self.element.spec.get_field(field).default)
+        element = self.element
+        assert element is not None, "an operand read outside an element's lowering"
+        return element.args.get(field, element.spec.get_field(field).default)
 
     def literal(self, token) -> int:
         try:
@@ -170,7 +172,7 @@ class Builder:
         except ValueError as bad:
             raise fail(BAD_OPERAND, str(bad), self.element) from None
 
-    def operand(self, token) -> ir.Operand:
+    def operand(self, token) -> ir.Var | ir.Const:
         token = str(token)
         if is_literal(token):
             return ir.Const(self.literal(token))

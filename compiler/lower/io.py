@@ -4,25 +4,31 @@ semantics followed here)."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lang.strings import parse_format
 
 from .. import ir
 from ..errors import BAD_OPERAND, EEPROM_FULL, fail
 from .builder import Builder, Holds, IsSet, lowers
 
+if TYPE_CHECKING:
+    from . import TargetBuilder
+
+
 # SET PWM resolutions: the duty value that means "always on"
 PWM_FULL = {"0-100%": 100, "0-256": 256, "0-512": 512, "0-1024": 1024}
 
 
 @lowers("READ_ADC")
-def read_adc(b: Builder, el, p: ir.Bit) -> None:
+def read_adc(b: TargetBuilder, el, p: ir.Bit) -> None:
     d = b.dest("name")
     with b.if_(IsSet(p)):
         b.emit(ir.ReadAdc(d, b.adc_channel(d.name), int(el.args.get("refs") or 0)))
 
 
 @lowers("SET_PWM")
-def set_pwm(b: Builder, el, p: ir.Bit) -> None:
+def set_pwm(b: TargetBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     resolution = str(el.args.get("resolution") or "0-100%")
     if resolution not in PWM_FULL:
@@ -52,7 +58,7 @@ def persist(b: Builder, el, p: ir.Bit) -> None:
                 b.emit(ir.EepromSave(v, address))
 
 
-def _byte(value: ir.Operand, index: int) -> ir.Operand:
+def _byte(value: ir.Var | ir.Const, index: int) -> ir.Operand:
     if isinstance(value, ir.Const):
         return ir.Const((value.value >> 8 * index) & 0xFF)
     return ir.Byte(value, index)

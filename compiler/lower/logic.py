@@ -3,12 +3,17 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lang.instructions import RELATIONS
 from lang.values import is_literal
 
 from .. import ir
 from ..errors import BAD_OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
+
+if TYPE_CHECKING:
+    from . import TargetBuilder
 
 
 @lowers("CONTACTS")
@@ -166,12 +171,12 @@ def delay(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("GOTO")
-def goto(b: Builder, el, p: ir.Bit) -> None:
+def goto(b: TargetBuilder, el, p: ir.Bit) -> None:
     _when_powered(b, p, ir.Jump(b.jumps.goto_target(el)))
 
 
 @lowers("GOSUB")
-def gosub(b: Builder, el, p: ir.Bit) -> None:
+def gosub(b: TargetBuilder, el, p: ir.Bit) -> None:
     _when_powered(b, p, ir.Call(b.jumps.gosub_target(el)))
 
 
@@ -186,6 +191,6 @@ def endsub(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("SUBPROG")
-def subprog(b: Builder, el, p: ir.Bit) -> None:
+def subprog(b: TargetBuilder, el, p: ir.Bit) -> None:
     # the normal flow of the scan skips the subroutine's body
     b.emit(ir.Jump(b.jumps.after_endsub(el)))

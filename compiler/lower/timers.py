@@ -4,12 +4,17 @@ instance has its own edge memory."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lang.instructions import TIMERS
 from lang.values import is_literal
 
 from .. import ir
 from ..errors import BAD_OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
+
+if TYPE_CHECKING:
+    from . import TargetBuilder
 
 
 def limit(b: Builder, el) -> ir.Operand:
@@ -115,7 +120,7 @@ def time_to_count(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("TIME2DELAY")
-def time_to_delay(b: Builder, el, p: ir.Bit) -> None:
+def time_to_delay(b: TargetBuilder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
     if not isinstance(delay, int) or delay < 0:
         raise fail(BAD_OPERAND, "the T2DLY delay must be a time", el)
@@ -212,7 +217,7 @@ def circular_counter(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("RES")
-def reset(b: Builder, el, p: ir.Bit) -> None:
+def reset(b: TargetBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     if name.startswith("P"):
         with b.if_(IsSet(p)):

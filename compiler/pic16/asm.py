@@ -223,14 +223,14 @@ class Assembler:
 
     def assemble(self, processor: str, config: dict[int, int]) -> Assembled:
         far: set[int] = set()
-        jumps = [i for i, item in enumerate(self.items) if isinstance(item, Goto)]
+        jumps = [(i, item.target) for i, item in enumerate(self.items) if isinstance(item, Goto)]
         while True:
             placed, labels, size = self._layout(far)
             if not self._paged:
                 break
             at = [start + i for start, _, _, words in placed for i, w in enumerate(words) if w.op in ("goto", "call")]
-            found = far | {index for index, address in zip(jumps, at)
-                           if labels[self.items[index].target] // self.page_words != address // self.page_words}
+            found = far | {index for (index, target), address in zip(jumps, at)
+                           if labels[target] // self.page_words != address // self.page_words}
             if found == far:
                 break
             far = found
@@ -262,7 +262,11 @@ class Assembler:
     def _resolve(self, word: _Word, address: int, labels: dict[str, int], jump: str | None):
         """(mnemonic, operands, operand text for the listing) of a laid-out word."""
         if word.select is not None:
-            page = (labels[jump] if word.select == "target" else address) // self.page_words
+            if word.select == "target":
+                assert jump is not None  # the select comes in its jump's group
+                page = labels[jump] // self.page_words
+            else:
+                page = address // self.page_words
             bit = word.args[0]
             op = "bsf" if page >> PAGE_BITS.index(bit) & 1 else "bcf"
             return op, (PCLATH, bit), f"0x{PCLATH:02X}, {bit}"

@@ -62,7 +62,7 @@ class Emitter:
         # without anything in banks 2 and 3, RP1 keeps its reset value 0
         self.unknown = UNKNOWN if high_banks or part.banks <= 2 else State(rp1=0)
         self.state: State | None = self.unknown  # None: this point is unreachable
-        self._entry: dict[str, State] = {}  # loop heads entered with a known bank
+        self._entry: dict[str, int] = {}  # loop heads entered with a known bank -> that bank
         self._common = frozenset(part.common or ())
         self._incoming: dict[str, list[State]] = {}
         self._skipped: State | None = None  # the state before the instruction a skip may skip
@@ -96,13 +96,13 @@ class Emitter:
             self.bounds[name] = bound
         if bank is not None:
             self.select(bank << 7 | 0x20)
-            self._entry[name] = State(bank & 1, bank >> 1)
+            self._entry[name] = bank
         self._placed.add(name)
         if loop:
             self._loops.add(name)
         states = self._incoming.pop(name, []) + ([self.state] if self.state is not None else [])
         if name in self._entry:
-            self.state = self._entry[name]
+            self.state = State(self._entry[name] & 1, self._entry[name] >> 1)
         elif loop or not states:
             self.state = self.unknown
         else:
@@ -113,9 +113,9 @@ class Emitter:
         self.asm.label(name)
 
     def goto(self, target: str) -> None:
-        entry = self._entry.get(target)
-        if entry is not None and self.state is not None and (self.state.rp0, self.state.rp1) != (entry.rp0, entry.rp1):
-            self.select((entry.rp1 << 1 | entry.rp0) << 7 | 0x20)
+        bank = self._entry.get(target)
+        if bank is not None and self.state is not None and (self.state.rp0, self.state.rp1) != (bank & 1, bank >> 1):
+            self.select(bank << 7 | 0x20)
         pending, self._skipped = self._skipped, None
         self._record(target)
         self.asm.goto(target)

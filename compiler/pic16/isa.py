@@ -10,6 +10,7 @@ number, an 8-bit literal, an 11-bit address within the page.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 
@@ -35,11 +36,11 @@ class Spec:
     skips: bool = False  # the next instruction may be skipped (one more cycle then)
 
 
-def _fd(code, f, d):
+def _fd(code: int, f: int, d: int) -> int:
     return code | _check(d, 0, 1, "destination") << 7 | _file(f)
 
 
-ENCODERS = {
+ENCODERS: dict[str, Callable[..., int]] = {
     "fd": _fd,
     "f": lambda code, f: code | _file(f),
     "fb": lambda code, f, b: code | _check(b, 0, 7, "bit") << 7 | _file(f),

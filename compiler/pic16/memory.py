@@ -142,11 +142,10 @@ def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> 
         slots = [f"$slot{i}" for i in range(len(shared))]
         packed += slots
         places: dict[str, FileBit] = {}
-        address = None
-        for i, name in enumerate(packed):
-            if i % 8 == 0:
-                address = ram.byte()
-            places[name] = FileBit(address, i % 8)
+        for first in range(0, len(packed), 8):
+            address = ram.byte()
+            for bit, name in enumerate(packed[first:first + 8]):
+                places[name] = FileBit(address, bit)
         bits.update((n, places[n]) for n in packed if n not in slots)
         bits.update((n, places[slots[s]]) for n, s in slot_of.items())
         variables: dict[str, Storage] = {}

@@ -92,6 +92,7 @@ def delay(cx, op: ir.Delay) -> None:
         e.ins("btfsc", s.A[3], 7)
         e.goto(done)  # a negative count waits nothing
     else:
+        assert isinstance(op.amount, ir.Const)  # a delay that does not loop is a constant time
         count = round(op.amount.value * cx.machine.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
         if count <= 0:
             return
@@ -213,7 +214,8 @@ def pwm_setting(crystal_hz: int, freq: int, element=None) -> PwmSetting:
 def check_pwm(cx, ops: list[ir.Op]) -> list:
     """Warnings for approximated frequencies; an error when two CCP outputs
     (Timer2 makes both) ask for different frequencies."""
-    found, settings = [], {}
+    found = []
+    settings: dict[str | int, PwmSetting] = {}  # "timer2" -> Timer2's; each frequency warned of -> its own
     element = _locate(cx, "SET_PWM")
     for op in ops:
         if not isinstance(op, ir.SetPwm):
@@ -320,6 +322,7 @@ def baud_divisor(crystal_hz: int, baud: int, element=None) -> tuple[int, bool, f
         error = abs(crystal_hz / (divisor * (spbrg + 1)) - baud) / baud
         if best is None or error < best[2] - 1e-12:
             best = (spbrg, high, error)
+    assert best is not None  # the loop tried both settings
     if best[2] > BAUD_LIMIT:
         spbrg, high, error = best
         actual = crystal_hz / ((16 if high else 64) * (spbrg + 1))

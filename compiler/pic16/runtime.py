@@ -58,9 +58,10 @@ def _pins(cx: Context) -> dict[str, int]:
     ports: dict[str, int] = {}
     for name, pin in cx.machine.pins.items():
         if pin.is_io:
-            ports.setdefault(pin.port, 0)
+            letter, bit = pin.port_bit
+            ports.setdefault(letter, 0)
             if name[:1] in ("Y", "P"):
-                ports[pin.port] |= 1 << pin.bit
+                ports[letter] |= 1 << bit
     return ports
 
 
@@ -69,7 +70,8 @@ def _pulled_up(cx: Context) -> int:
     mask = 0
     for name, pin in cx.machine.pins.items():
         if name[:1] == "X" and pin.is_io and pin.port in ("B", "P"):
-            mask |= (cx.machine.pullups.get(pin.port, 0xFF) >> pin.bit & 1) << pin.bit
+            letter, bit = pin.port_bit
+            mask |= (cx.machine.pullups.get(letter, 0xFF) >> bit & 1) << bit
     return mask
 
 
@@ -178,14 +180,14 @@ def _ccp_cycle(cx: Context, code: ir.Code, unit: str) -> None:
     e.goto("scan")
 
 
-def _free_cycle(cx: Context, code: ir.Code) -> None:
+def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     """Timer1 runs free; a 24-bit tick count (its overflows counted in
     software above TMR1H:TMR1L) is compared with the next scan's deadline,
     which moves on by one cycle each scan: no drift, a few cycles of jitter.
     A scan may last up to 65536 ticks without losing an overflow."""
     e, part = cx.e, cx.part
     select_bits, ticks = free_cycle(cx.machine.crystal_hz, cx.machine.cycle_us)
-    high, deadline = cx.layout.clock, [cx.layout.clock + 1 + i for i in range(3)]
+    high, deadline = clock, [clock + 1 + i for i in range(3)]
     s = cx.layout.scratch
     count = [s[11], s[12], s[13]]  # the tick count read now, less the deadline
     _write(cx, "T1CON", select_bits << 4 | 1)  # TMR1ON
@@ -194,7 +196,12 @@ def _free_cycle(cx: Context, code: ir.Code) -> None:
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
     overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
-    bits.when(e, overflow, True, lambda: (bits.write(e, overflow, False), e.ins("incf", high, 1)))
+
+    def count_overflow() -> None:
+        bits.write(e, overflow, False)
+        e.ins("incf", high, 1)
+
+    bits.when(e, overflow, True, count_overflow)
     # TMR1H, TMR1L, TMR1H again: read the low byte again when the high one moved meanwhile
     timer_low, timer_high = part.reg("TMR1L"), part.reg("TMR1H")
     read = e.new_label("tick")
@@ -218,15 +225,16 @@ def _free_cycle(cx: Context, code: ir.Code) -> None:
 def _scan_loop(cx: Context, code: ir.Code) -> None:
     unit = _cycle_module(cx, code)
     if cx.layout.clock is not None:
-        _free_cycle(cx, code)
+        _free_cycle(cx, code, cx.layout.clock)
     else:
+        assert unit is not None  # without one the layout has a clock (free_running)
         _ccp_cycle(cx, code, unit)
 
 
 def _duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
-    return FileBit(cx.part.port(pin.port), pin.bit, False) if pin is not None and pin.is_io else None
+    return FileBit(cx.part.port(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None
 
 
 def free_running(code: ir.Code, part, machine) -> bool:

@@ -5,6 +5,7 @@ peripherals.py hold the patterns; the few that fit in a line are here)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from .. import ir
 from ..analysis import loop_labels
@@ -14,13 +15,16 @@ from .emit import Emitter
 from .memory import FileBit, Layout
 from .part import Part
 
+if TYPE_CHECKING:
+    from ..target import Machine
+
 
 @dataclass
 class Context:
     e: Emitter
     part: Part
     layout: Layout
-    machine: object  # compiler.target.Machine
+    machine: Machine
     loops: set[str] = field(default_factory=set)  # labels reached by backward jumps or calls
     routines: set[str] = field(default_factory=set)
     tables: dict[bytes, str] = field(default_factory=dict)

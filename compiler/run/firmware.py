@@ -46,10 +46,10 @@ def stimulus(scenario: Scenario, cycle_us: int) -> tuple[list[Event], int]:
     events = []
     for action in scenario.actions:
         scan = -(-action.time_us // cycle_us)
-        if action.kind == "uart":
+        if isinstance(action.value, bytes):
             events += [Event(scan, "uart", byte) for byte in action.value]
         else:
-            events.append(Event(scan, action.name, int(action.value)))
+            events.append(Event(scan, action.name, action.value))
     return events, -(-scenario.run_until_us // cycle_us) + 1
 
 

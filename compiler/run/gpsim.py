@@ -287,7 +287,7 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
     # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0)
     latch = {p: 0 for p in ports}
     tris = {p: 0xFF for p in ports}
-    level = {(p, b): 0 for p, b in watched}
+    pin_level = {(p, b): 0 for p, b in watched}
     for p, b in watched:
         run.levels[_pin_label(p, b)] = 0
     for cyc, reg, val in writes:
@@ -299,12 +299,12 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
             continue
         p, kind = found
         (latch if kind == "data" else tris)[p] = val
-        for (wp, wb), old in level.items():
+        for (wp, wb), old in pin_level.items():
             if wp != p:
                 continue
             new = 0 if (tris[p] >> wb) & 1 else (latch[p] >> wb) & 1
             if new != old:
-                level[(wp, wb)] = new
+                pin_level[(wp, wb)] = new
                 run.edge_cycles.append((cyc, _pin_label(wp, wb), new))
     # register reads: gpsim answers "portc = 0x3" in script order
     if read_order:

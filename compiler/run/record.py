@@ -20,6 +20,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -142,7 +143,7 @@ def _script(commands: list[tuple[int, int, str]]) -> list[str]:
 
 
 def record_avr(build, hex_path: Path, events: list[Event], scans: int, names: list[str],
-               watch: list[str] = ()) -> tuple[Recording, sa.AvrRun]:
+               watch: Iterable[str] = ()) -> tuple[Recording, sa.AvrRun]:
     """Run the image under the stimulus; the values of `names` read from the
     data space after each scan (and the edges of the `watch` pins)."""
     settings = build.program.settings

@@ -102,6 +102,7 @@ def build_harness() -> Path:
     source = resources.files(__package__).joinpath(SOURCE_NAME).read_bytes()
     digest = hashlib.sha256(source).hexdigest()[:12]
     gcc = shutil.which("gcc") or shutil.which("cc")
+    assert gcc is not None  # missing() said there is one
     cflags, libs = _compile_flags()
     last_err = ""
     for d in cache_dirs():

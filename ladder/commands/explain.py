@@ -20,8 +20,8 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     if args.code is None:
-        for code in sorted(CODES.values(), key=lambda c: c.code):
-            print(f"{code.code}  {code.severity:<7}  {code.summary}")
+        for row in sorted(CODES.values(), key=lambda c: c.code):
+            print(f"{row.code}  {row.severity:<7}  {row.summary}")
         return EXIT_OK
     code = CODES.get(args.code.upper())
     if code is None:

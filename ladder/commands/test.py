@@ -11,6 +11,7 @@ import io
 import sys
 import time
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree
 
 from ._common import EXIT_OK, EXIT_USAGE, write_output
@@ -52,7 +53,7 @@ def run(args) -> int:
 def _run_file(path: str, on: str | None) -> dict:
     from lang.sim.scenario import ScenarioError, parse_scenarios
 
-    suite = {"name": path, "cases": []}
+    suite: dict[str, Any] = {"name": path, "cases": []}
     try:
         scenarios = parse_scenarios(Path(path).read_text(encoding="utf-8"), path)
     except (OSError, UnicodeDecodeError) as problem:
@@ -65,7 +66,7 @@ def _run_file(path: str, on: str | None) -> dict:
                                     "`scenario NAME` line)")
     for scenario in scenarios:
         started = time.perf_counter()
-        case = {"name": scenario.name, "failures": [], "error": None}
+        case: dict[str, Any] = {"name": scenario.name, "failures": [], "error": None}
         case["error"], case["failures"] = _run_scenario(scenario, on)
         case["seconds"] = time.perf_counter() - started
         _print_case(path, case)

@@ -10,6 +10,7 @@ again after an edit (`incremental`). docs/diagnostics.md documents every code.
 from __future__ import annotations
 
 import importlib
+from types import ModuleType
 
 from ..codes import rules
 from ..config import NONE, Severities
@@ -18,7 +19,7 @@ from ..index import ProgramIndex
 from ..model import Program
 
 # Every rule, in code order: the registry (lang/codes.toml) names each code's module.
-RULES = tuple(importlib.import_module(f"{__name__}.{rule}") for rule in rules())
+RULES: tuple[ModuleType, ...] = tuple(importlib.import_module(f"{__name__}.{rule}") for rule in rules())
 
 from .incremental import Checker, position  # noqa: E402 (it reads RULES)
 

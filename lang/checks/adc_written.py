@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import COUNTERS, TIMERS
 from ..labels import label
+from ..model import Program
 from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
@@ -14,7 +16,7 @@ SCOPE = RUNGS
 _SKIP = frozenset(("READ_ADC", "RES") + TIMERS + COUNTERS)  # those have their own rules
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         if not name.startswith("A"):

@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import Related, report
+from ..diagnostics import Diagnostic, Related, report
+from ..index import ProgramIndex
 from ..labels import describe
-from ..model import Parallel
+from ..model import Parallel, Program
 from .common import RUNGS, node_span, node_text, rung_no, terminal
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, series, position in index.followed:
         items = series.items

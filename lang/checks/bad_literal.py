@@ -5,10 +5,12 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import label
+from ..model import Program
 from ..values import is_literal, literal_value
-from .common import RUNGS, arg_span, rung_no
+from .common import RUNGS, arg_span, rung_no, table_of
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
@@ -37,7 +39,7 @@ def _table_problem(value) -> str | None:
     return _problem(text)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for literal in index.literals:
         reason = _problem(literal.text)
@@ -48,7 +50,7 @@ def check(program, index):
                 arg_span(literal.element, literal.field),
             ))
     for rung, element in index.of_kind("LOOK_UP_TABLE"):
-        for position, value in enumerate(element.args.get("values") or ()):
+        for position, value in enumerate(table_of(element, "values")):
             reason = _table_problem(value)
             if reason:
                 found.append(report(
@@ -57,7 +59,7 @@ def check(program, index):
                     arg_span(element, "values"),
                 ))
     for rung, element in index.of_kind("PIECEWISE_LINEAR"):
-        for position, point in enumerate(element.args.get("points") or ()):
+        for position, point in enumerate(table_of(element, "points")):
             for axis, value in zip("xy", point):
                 reason = _table_problem(value)
                 if reason:

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import label
+from ..model import Program
 from .common import NAMES, rung_no
 
 CODE = rule_code(__name__)
@@ -21,7 +23,7 @@ _GENERAL = frozenset(
 )
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         what = _WHAT.get(name[:1])

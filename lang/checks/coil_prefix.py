@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import label, token
+from ..model import Program
 from ..values import is_literal
 from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
@@ -12,7 +14,7 @@ CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind("COIL"):
         name = token(element.args.get("name"))

@@ -156,6 +156,12 @@ def terminal(node) -> Element | None:
     return None
 
 
+def table_of(element: Element, field: str) -> list:
+    """A LUT's values or a PWL's points (the readers keep a list)."""
+    found = element.args.get(field)
+    return list(found) if isinstance(found, (list, tuple)) else []
+
+
 def table_numbers(values) -> list[int] | None:
     """Table entries as integers, or None if one is not a well-formed constant
     (LD304 reports those)."""
@@ -192,11 +198,11 @@ def timer_periods(program, index) -> list[tuple]:
             adjust = int(element.args.get("adjust") or 0)
         except (TypeError, ValueError):
             adjust = 0
+        period: int | None = None
+        adjusted: int | None = None
         if cycle and cycle > 0:
             period = cdiv(delay, cycle)
             adjusted = cdiv(delay + adjust * cycle, cycle)
-        else:
-            period = adjusted = None
         found.append((rung, element, delay, adjust, period, adjusted))
     index.cache["timer_periods"] = found
     return found

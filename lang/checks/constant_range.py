@@ -5,9 +5,11 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import COUNTERS, RELATIONS
 from ..labels import label, token
+from ..model import Program
 from ..values import is_literal
 from .common import RUNGS, arg_span, fits, is_decimal, literal_or_none, range_text, rung_no, var_size
 
@@ -40,7 +42,7 @@ def _outside(text: str, size: int) -> str | None:
     return None if fits(value, size, decimal) else range_text(size, decimal)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for literal in index.literals:
         target = _TARGETS.get((literal.element.kind, literal.field))

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import token
+from ..model import Program
 from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
 CODE = rule_code(__name__)
@@ -13,7 +15,7 @@ SCOPE = RUNGS
 _ALLOWED = "XYRPIM"
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind("CONTACTS"):
         name = token(element.args.get("name"))

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import TIMERS
+from ..model import Program
 from .common import rung_no, timer_text
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     if program.settings.cycle_us > 0:
         return []
     timers = index.of_kind(*TIMERS)

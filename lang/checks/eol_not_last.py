@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import describe
-from ..model import Element
+from ..model import Element, Program
 from .common import RUNGS, node_text, rung_no
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, series, position in index.followed:
         items = series.items

@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import token
+from ..model import Program
 from .common import RUNGS, arg_span, rung_no, scan_format
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind("FORMATTED_STRING"):
         text = token(element.args.get("text"))

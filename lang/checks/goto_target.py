@@ -5,14 +5,16 @@ from __future__ import annotations
 from difflib import get_close_matches
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import token
+from ..model import Program
 from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     labels = {token(e.args.get("label")) for _, e in index.of_kind("LABEL")}
     for rung, element in index.of_kind("GOTO"):

@@ -175,7 +175,7 @@ def _names(index: ProgramIndex) -> set[str]:
 
 def _offering(index: ProgramIndex, names: set[str]) -> set[int]:
     """The rungs (numbers) that use a name a fix may offer to rename to one of `names`."""
-    numbers = set()
+    numbers: set[int] = set()
     for name in names:
         for old in offering(name):
             numbers.update(use.rung for use in index.uses.get(old, ()))

@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import Related, report
+from ..diagnostics import Diagnostic, Related, report
+from ..index import ProgramIndex
 from ..labels import token
+from ..model import Element, Program
 from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
-    first: dict[str, tuple[int, object]] = {}
+    first: dict[str, tuple[int, Element]] = {}
     for rung, element in index.of_kind("LABEL"):
         name = token(element.args.get("label"))
         if name not in first:

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import label
+from ..model import Program
 from .common import RUNGS, arg_span, rung_no
 
 CODE = rule_code(__name__)
@@ -20,7 +22,7 @@ _WRITES = frozenset(
 )
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     return [
         report(
             CODE,

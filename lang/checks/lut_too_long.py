@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import token
-from .common import RUNGS, arg_span, rung_no
+from ..model import Program
+from .common import RUNGS, arg_span, rung_no, table_of
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
@@ -13,10 +15,10 @@ SCOPE = RUNGS
 LIMIT = 64
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind("LOOK_UP_TABLE"):
-        count = len(element.args.get("values") or ())
+        count = len(table_of(element, "values"))
         if count > LIMIT:
             table = token(element.args.get("table"))
             name = f" '{table}'" if table else ""

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import rung_no
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     relays = index.of_kind("MASTER_RELAY")
     if len(relays) % 2 == 0:
         return []

@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import label
+from ..model import Program
 from .common import NAMES, rung_no
 
 CODE = rule_code(__name__)
 SCOPE = NAMES
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         if not name.startswith("H"):

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from ..labels import label, token
+from ..model import Program
 from ..values import is_literal
 from .common import RUNGS, arg_span, prefix_fixes, rung_no
 
@@ -22,7 +24,7 @@ _FIELDS = {
 _LETTERS = {"X": "X (input pin)", "Y": "Y (output pin)", "R": "R (internal relay)"}
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for kind, fields in _FIELDS.items():
         for rung, element in index.of_kind(kind):

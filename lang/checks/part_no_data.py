@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..devices import find_device, is_known_ldmicro_name
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     mcu = program.settings.mcu
     if not mcu or find_device(mcu) is not None or not is_known_ldmicro_name(mcu):
         return []

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import is_pwm, pin_text, used_pins
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     device = index.device
     for name, assignment, pin in used_pins(program, index):

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import Related, report
+from ..diagnostics import Diagnostic, Related, report
+from ..index import ProgramIndex
+from ..model import PinAssignment, Program
 from .common import is_assigned, pin_text
 
 CODE = rule_code(__name__)
@@ -17,10 +19,10 @@ def _key(device, assignment):
     return str(assignment.pin).strip().upper()
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     device = index.device
-    owners: dict[object, tuple[str, object]] = {}
+    owners: dict[object, tuple[str, PinAssignment]] = {}
     for name, assignment in program.pins.items():
         if name not in index.uses or not is_assigned(assignment):
             continue

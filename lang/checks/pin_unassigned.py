@@ -4,7 +4,9 @@ program is compiled to C, whose runtime owns the pins)."""
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import NAMES, is_analog, is_assigned, is_pwm
 
 CODE = rule_code(__name__)
@@ -18,7 +20,7 @@ CLASSIC_PWM = "P"
 _WHAT = {"X": "input", "Y": "output", "A": "A/D input", "P": "PWM output"}
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     if not index.pins_matter:
         return []
     found = []

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from ..roles import BUS_PIN_SUFFIXES
 from .common import is_assigned, pin_text
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, assignment in program.pins.items():
         if name in index.uses or not is_assigned(assignment):

@@ -3,17 +3,19 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
-from .common import RUNGS, arg_span, rung_no, table_numbers
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
+from .common import RUNGS, arg_span, rung_no, table_numbers, table_of
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind("PIECEWISE_LINEAR"):
-        points = element.args.get("points") or ()
+        points = table_of(element, "points")
         xs = table_numbers([p[0] for p in points])
         ys = table_numbers([p[1] for p in points])
         if xs is None or ys is None:

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import NAMES, arg_span, rung_no
 from .varflags import analyse
 
@@ -11,7 +13,7 @@ CODE = rule_code(__name__)
 SCOPE = NAMES
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for mark in analyse(index).res_only:
         found.append(report(

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import token
+from ..model import Program
 from .common import arg_span, rung_no
 
 CODE = rule_code(__name__)
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     starts: dict[str, int] = {}
     for rung, element in index.of_kind("SUBPROG"):

@@ -9,18 +9,21 @@ save): the caller chooses, through `ProgramIndex.for_build`.
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import ERROR, report
+from ..diagnostics import ERROR, Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import describe
-from ..targets import FAMILIES, family_of
+from ..model import Program
+from ..targets import FAMILIES, Family, family_of
 from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
+    family: Family | None
     if index.family is not None:
         family = FAMILIES[index.family]
         what = f"{family.title} output"

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
     if device is None or device.pwm:
         return []

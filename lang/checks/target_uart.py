@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import describe
+from ..model import Program
 from .common import RUNGS, UART_KINDS, rung_no
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
     if device is None or device.uart:
         return []

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from ..codes import rule_code
+from ..diagnostics import Diagnostic
+from ..index import ProgramIndex
 from ..instructions import TIMERS
+from ..model import Program
 from .common import RUNGS, misnamed
 
 CODE = rule_code(__name__)
 SCOPE = RUNGS
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     return misnamed(index, CODE, TIMERS, "T", "timer")

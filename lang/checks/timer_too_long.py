@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 from .common import RUNGS, arg_span, delay_text, rung_no, timer_periods, timer_text
 
 CODE = rule_code(__name__)
@@ -12,7 +14,7 @@ SCOPE = RUNGS
 MAX = (1 << 31) - 1
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element, delay, _adjust, period, adjusted in timer_periods(program, index):
         if delay > MAX:

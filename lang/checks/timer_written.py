@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..labels import label
+from ..model import Program
 from .common import NAMES, arg_span, mark_related, mark_text, rung_no
 from .varflags import PWM, analyse
 
@@ -12,7 +14,7 @@ CODE = rule_code(__name__)
 SCOPE = NAMES
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for conflict in analyse(index).conflicts:
         if conflict.kind != "written":

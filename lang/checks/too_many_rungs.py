@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from ..codes import rule_code
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
+from ..model import Program
 
 CODE = rule_code(__name__)
 
 MAX_RUNGS = 9999  # LDmicro's rung array (MAX_RUNGS 9999): its loader stops there
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     if len(program.rungs) <= MAX_RUNGS:
         return []
     first = program.rungs[MAX_RUNGS]

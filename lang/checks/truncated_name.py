@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..codes import TRUNCATED
-from ..diagnostics import report
+from ..diagnostics import Diagnostic, report
+from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import label
+from ..model import Program
 from .common import RUNGS, arg_span, rung_no
 
 CODE = TRUNCATED  # registered in lang.codes: the readers know it too
@@ -29,7 +31,7 @@ def _error(value: str, rung: int, element, field: str):
     )
 
 
-def check(program, index):
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         if name.endswith("~"):

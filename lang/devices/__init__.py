@@ -57,6 +57,13 @@ class Pin:
     def is_io(self) -> bool:
         return self.port is not None
 
+    @property
+    def port_bit(self) -> tuple[str, int]:
+        """An I/O pin's port letter and bit number."""
+        if self.port is None or self.bit is None:
+            raise ValueError(f"{self.name} is not an input/output pin")
+        return self.port, self.bit
+
 
 @dataclass(frozen=True)
 class Device:

@@ -15,6 +15,7 @@ import re
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .. import storage
 from ..instructions import JUMPS
@@ -22,6 +23,9 @@ from ..model import Element
 from ..numbers import wrap, wrap_expr
 from ..values import is_literal, literal_value
 from .errors import BAD_OPERAND, BAD_TIMER, Fault, SimulationError, located
+
+if TYPE_CHECKING:
+    from .compile import JumpTable
 
 DEFAULT_SIZE = 2
 
@@ -31,7 +35,7 @@ class Slot:
     key: str  # a program name, "$..." for LDmicro's hidden names, "~r.e.what" for element memory
     kind: str  # "bit" or "int"
     size: int  # bytes, for ints
-    init: object
+    init: int  # a bit's is a bool
 
 
 GENERATORS: dict[str, Callable] = {}
@@ -79,7 +83,7 @@ class Gen:
         self.temp_count = 0
         self.uses_time = False
         self.traced = False
-        self.jumps = None  # set by the compiler when the program jumps
+        self.jumps: JumpTable | None = None  # set by the compiler when the program jumps
         self.calling = False  # whether the rung being written holds a GOSUB
         self.counter_defs: dict[str, Element] = {}  # counter name -> the element RES takes its start from
         self.eeprom_next = 0  # the next PERSIST variable's EEPROM address
@@ -108,7 +112,7 @@ class Gen:
 
     # --- storage --------------------------------------------------------------
 
-    def slot(self, key: str, kind: str, size: int = DEFAULT_SIZE, init: object = None) -> str:
+    def slot(self, key: str, kind: str, size: int = DEFAULT_SIZE, init: int | None = None) -> str:
         if key not in self.index:
             if init is None:
                 init = False if kind == "bit" else 0
@@ -126,11 +130,17 @@ class Gen:
     def bit(self, name: str) -> str:
         return self.slot(name, "bit")
 
-    def memory(self, what: str, kind: str = "bit", size: int = 4, init: object = None) -> str:
+    def memory(self, what: str, kind: str = "bit", size: int = 4, init: int | None = None) -> str:
         """Per-element hidden state, keyed by the element's place so that a
         reloaded program keeps it where the element is unchanged."""
+        assert self.element is not None, "element memory outside an element's code"
         key = f"~{self.rung}.{self.position}.{self.element.kind}.{what}"
         return self.slot(key, kind, size, init)
+
+    def jump_table(self) -> JumpTable:
+        """The table of a program that jumps (its GOTO, GOSUB and SUBPROG are written with it)."""
+        assert self.jumps is not None, "a jump in a program the compiler found none in"
+        return self.jumps
 
     def size(self, name: str) -> int:
         return self.sizes.get(name, DEFAULT_SIZE)
@@ -138,7 +148,9 @@ class Gen:
     # --- operands ---------------------------------------------------------------
 
     def arg(self, field: str):
-        return self.element.args.get(field, self.element.spec.get_field(field).default)
+        element = self.element
+        assert element is not None, "an operand read outside an element's code"
+        return element.args.get(field, element.spec.get_field(field).default)
 
     def literal(self, token: str) -> int:
         try:

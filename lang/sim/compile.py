@@ -25,7 +25,7 @@ from types import CellType, CodeType, FunctionType
 from ..instructions import COUNTERS, JUMPS
 from ..model import Element, Program, Series
 from ..storage import DEFAULT_SEED, counter_defs, variable_names
-from ..values import is_literal, literal_value
+from ..values import as_int, is_literal, literal_value
 from . import gen_io, gen_logic, gen_math, gen_timers  # noqa: F401  (they register the generators)
 from .codegen import GENERATORS, CannotSimulate, Gen, Slot, timer_period
 from .errors import BAD_JUMP, BAD_TIMER, NOT_SIMULATED, SimulationError, located
@@ -180,7 +180,8 @@ def _circuit(gen: Gen, node, p: str, tail: bool) -> None:
 def _initial_values(gen: Gen, program: Program) -> None:
     """What LDmicro's INIT VARS block (and its simulator, for set1 inputs)
     sets before the first scan, in program order so the last one wins."""
-    def init(key: str, value) -> None:
+    def init(name: object, value: int) -> None:
+        key = str(name)
         if key in gen.index:
             gen.slots[gen.index[key]].init = value
 
@@ -193,16 +194,13 @@ def _initial_values(gen: Gen, program: Program) -> None:
         elif kind == "TOF":
             name, delay = element.args["name"], element.args["delay"]
             if isinstance(delay, int):
-                init(name, timer_period(gen, delay, int(element.args.get("adjust", 0) or 0), name))
+                init(name, timer_period(gen, delay, as_int(element.args.get("adjust", 0) or 0), str(name)))
             else:
                 # LDmicro cannot start a variable-delay TOF; start it expired
-                init(name, (1 << (8 * gen.size(name) - 1)) - 1)
+                init(name, (1 << (8 * gen.size(str(name)) - 1)) - 1)
         elif kind == "SEED_RANDOM":
             init(f"$seed_{element.args['name']}", DEFAULT_SEED)
 
-
-# LDmicro seeds each SRAND sequence with C rand() at start-up; the
-# simulator uses this fixed seed instead so that runs repeat.
 
 
 class _Writer:
@@ -256,7 +254,9 @@ class _Writer:
         load, store = ([f"{names} = S"], [f"S[:] = ({names})"]) if gen.slots else ([], [])
         source = "\n".join(_function(gen, self.name, self.body, load, store, gen.uses_time)) + "\n"
         exec(compile(source, "<ladder scan>", "exec"), gen.namespace)
-        return gen.namespace[self.name]
+        function = gen.namespace[self.name]
+        assert callable(function)  # the exec just defined it
+        return function
 
     def _cut(self) -> None:
         gen = self.gen
@@ -265,8 +265,9 @@ class _Writer:
             lines = [f"def {name}(now, E, seg, J, K):", *_indented(_dispatch(gen.lines, "return seg, J"), 1)]
         else:
             lines = [f"def {name}(now, E):", *_indented(gen.lines or ["pass"], 1)]
-        gen.namespace[name] = _closure(lines, gen.used, self.cells, gen.namespace)
-        self.chunks.append(gen.namespace[name])
+        assert self.cells is not None  # only a writer with cells cuts
+        chunk = gen.namespace[name] = _closure(lines, gen.used, self.cells, gen.namespace)
+        self.chunks.append(chunk)
         gen.lines, gen.used = [], set()
         if gen.jumps:
             gen.jumps.chunk = len(self.chunks)
@@ -372,7 +373,7 @@ def compile_program(program: Program, peripherals) -> Compiled:
     gen = Gen(program, sizes, bits)
     gen.namespace.update(PER=peripherals, U=peripherals.uart)
     # a slot's cell is made when a chunk first uses it
-    cells = defaultdict(CellType) if sum(1 for _ in program.elements()) > SINGLE_ELEMENTS else None
+    cells: dict[int, CellType] | None = defaultdict(CellType) if sum(1 for _ in program.elements()) > SINGLE_ELEMENTS else None
     # the two variants share one Gen, so that they number the slots alike
     writers = [_generate(gen, program, "run", False, cells), _generate(gen, program, "run_traced", True, cells)]
     _initial_values(gen, program)

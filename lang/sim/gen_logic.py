@@ -143,7 +143,7 @@ def lock(gen: Gen, el, p: str) -> None:
     gen.emit(f"if {p}: " + gen.fault(LOCKED, "'LOCK reached: the MCU stops here in an endless loop'"))
 
 
-def _jump(gen: Gen, target: int) -> list[str]:
+def _jump(gen: Gen, target: int | str) -> list[str]:
     return ["J += 1",
             f"if J > {MAX_JUMPS_PER_SCAN}: "
             + gen.fault(RUNAWAY, f"'more than {MAX_JUMPS_PER_SCAN} jumps in one scan'"),
@@ -153,20 +153,21 @@ def _jump(gen: Gen, target: int) -> list[str]:
 @handles("GOTO")
 def goto(gen: Gen, el, p: str) -> None:
     with gen.block(f"if {p}:"):
-        for line in _jump(gen, gen.jumps.goto_target(el)):
+        for line in _jump(gen, gen.jump_table().goto_target(el)):
             gen.emit(line)
 
 
 @handles("GOSUB")
 def gosub(gen: Gen, el, p: str) -> None:
-    back = gen.jumps.new_return_point()
+    jumps = gen.jump_table()
+    back = jumps.new_return_point()
     with gen.block(f"if {p}:"):
         gen.emit(f"if len(K) >= {STACK_DEPTH}: "
                  + gen.fault(STACK, f"'GOSUB nested more than {STACK_DEPTH} deep: stack overflow'"))
         gen.emit(f"K.append({back})")
-        for line in _jump(gen, gen.jumps.gosub_target(el)):
+        for line in _jump(gen, jumps.gosub_target(el)):
             gen.emit(line)
-    gen.jumps.split(back)
+    jumps.split(back)
 
 
 def _return(gen: Gen) -> None:
@@ -189,5 +190,5 @@ def endsub(gen: Gen, el, p: str) -> None:
 @handles("SUBPROG")
 def subprog(gen: Gen, el, p: str) -> None:
     # the normal flow of the scan skips the subroutine's body
-    for line in _jump(gen, gen.jumps.after_endsub(el)):
+    for line in _jump(gen, gen.jump_table().after_endsub(el)):
         gen.emit(line)

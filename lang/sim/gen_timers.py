@@ -4,6 +4,8 @@ each element instance has its own edge memory."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from ..instructions import TIMERS
 from ..values import is_literal
 from .codegen import CannotSimulate, Gen, handles, timer_period
@@ -112,7 +114,7 @@ def _counter_init(gen: Gen, el) -> None:
             gen.emit(f"{c} = {gen.wrap(gen.var(init), el.args['name'])}")
 
 
-def _edge(gen: Gen, el, p: str, act: list[str], idle: list[str] = ()) -> None:
+def _edge(gen: Gen, el, p: str, act: list[str], idle: Sequence[str] = ()) -> None:
     """Run `act` when the counting edge happens; `idle` on the scans where
     the input is in its resting state (the edge kinds follow intcode.cpp)."""
     kind = el.args.get("kind", "/")

@@ -27,7 +27,7 @@ class Uart:
     def ready(self, now_us: int) -> bool:
         return now_us >= self.busy_until_us
 
-    def send(self, now_us: int, byte: int, wait: bool = False) -> None:
+    def send(self, now_us: float, byte: int, wait: bool = False) -> None:
         """Start sending. A byte written while the transmitter is busy is
         lost, as the AVR ignores a write to UDR when UDRE is 0; a `wait`
         send is queued behind the byte in progress (the MCU busy-waits)."""

@@ -92,7 +92,11 @@ class Action:
     time_us: int
     kind: str  # "set" (bit, variable or ADC reading) or "uart" (bytes received)
     name: str = ""
-    value: object = None
+    value: int | bytes = 0  # bytes for "uart"
+
+
+# bytes for the UART, (low, high) for `in`, another signal's name, or a number
+Expected = bytes | tuple[int, int] | str | int
 
 
 @dataclass
@@ -104,21 +108,22 @@ class Check:
     end_us: int
     name: str  # a signal, or "uart"
     op: str  # = != < <= > >= in, "equals"/"contains" for the UART
-    expected: object
+    expected: Expected
     failed: bool = False
     seen: bool = False
 
     def describe(self) -> str:
-        if self.name == "uart":
-            return f"UART output {'containing ' if self.op == 'contains' else ''}{show_bytes(self.expected)}"
-        if self.op == "in":
-            return f"{self.name} in {self.expected[0]}..{self.expected[1]}"
-        return f"{self.name} {self.op} {self.expected}"
+        expected = self.expected
+        if isinstance(expected, bytes):
+            return f"UART output {'containing ' if self.op == 'contains' else ''}{show_bytes(expected)}"
+        if isinstance(expected, tuple):
+            return f"{self.name} in {expected[0]}..{expected[1]}"
+        return f"{self.name} {self.op} {expected}"
 
     def holds(self, actual, sim: Simulator) -> bool:
-        if self.name == "uart":
+        if isinstance(self.expected, bytes):
             return self.expected in actual if self.op == "contains" else actual == self.expected
-        if self.op == "in":
+        if isinstance(self.expected, tuple):
             return self.expected[0] <= actual <= self.expected[1]
         # the expected value may be another signal, read in the same scan
         expected = sim.value(self.expected) if isinstance(self.expected, str) else self.expected
@@ -190,7 +195,7 @@ def _strip_comment_outside_quotes(raw: str) -> str:
     return raw
 
 
-def _statement(scenario: Scenario, number: int, line: int) -> None:
+def _statement(scenario: Scenario, number: int, line: str) -> None:
     match = re.match(r"(at|from|sometime\s+from)\s+(.+?)\s+(set|uart|expect|to)\s+(.*)$", line)
     run = re.match(r"run\s+(?:for\s+|until\s+)?(.+)$", line)
     if run:
@@ -236,6 +241,10 @@ def _check(number: int, line: str, mode: str, start: int, end: int, rest: str) -
     if not condition:
         raise ValueError(f"cannot read the expectation {rest!r}: write NAME = VALUE, NAME in LOW..HIGH "
                          "or uart \"text\"")
+    if condition.group("name") == "uart":
+        raise ValueError(f"cannot read the expectation {rest!r}: the UART's output is bytes, write "
+                         "uart \"text\" or uart contains \"text\"")
+    expected: Expected
     if condition.group("low") is not None:
         expected = (literal_value(condition.group("low")), literal_value(condition.group("high")))
         op = "in"
@@ -294,7 +303,7 @@ def _signals(scenario: Scenario, sim: Simulator) -> list[str]:
 
 def _apply(sim: Simulator, action: Action, cycle: int) -> Failure | None:
     try:
-        if action.kind == "uart":
+        if isinstance(action.value, bytes):
             sim.uart_receive(action.value)
         else:
             sim.set(action.name, action.value)
@@ -311,7 +320,7 @@ def _evaluate(check: Check, sim: Simulator, now: int, cycle: int, trace: Trace, 
         now >= check.start_us and now - cycle < check.start_us
     if not due:
         return
-    actual = sim.uart_output() if check.name == "uart" else sim.value(check.name)
+    actual: bytes | int = sim.uart_output() if check.name == "uart" else sim.value(check.name)
     if check.holds(actual, sim):
         check.seen = True
         return
@@ -319,7 +328,7 @@ def _evaluate(check: Check, sim: Simulator, now: int, cycle: int, trace: Trace, 
         return
     check.failed = True
     failures.append(Failure(check.line, format_time(now, cycle), check.name, check.describe(),
-                            show_bytes(actual) if check.name == "uart" else str(actual),
+                            show_bytes(actual) if isinstance(actual, bytes) else str(actual),
                             _chart(trace, check, trace.names, now)))
 
 

@@ -112,7 +112,7 @@ def undrawn(element: Element) -> dict[str, object]:
 
 def _format_value(value: object) -> str:
     if isinstance(value, tuple):
-        flat = []
+        flat: list[object] = []
         for item in value:
             flat.extend(item if isinstance(item, tuple) else (item,))
         return " ".join(str(v) for v in flat)

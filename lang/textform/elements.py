@@ -96,16 +96,19 @@ def recognise(glyph: str, top: str) -> tuple[str, tuple] | None:
         if not glyph_match:
             continue
         instruction = candidate.instruction
+        symbol = instruction.glyph
+        assert symbol is not None  # _candidates() keeps the instructions that have one
         if candidate.top_re is None:
             if top.strip():
                 continue
-            templates = instruction.glyph.templates()
+            templates = symbol.templates()
             found = read_fields(glyph_match, templates, instruction.kinds)
             return instruction.key, tuple(found.items())
         top_match = candidate.top_re.match(top)
         if not top_match:
             continue
-        found = read_fields(glyph_match, instruction.glyph.templates(), instruction.kinds)
+        assert instruction.top is not None  # top_re was made from it
+        found = read_fields(glyph_match, symbol.templates(), instruction.kinds)
         found.update(read_fields(top_match, instruction.top.templates(), instruction.kinds))
         return instruction.key, tuple(found.items())
     return None

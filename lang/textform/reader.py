@@ -291,7 +291,7 @@ class TextReader:
         if sections is None:
             sections = split_sections(lines)
             diagrams = [s for s in sections if s.title == DIAGRAM]
-            if state is None and len(diagrams) == 1 and change is not None:
+            if state is None and len(diagrams) == 1 and change is not None and previous is not None:
                 diagram = diagrams[0]
                 body_last = diagram.lines[-1][0] if diagram.lines else diagram.title_line
                 state = self._update(previous, lines, change, diagram.title_line, body_last)

@@ -78,7 +78,11 @@ def _read_comment(lines: list[Line]) -> tuple[str, Span] | None:
     texts = [line for line in lines if not line.blank]
     if not texts or not all(line.content.lstrip().startswith(";") for line in texts):
         return None
-    parts = [COMMENT_RE.match(line.content).group(1) for line in texts]
+    parts = []
+    for line in texts:
+        match = COMMENT_RE.match(line.content)
+        assert match is not None  # it matches any line that starts with `;`
+        parts.append(match.group(1))
     first, last = texts[0], texts[-1]
     return "\n".join(parts), Span(first.number, first.start, last.number, last.end)
 
@@ -94,6 +98,8 @@ class _RungReader:
         self.junctions: dict[tuple[int, int], int] = {}
         self.claimed: set[tuple[int, int]] = set()
         self._folded: dict[int, list] = {}
+        self._token_cache: dict[int, list[tuple[str, int, int, str]]] = {}
+        self._owners: dict[int, dict[tuple[int, int], list[tuple[int, int]]]] = {}
 
     def problem(self, code: str, message: str, line: int, start: int, end: int | None = None) -> None:
         number = self.lines[line].number
@@ -114,13 +120,15 @@ class _RungReader:
         return self._circuit()
 
     def _tokens(self, row: int) -> list[tuple[str, int, int, str]]:
-        cache = self.__dict__.setdefault("_token_cache", {})
+        cache = self._token_cache
         if row in cache:
             return cache[row]
         line = self.lines[row]
-        found = cache[row] = []
+        found: list[tuple[str, int, int, str]] = []
+        cache[row] = found
         for match in SYMBOL_TOKEN.finditer(line.content):
             kind = match.lastgroup
+            assert kind is not None  # every alternative is a named group
             found.append((kind, line.start + match.start(), line.start + match.end(), match.group()))
         return found
 
@@ -210,6 +218,7 @@ class _RungReader:
                     return
                 output = self.nodes.new(Span.at(line.number, end - 1))
                 span = element.span
+                assert span is not None  # _element places what it reads
                 self.edges.append(Edge(current, output, element, (line.number, start), span))
                 current, current_is_junction = output, False
             elif kind == "gap":
@@ -262,7 +271,7 @@ class _RungReader:
         line = self.lines[row]
         top_text, top_span = self._top_text(row, start, end)
         if kind in ("short", "open"):
-            if top_text.strip():
+            if top_span is not None and top_text.strip():
                 self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
                              top_span[0], top_span[1])
                 return None
@@ -296,9 +305,7 @@ class _RungReader:
         return name_line.text[first:last], (first, last)
 
     def _top_owners(self, row: int) -> dict[tuple[int, int], list[tuple[int, int]]]:
-        cache = getattr(self, "_owners", None)
-        if cache is None:
-            cache = self._owners = {}
+        cache = self._owners
         if row in cache:
             return cache[row]
         owners: dict[tuple[int, int], list[tuple[int, int]]] = {}

@@ -47,14 +47,21 @@ def diagram_width(program: Program) -> int:
     past the right rail)."""
     widths = [natural_width(rung.circuit) for rung in program.rungs if not rung.is_comment]
     comments = [-(-(len(part) + 3 + COMMENT_MARGIN) // CELL) for rung in program.rungs if rung.is_comment
-                for part in str(rung.circuit.items[0].args.get("text", "")).split("\n")]
+                for part in comment_text(rung).split("\n")]
     return max(widths + comments, default=1)
+
+
+def comment_text(rung: Rung) -> str:
+    """The text of a comment rung."""
+    comment = rung.circuit.items[0]
+    assert isinstance(comment, Element)  # is_comment: the rung holds its COMMENT alone
+    return str(comment.args.get("text", ""))
 
 
 def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
     """The lines of one rung, without the separator line after it."""
     if rung.is_comment:
-        return _render_comment(rung.circuit.items[0].args["text"], number, columns)
+        return _render_comment(comment_text(rung), number, columns)
     grid = layout(rung.circuit, max(columns, natural_width(rung.circuit)))
     widths = _column_widths(grid)
     offsets = [0]
@@ -82,7 +89,7 @@ def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
         if top:
             write(symbol - 1, start + max(0, center_offset(slot, len(top))), top)
         write(symbol, start, with_wires(glyph, slot))
-    rail_junction_rows = set()
+    rail_junction_rows: set[int] = set()
     for k, row in grid.connectors:
         if k < 0:
             rail_junction_rows.update((row - 1, row))
