@@ -29,10 +29,10 @@ import json
 import logging
 from typing import TYPE_CHECKING, cast
 
-from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
+from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInvalidRequest
 from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol
 
-from .protocol import Encoded
+from .protocol import Encoded, UserError
 
 if TYPE_CHECKING:
     from .server import LadderServer
@@ -58,6 +58,14 @@ class LadderProtocol(LanguageServerProtocol):
         super().__init__(*args, **kwargs)
         # id(params) of a request read, not yet worked out -> the revision of its document then
         self.arrivals: dict[int, int] = {}
+
+    def _send_handler_result(self, future, *, msg_id):
+        # pygls logs every error answer with a traceback: not these, which are answers, not bugs
+        expected = not future.cancelled() and isinstance(future.exception(), (JsonRpcContentModified, UserError))
+        if not expected:
+            return super()._send_handler_result(future, msg_id=msg_id)
+        self._request_futures.pop(msg_id, None)
+        self._send_response(msg_id, error=future.exception().to_response_error())
 
     def _send_data(self, data):
         result = getattr(data, "result", None)
