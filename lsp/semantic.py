@@ -13,6 +13,7 @@ from lang.model import Span
 from lang.values import format_delay, is_literal
 
 from .documents import LADDER, LD
+from .protocol import Encoded
 
 TOKEN_TYPES = ["keyword", "parameter", "property", "variable", "function", "number", "string", "label",
                "comment", "namespace", "macro", "enumMember"]
@@ -136,9 +137,8 @@ def _clean(found):
     return result
 
 
-def tokens(analysis, first_line: int = 0, last_line: int | None = None) -> list[tuple[int, int, int, int, int]]:
-    """(line, col, length, type, modifiers) in code point columns, sorted, not overlapping."""
-    last_line = len(analysis.lines) - 1 if last_line is None else last_line
+def _extra(analysis, first_line: int, last_line: int) -> list[tuple[int, int, int, int, int]]:
+    """The tokens outside the rungs: section titles, the part, the pin list."""
     extra: list[tuple[int, int, int, int, int]] = []
 
     def add(span: Span | None, kind: str) -> None:
@@ -153,7 +153,13 @@ def tokens(analysis, first_line: int = 0, last_line: int | None = None) -> list[
         add(getattr(analysis.program.settings, "mcu_span", None), "string")
         for name, assignment in analysis.program.pins.items():
             add(assignment.span, _role(name))
-    found = extra
+    return extra
+
+
+def tokens(analysis, first_line: int = 0, last_line: int | None = None) -> list[tuple[int, int, int, int, int]]:
+    """(line, col, length, type, modifiers) in code point columns, sorted, not overlapping."""
+    last_line = len(analysis.lines) - 1 if last_line is None else last_line
+    found = _extra(analysis, first_line, last_line)
     for first, last, index in analysis.locator.rung_extents():
         if last < first_line or first > last_line:
             continue
@@ -165,37 +171,97 @@ def tokens(analysis, first_line: int = 0, last_line: int | None = None) -> list[
     return _clean(found)
 
 
-def encode(analysis, found) -> list[int]:
-    data: list[int] = []
-    append = data.extend
-    previous_line, previous_col = 0, 0
-    positions = analysis.positions
-    lines = analysis.lines
+def _client(analysis, found) -> list[tuple[int, int, int, int, int]]:
+    """The tokens with their columns in the client's units."""
+    positions, lines = analysis.positions, analysis.lines
+    if positions.ascii:
+        return found
+    converted = []
     for line, col, length, kind, modifiers in found:
-        if positions.ascii or lines[line].isascii():
-            start, end = col, col + length
+        if lines[line].isascii():
+            converted.append((line, col, length, kind, modifiers))
         else:
             start = positions.to_client(line, col).character
-            end = positions.to_client(line, col + length).character
+            converted.append((line, start, positions.to_client(line, col + length).character - start, kind, modifiers))
+    return converted
+
+
+def encode(found, previous: tuple[int, int] = (0, 0)) -> list[int]:
+    """LSP's relative encoding of tokens in the client's units, from the token
+    at `previous` (line, column)."""
+    data: list[int] = []
+    append = data.extend
+    previous_line, previous_col = previous
+    for line, start, length, kind, modifiers in found:
         delta_line = line - previous_line
-        append((delta_line, start - previous_col if delta_line == 0 else start, end - start, kind, modifiers))
+        append((delta_line, start - previous_col if delta_line == 0 else start, length, kind, modifiers))
         previous_line, previous_col = line, start
     return data
+
+
+def _encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None:
+    """A rung's tokens kept encoded: (first line, first column, last line, last
+    column, the JSON numbers of its tokens after the first's line and column)."""
+    found = _client(analysis, _clean(list(analysis.per_rung("semantic", index, lambda i: _rung_tokens(analysis, i)))))
+    if not found:
+        return None
+    first, last = found[0], found[-1]
+    rest = encode(found, (first[0], first[1]))[2:]  # the first's deltas depend on what comes before
+    return first[0], first[1], last[0], last[1], ",".join(map(str, rest))
+
+
+def full_text(analysis) -> str:
+    """The whole document's tokens as the JSON of SemanticTokens, from each
+    rung's encoded part (an edit encodes only the rungs it changed)."""
+    extra = _client(analysis, _clean(_extra(analysis, 0, len(analysis.lines) - 1)))
+    parts: list[str] = []
+    previous = (0, 0)
+    position = 0
+
+    def emit(tokens) -> None:
+        nonlocal previous
+        if tokens:
+            parts.append(",".join(map(str, encode(tokens, previous))))
+            previous = (tokens[-1][0], tokens[-1][1])
+
+    for _, _, index in analysis.locator.rung_extents():
+        part = analysis.per_rung("semantic-encoded", index, lambda i: _encoded_rung(analysis, i))
+        if part is None:
+            continue
+        first_line, first_col, last_line, last_col, rest = part
+        before = position
+        while position < len(extra) and extra[position][0] < first_line:
+            position += 1
+        emit(extra[before:position])
+        delta_line = first_line - previous[0]
+        head = f"{delta_line},{first_col - previous[1] if delta_line == 0 else first_col}"
+        parts.append(f"{head},{rest}" if rest else head)
+        previous = (last_line, last_col)
+    emit(extra[position:])
+    return '{"data":[' + ",".join(parts) + "]}"
 
 
 def _shift(found, delta: int):
     return [(t[0] + delta,) + t[1:] for t in found]
 
 
+def _shift_encoded(part, delta: int):
+    if part is None:
+        return None
+    first_line, first_col, last_line, last_col, rest = part
+    return first_line + delta, first_col, last_line + delta, last_col, rest
+
+
 def register(server) -> None:
     server.documents.shifters["semantic"] = _shift
+    server.documents.shifters["semantic-encoded"] = _shift_encoded
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
                types.SemanticTokensRegistrationOptions(legend=LEGEND, full=True, range=True))
     def full(ls, params: types.SemanticTokensParams):
         analysis = ls.documents.analysis(params.text_document.uri)
         if analysis is None:
             return None
-        return analysis.once("semantic", lambda: types.SemanticTokens(data=encode(analysis, tokens(analysis))))
+        return Encoded(analysis.once("semantic", lambda: full_text(analysis)))
 
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE)
     def ranged(ls, params: types.SemanticTokensRangeParams):
@@ -204,4 +270,4 @@ def register(server) -> None:
             return None
         first = params.range.start.line
         last = params.range.end.line
-        return types.SemanticTokens(data=encode(analysis, tokens(analysis, first, last)))
+        return types.SemanticTokens(data=encode(_client(analysis, tokens(analysis, first, last))))

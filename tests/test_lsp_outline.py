@@ -70,6 +70,18 @@ async def test_semantic_tokens(client):
         text_document=td(doc.uri), range=types.Range(start=types.Position(line=0, character=0),
                                                       end=types.Position(line=12, character=0))))
     assert 0 < len(ranged.data) < len(result.data)
+    # the full answer is assembled from each rung's kept encoding: it equals encoding everything at once
+    whole = await client.text_document_semantic_tokens_range_async(types.SemanticTokensRangeParams(
+        text_document=td(doc.uri), range=types.Range(start=types.Position(line=0, character=0),
+                                                      end=types.Position(line=len(doc.lines), character=0))))
+    assert whole.data == result.data
+    # also where columns differ in the client's units (a comment with characters beyond ASCII)
+    wide = Doc(client, new_uri(), example_text().replace("Conveyor: start/stop", "Förderband 🚚 start"))
+    full = await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=td(wide.uri)))
+    whole = await client.text_document_semantic_tokens_range_async(types.SemanticTokensRangeParams(
+        text_document=td(wide.uri), range=types.Range(start=types.Position(line=0, character=0),
+                                                       end=types.Position(line=len(wide.lines), character=0))))
+    assert whole.data == full.data
 
 
 async def test_results_follow_edits(client):
