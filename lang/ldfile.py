@@ -39,9 +39,12 @@ docs/):
 from __future__ import annotations
 
 import re
+import threading
+from collections.abc import Iterable
 from pathlib import Path
+from typing import Protocol, cast
 
-from lark import Lark, Token, Tree
+from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import LarkError
 
 from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
@@ -59,7 +62,7 @@ from .model import (
     rung_circuit,
 )
 from .roles import BUS_PIN_SUFFIXES
-from .trampoline import run
+from .trampoline import Call, run
 from .values import decode_bytes, encode_text, escape_ld, is_literal, literal_value, unescape_ld
 
 __all__ = [
@@ -84,6 +87,66 @@ MAX_LUT_VALUES = 64
 _GRAMMAR_PATH = Path(__file__).with_name("ld.lark")
 _PARSER: Lark | None = None
 
+_Children = list[Tree | Token]
+
+
+class _Tok(Protocol):
+    """A token as lark's lexer makes it: it always has a position (lark's
+    Token type leaves the position optional, for tokens made by hand)."""
+
+    @property
+    def type(self) -> str: ...
+    @property
+    def value(self) -> str: ...
+    @property
+    def line(self) -> int: ...
+    @property
+    def column(self) -> int: ...
+    @property
+    def end_line(self) -> int: ...
+    @property
+    def end_column(self) -> int: ...
+
+
+def _tok(node: Tree | Token) -> _Tok:
+    """A child that the grammar makes a token."""
+    return cast(_Tok, node)
+
+
+class _Inline(Transformer):
+    """The parser's callbacks: each header item, rung and stray line goes to
+    the reader as soon as the parser has reduced it, and its tree is dropped.
+    The tree of a whole file holds a dozen objects a line, more memory than
+    the program read from it, and all of them at once."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        # the reader whose text is being parsed, set for the parse only; one per
+        # thread, as the parser is shared
+        self.current = threading.local()
+
+    @property
+    def reader(self) -> _Reader:
+        return self.current.reader
+
+    def header(self, children: _Children) -> None:
+        self.reader.header_item(children)
+
+    version = micro = cycle = crystal = baud = compiled = compiler = other = header
+    io_list = var_list = pullup_list = header
+
+    def program_head(self, children: _Children) -> None:
+        self.reader.program_head(children)
+
+    def rung(self, children: _Children) -> None:
+        self.reader.rung(children)
+
+    def stray(self, children: _Children) -> None:
+        self.reader.stray(children)
+
+
+_INLINE = _Inline()
+
 
 def _parser() -> Lark:
     global _PARSER
@@ -93,6 +156,7 @@ def _parser() -> Lark:
             parser="lalr",
             lexer="contextual",
             maybe_placeholders=False,
+            transformer=_INLINE,
         )
     return _PARSER
 
@@ -123,6 +187,7 @@ _BAUD_FORMS = (
 )
 _IO_RE = re.compile(r"[ \t]*(\S+)[ \t]+at[ \t]+(\S+)(?:[ \t]+(\S+))?(?:[ \t]+(\S+))?")
 _IO_PREFIXES = "XYAPIMCH"
+_DIGITS_RE = re.compile(r"[0-9]{1,40}")
 _VAR_RE = re.compile(r"[ \t]*([+-]?[0-9]{1,40})[ \t]+bytes[ \t]+(\S+)(?:[ \t].*)?\Z")
 _VAR_LEGACY_RE = re.compile(r"[ \t]*(\S+)[ \t]+signed[ \t]+([+-]?[0-9]{1,40})[ \t]+bit variable\Z")
 _PULLUP_RE = re.compile(r"[ \t]*(\S)(\S):[ \t]*0[xX]([0-9A-Fa-f]+)")
@@ -156,8 +221,8 @@ class _Reader:
         self.diags: list[Diagnostic] = []
         self.program = Program()
         self.settings = self.program.settings
-        self.version = "0.2"
         self.seen_micro = False
+        self.seen_program = False
         self.first_line_warned = -1
 
     # --- helpers ---------------------------------------------------------------------
@@ -165,16 +230,16 @@ class _Reader:
     def line_text(self, index: int) -> str:
         return self.lines[index] if 0 <= index < len(self.lines) else ""
 
-    def line_span(self, tok: Token) -> Span:
+    def line_span(self, tok: _Tok) -> Span:
         """From the token to the end of its line."""
         index = tok.line - 1
         return Span(index, tok.column - 1, index, max(len(self.line_text(index)), tok.column))
 
     @staticmethod
-    def tok_span(tok: Token) -> Span:
+    def tok_span(tok: _Tok) -> Span:
         return Span(tok.line - 1, tok.column - 1, tok.end_line - 1, tok.end_column - 1)
 
-    def quoted(self, tok: Token) -> str:
+    def quoted(self, tok: _Tok) -> str:
         return repr(self.line_text(tok.line - 1).strip())[1:-1]
 
     def err(self, code: str, message: str, span: Span | None) -> None:
@@ -187,7 +252,7 @@ class _Reader:
 
     def read(self) -> tuple[Program, list[Diagnostic]]:
         try:
-            self.read_tree()
+            self.read_text()
         except RecursionError:
             self.err(UNREADABLE, "blocks nested too deeply to read", Span.at(0, 0))
         except Exception as exc:  # never raise on bad input; tests assert this never happens
@@ -196,30 +261,26 @@ class _Reader:
         self.diags.sort(key=lambda d: (d.span.line, d.span.col) if d.span else (-1, -1))
         return self.program, self.diags
 
-    def read_tree(self) -> None:
-        try:
-            tree = _parser().parse(self.text)
-        except LarkError as exc:  # the grammar accepts every text; this is a safety net
-            line = getattr(exc, "line", 1) or 1
-            self.err(UNREADABLE, f"cannot read the file as an LDmicro .ld file: {exc}",
-                     Span.at(max(line - 1, 0), 0))
-            return
+    def read_text(self) -> None:
+        """The parser hands each part to this reader as it reads it (_Inline)."""
         self.check_first_line()
-        program_tree = None
-        for child in tree.children:
-            if not isinstance(child, Tree):
-                continue
-            if child.data == "program":
-                program_tree = child
-            else:
-                self.header_item(child)
-        self.settings.ld_version = self.version
-        if program_tree is None:
+        _INLINE.current.reader = self
+        try:
+            _parser().parse(self.text)
+        except LarkError as exc:  # the grammar accepts every text; this is a safety net
+            # a file the parser gives up on is not read at all, not even the part before
+            self.program = Program()
+            self.settings = self.program.settings
+            line = getattr(exc, "line", 1) or 1
+            self.diags = [error(UNREADABLE, f"cannot read the file as an LDmicro .ld file: {exc}",
+                                Span.at(max(line - 1, 0), 0))]
+            return
+        finally:
+            del _INLINE.current.reader
+        if not self.seen_program:
             self.err(UNREADABLE, "no PROGRAM line: this is not an LDmicro .ld file "
                      "(or it is cut short before its program)",
                      Span.at(max(len(self.lines) - 1, 0), 0))
-        else:
-            self.program_section(program_tree)
 
     def check_first_line(self) -> None:
         for index, line in enumerate(self.lines):
@@ -233,54 +294,54 @@ class _Reader:
 
     # --- header (§3.3) ------------------------------------------------------------------
 
-    def header_item(self, item: Tree) -> None:
-        kind = item.data
-        tok = item.children[0]
-        if kind in ("io_list", "var_list", "pullup_list"):
+    def header_item(self, children: _Children) -> None:
+        tok = _tok(children[0])
+        kind = tok.type
+        if kind in ("IO_LIST", "VAR_LIST", "PULLUP_LIST"):
             self.column_zero(tok)
-            self.section(item)
+            self.section(tok, children[1:])
             return
         value = tok.value
         span = self.line_span(tok)
-        if kind == "other":
+        if kind == "OTHER":
             if value.strip() and tok.line - 1 != self.first_line_warned:
                 self.warn(LD_SYNTAX, f"unknown header line ignored: '{self.quoted(tok)}'", span)
             return
         self.column_zero(tok)
-        if kind == "version":
+        if kind == "VERSION":
             number = value[len("LDmicro"):].strip()
             # LDmicro reads every header but 0.1 as 0.2; some 5.x releases write a bare
             # `LDmicro`, kept as the empty version so the file is written back as it was
             if number not in ("0.1", "0.2", ""):
                 self.warn(LD_SYNTAX, f"unknown file version '{value}': read as LDmicro0.2", span)
                 number = "0.2"
-            self.version = number
-        elif kind == "micro":
+            self.settings.ld_version = number
+        elif kind == "MICRO":
             self.seen_micro = True
             name = value[len("MICRO="):]
             self.settings.mcu = name or None
             self.settings.mcu_span = span
-        elif kind == "cycle":
+        elif kind == "CYCLE":
             self.cycle(value, span)
-        elif kind == "crystal":
+        elif kind == "CRYSTAL":
             match = _CRYSTAL_RE.match(value)
             if match:
                 self.settings.crystal_hz = int(match.group(1))
             else:
                 self.bad_header(tok, "the crystal frequency is not a number")
-        elif kind == "baud":
+        elif kind == "BAUD":
             self.baud(tok)
-        elif kind == "compiled":
+        elif kind == "COMPILED":
             self.settings.compiled = value[len("COMPILED="):] or None
-        elif kind == "compiler":
+        elif kind == "COMPILER":
             self.settings.compiler = value[len("COMPILER="):].strip() or None
 
-    def column_zero(self, tok: Token) -> None:
+    def column_zero(self, tok: _Tok) -> None:
         if tok.column != 1:
             self.warn(LD_SYNTAX, f"'{tok.value}' must start in column 1: LDmicro ignores an "
                       "indented header line", self.line_span(tok))
 
-    def bad_header(self, tok: Token, why: str) -> None:
+    def bad_header(self, tok: _Tok, why: str) -> None:
         self.err(LD_SYNTAX, f"{why}; the default is kept: '{self.quoted(tok)}'", self.line_span(tok))
 
     def cycle(self, value: str, span: Span) -> None:
@@ -305,7 +366,7 @@ class _Reader:
         self.diags.append(error(LD_SYNTAX, f"the cycle time is not a number; the default "
                                 f"is kept: '{value}'", span))
 
-    def baud(self, tok: Token) -> None:
+    def baud(self, tok: _Tok) -> None:
         s = self.settings
         for number, form in enumerate(_BAUD_FORMS):
             match = form.match(tok.value)
@@ -319,19 +380,18 @@ class _Reader:
 
     # --- IO LIST / VAR LIST / PULL-UP LIST (§3.4) --------------------------------------------
 
-    def section(self, item: Tree) -> None:
-        head = item.children[0]
+    def section(self, head: _Tok, children: _Children) -> None:
         closed = False
-        for child in item.children[1:]:
+        for child in children:
             if not isinstance(child, Tree):
                 continue
             if child.data == "section_end":
                 closed = True
             elif child.data == "entry":
-                tok = child.children[0]
-                if item.data == "io_list":
+                tok = _tok(child.children[0])
+                if head.type == "IO_LIST":
                     self.io_entry(tok)
-                elif item.data == "var_list":
+                elif head.type == "VAR_LIST":
                     self.var_entry(tok)
                 else:
                     self.pullup_entry(tok)
@@ -339,7 +399,7 @@ class _Reader:
             self.err(LD_SYNTAX, f"'{head.value}' is not closed: END missing before the next "
                      "header line", self.line_span(head))
 
-    def io_entry(self, tok: Token) -> None:
+    def io_entry(self, tok: _Tok) -> None:
         line = self.line_text(tok.line - 1)
         span = Span(tok.line - 1, 0, tok.line - 1, len(line))
         match = _IO_RE.match(line)
@@ -355,8 +415,9 @@ class _Reader:
         if name[1:] == "new":  # LDmicro never remembers the editor's default names
             return
         pin: int | str
-        if pin_text[0] in "0123456789":
-            pin = int(re.match(r"[0-9]{1,40}", pin_text).group(0))
+        digits = _DIGITS_RE.match(pin_text)
+        if digits:
+            pin = int(digits.group(0))
             if pin == 0:
                 return  # not assigned
             slave = self.small_int(slave_text, tok, span)
@@ -366,7 +427,7 @@ class _Reader:
         self.program.pins.pop(name, None)
         self.program.pins[name] = PinAssignment(name, pin, slave, register, span)
 
-    def small_int(self, text: str | None, tok: Token, span: Span) -> int:
+    def small_int(self, text: str | None, tok: _Tok, span: Span) -> int:
         if text is None:
             return 0
         if _INT_RE.match(text):
@@ -375,7 +436,7 @@ class _Reader:
                   f"'{self.quoted(tok)}'", span)
         return 0
 
-    def var_entry(self, tok: Token) -> None:
+    def var_entry(self, tok: _Tok) -> None:
         line = self.line_text(tok.line - 1)
         span = Span(tok.line - 1, 0, tok.line - 1, len(line))
         match = _VAR_RE.match(line)
@@ -391,7 +452,7 @@ class _Reader:
         self.program.var_sizes.pop(name, None)
         self.program.var_sizes[name] = size
 
-    def pullup_entry(self, tok: Token) -> None:
+    def pullup_entry(self, tok: _Tok) -> None:
         line = self.line_text(tok.line - 1)
         span = Span(tok.line - 1, 0, tok.line - 1, len(line))
         match = _PULLUP_RE.match(line)
@@ -409,19 +470,12 @@ class _Reader:
 
     # --- PROGRAM (§3.5) ------------------------------------------------------------------
 
-    def program_section(self, tree: Tree) -> None:
-        head = tree.children[0]
-        self.column_zero(head)
-        for child in tree.children[1:]:
-            if not isinstance(child, Tree):
-                continue
-            if child.data == "rung":
-                self.rung(child)
-            elif child.data == "stray":
-                self.stray(child)
+    def program_head(self, children: _Children) -> None:
+        self.seen_program = True
+        self.column_zero(_tok(children[0]))
 
-    def stray(self, tree: Tree) -> None:
-        tok = tree.children[0]
+    def stray(self, children: _Children) -> None:
+        tok = _tok(children[0])
         span = self.line_span(tok)
         if tok.type == "END":
             message = "END without an open RUNG, PARALLEL or SERIES"
@@ -431,55 +485,55 @@ class _Reader:
             message = "only RUNG lines may stand between rungs"
         self.err(LD_SYNTAX, f"{message}: '{self.quoted(tok)}'", span)
 
-    def rung(self, tree: Tree) -> None:
-        head = tree.children[0]
+    def rung(self, children: _Children) -> None:
+        head = _tok(children[0])
         number = len(self.program.rungs) + 1
-        items, end = self.body(tree, head, in_parallel=False, what=f"RUNG {number}")
+        items, end = self.body(children, head, in_parallel=False, what=f"RUNG {number}")
         span = self.line_span(head)
         circuit = Series(items, self.block_span(head, end))
         self.program.rungs.append(Rung(rung_circuit(circuit), span))
 
-    def block_span(self, head: Token, end: Token | None) -> Span:
+    def block_span(self, head: _Tok, end: _Tok | None) -> Span:
         if end is None:
             return self.line_span(head)
         return Span(head.line - 1, head.column - 1, end.line - 1, end.end_column - 1)
 
-    def body(self, tree: Tree, head: Token, in_parallel: bool, what: str
-             ) -> tuple[list[Node], Token | None]:
-        return run(self._body(tree, head, in_parallel, what))
+    def body(self, children: _Children, head: _Tok, in_parallel: bool, what: str
+             ) -> tuple[list[Node], _Tok | None]:
+        """The nodes of a block, and its END; `children` are its tree's."""
+        return run(self._body(children, head, in_parallel, what))
 
-    def _body(self, tree: Tree, head: Token, in_parallel: bool, what: str):
+    def _body(self, children: _Children, head: _Tok, in_parallel: bool, what: str
+              ) -> Call[tuple[list[Node], _Tok | None]]:
         items: list[Node] = []
-        end: Token | None = None
+        end: _Tok | None = None
         entries = 0
-        for child in tree.children[1:]:
+        for child in children[1:]:
             if not isinstance(child, Tree):
                 continue
+            first = _tok(child.children[0])
             if child.data == "block_end":
-                end = child.children[0]
+                end = first
                 continue
             entries += 1
             if entries == MAX_ENTRIES + 1:
-                first = child.children[0]
                 self.err(LD_SYNTAX, f"{what} has more than {MAX_ENTRIES} entries: LDmicro "
                          "cannot load it (split it with SERIES / PARALLEL)",
-                         self.line_span(_first_token(child) or first))
+                         self.line_span(first))
             if child.data == "element":
-                element = self.element(child)
+                element = self.element(first, child.children[1:])
                 if element is not None:
                     items.append(element)
             elif child.data == "parallel":
-                ptok = child.children[0]
                 if in_parallel:
                     self.err(LD_SYNTAX, "PARALLEL directly inside a PARALLEL: LDmicro cannot "
                              "load it; put the inner PARALLEL in a SERIES",
-                             self.line_span(ptok))
-                branches, pend = yield self._body(child, ptok, True, "PARALLEL")
-                items.append(Parallel(branches, self.block_span(ptok, pend)))
+                             self.line_span(first))
+                branches, pend = yield self._body(child.children, first, True, "PARALLEL")
+                items.append(Parallel(branches, self.block_span(first, pend)))
             elif child.data == "series":
-                stok = child.children[0]
-                inner, send = yield self._body(child, stok, False, "SERIES")
-                items.append(Series(inner, self.block_span(stok, send)))
+                inner, send = yield self._body(child.children, first, False, "SERIES")
+                items.append(Series(inner, self.block_span(first, send)))
         if end is None:
             self.err(LD_SYNTAX, f"{what} is not closed: END missing "
                      f"('{self.quoted(head)}' has no matching END)", self.line_span(head))
@@ -487,9 +541,9 @@ class _Reader:
 
     # --- element lines (§2, §3.7) -----------------------------------------------------------
 
-    def element(self, tree: Tree) -> Element | None:
-        keyword: Token = tree.children[0]
-        toks: list[Token] = [t for t in tree.children[1:] if isinstance(t, Token)]
+    def element(self, keyword: _Tok, operands: _Children) -> Element | None:
+        """An element line: its keyword and its operand tokens."""
+        toks = cast(list[_Tok], operands)
         instruction = LD_KEYWORDS.get(keyword.value)
         span = self.line_span(keyword)
         if instruction is None:
@@ -514,25 +568,20 @@ class _BadLine(Exception):
     """The element line cannot be read (its diagnostic is already recorded)."""
 
 
-def _first_token(tree: Tree) -> Token | None:
-    for child in tree.children:
-        if isinstance(child, Token):
-            return child
-    return None
-
-
 class _ElementLine:
     """One element line being mapped onto its instruction's fields."""
 
-    def __init__(self, reader: _Reader, instruction: Instruction, keyword: Token,
-                 toks: list[Token], span: Span):
+    def __init__(self, reader: _Reader, instruction: Instruction, keyword: _Tok,
+                 toks: list[_Tok], span: Span):
         self.r = reader
         self.ins = instruction
         self.kw = keyword
         self.toks = toks
         self.span = span
+        # every span of the line holds this one int: a program keeps a dozen spans a rung
+        self.row = span.line
         self.arg_spans: dict[str, Span] = {}
-        self.raw = reader.line_text(keyword.line - 1)
+        self.raw = reader.line_text(self.row)
 
     # --- diagnostics ---------------------------------------------------------------------
 
@@ -540,9 +589,13 @@ class _ElementLine:
         self.r.err(code, f"{message}: '{self.r.quoted(self.kw)}'", span or self.span)
         raise _BadLine()
 
+    def tok_span(self, first: _Tok, last: _Tok | None = None) -> Span:
+        """From the token to the `last` one, on the line (a token never spans lines)."""
+        end = first if last is None else last
+        return Span(self.row, first.column - 1, self.row, end.end_column - 1)
+
     def end_span(self) -> Span:
-        line = self.kw.line - 1
-        return Span(line, len(self.raw), line, len(self.raw) + 1)
+        return Span(self.row, len(self.raw), self.row, len(self.raw) + 1)
 
     def missing(self, needed: str) -> None:
         self.fail(f"{self.kw.value} needs {needed}, found {len(self.toks)} "
@@ -553,9 +606,9 @@ class _ElementLine:
             first = self.toks[used]
             self.r.warn(LD_SYNTAX, f"extra operands after {self.kw.value} ignored: "
                         f"'{self.r.quoted(self.kw)}'",
-                        Span(first.line - 1, first.column - 1, first.line - 1, len(self.raw)))
+                        Span(self.row, first.column - 1, self.row, len(self.raw)))
 
-    def rest_of_line(self, tok: Token) -> str:
+    def rest_of_line(self, tok: _Tok) -> str:
         return self.raw[tok.column - 1:]
 
     def check_names(self, args: dict) -> None:
@@ -569,11 +622,11 @@ class _ElementLine:
 
     # --- values --------------------------------------------------------------------------
 
-    def take(self, field: Field, tok: Token) -> object:
-        self.arg_spans[field.name] = _Reader.tok_span(tok)
+    def take(self, field: Field, tok: _Tok) -> object:
+        self.arg_spans[field.name] = self.tok_span(tok)
         return self.convert(field, tok)
 
-    def convert(self, field: Field, tok: Token) -> object:
+    def convert(self, field: Field, tok: _Tok) -> object:
         text = tok.value
         kind = field.kind
         if kind == "flag":
@@ -585,17 +638,17 @@ class _ElementLine:
         if kind == "edge":
             if text not in _EDGES:
                 self.fail(f"'{text}' is no counting edge (/ rising, \\ falling, - or o level)",
-                          _Reader.tok_span(tok))
+                          self.tok_span(tok))
             return text
         return text
 
-    def integer(self, tok: Token, what: str) -> int:
+    def integer(self, tok: _Tok, what: str) -> int:
         if not _INT_RE.match(tok.value):
             self.fail(f"{self.kw.value} {what} must be a whole number, not '{tok.value}'",
-                      _Reader.tok_span(tok), BAD_VALUE)
+                      self.tok_span(tok), BAD_VALUE)
         return int(tok.value)
 
-    def delay(self, tok: Token) -> int | str:
+    def delay(self, tok: _Tok) -> int | str:
         """Microseconds as an int, or the name of a variable holding scan cycles."""
         text = tok.value
         if _INT_RE.match(text):
@@ -605,7 +658,7 @@ class _ElementLine:
                 return literal_value(text)
             except ValueError:
                 self.fail(f"bad delay '{text}' (microseconds or a variable name)",
-                          _Reader.tok_span(tok), BAD_VALUE)
+                          self.tok_span(tok), BAD_VALUE)
         return text
 
     # --- forms ---------------------------------------------------------------------------
@@ -630,7 +683,7 @@ class _ElementLine:
     def legacy_default(self, field: Field) -> object:
         if field.name == "adjust" and self.ins.key in ("TON", "TOF", "RTO"):
             # classic period = delay / cycle - 1 (§2.5)
-            return -1 if self.r.version == "0.1" else 0
+            return -1 if self.r.settings.ld_version == "0.1" else 0
         return field.default
 
     def form_quad(self) -> dict:
@@ -651,9 +704,7 @@ class _ElementLine:
             if value:
                 coil_type = symbol
                 break
-        self.arg_spans["type"] = Span(self.toks[1].line - 1, self.toks[1].column - 1,
-                                      self.toks[1].line - 1,
-                                      self.toks[min(len(self.toks), 5) - 1].end_column - 1)
+        self.arg_spans["type"] = self.tok_span(self.toks[1], self.toks[min(len(self.toks), 5) - 1])
         self.extra(5)
         return {"name": name, "type": coil_type}
 
@@ -667,7 +718,7 @@ class _ElementLine:
         name = self.toks[0].value if self.toks else ""
         delay = self.toks[1].value if len(self.toks) > 1 else ""
         for field, tok in zip(self.ins.fields, self.toks):
-            self.arg_spans[field.name] = _Reader.tok_span(tok)
+            self.arg_spans[field.name] = self.tok_span(tok)
         self.extra(2)
         return {"name": name, "delay": delay}
 
@@ -675,27 +726,27 @@ class _ElementLine:
         if len(self.toks) < 2:
             self.missing("a duty cycle and a frequency")
         duty_tok, freq_tok = self.toks[0], self.toks[1]
-        self.arg_spans["duty"] = _Reader.tok_span(duty_tok)
-        self.arg_spans["freq"] = _Reader.tok_span(freq_tok)
+        self.arg_spans["duty"] = self.tok_span(duty_tok)
+        self.arg_spans["freq"] = self.tok_span(freq_tok)
         whole = freq_tok.value.split(".", 1)[0]  # LDmicro drops the fractional part
         if not _INT_RE.match(whole):
             self.fail(f"SET_PWM frequency must be a number of hertz, not '{freq_tok.value}'",
-                      _Reader.tok_span(freq_tok), BAD_VALUE)
+                      self.tok_span(freq_tok), BAD_VALUE)
         name = ""
         if len(self.toks) > 2:
             name = self.toks[2].value
-            self.arg_spans["name"] = _Reader.tok_span(self.toks[2])
+            self.arg_spans["name"] = self.tok_span(self.toks[2])
         if not name.startswith("P"):
             name = "P" + name  # old files; an empty classic name becomes "P"
         resolution = ""
         if len(self.toks) > 3:
             resolution = self.toks[3].value
-            self.arg_spans["resolution"] = _Reader.tok_span(self.toks[3])
+            self.arg_spans["resolution"] = self.tok_span(self.toks[3])
         # further tokens (the rest of the dialog text) are ignored, as by LDmicro
         return {"duty": duty_tok.value, "freq": int(whole), "name": name,
                 "resolution": resolution}
 
-    def numeric_text(self, toks: list[Token]) -> str | None:
+    def numeric_text(self, toks: list[_Tok]) -> str | None:
         """The 0.1 form `n c1 ... cn` (character codes), or None if these tokens
         are not all integers (then they are the 0.2 escaped text)."""
         if not toks or not all(_INT_RE.match(t.value) for t in toks):
@@ -717,7 +768,7 @@ class _ElementLine:
             out.append("X" if byte < 32 else decode_bytes(bytes([byte]), self.r.encoding))
         return "".join(out)
 
-    def text_from(self, tok: Token) -> str:
+    def text_from(self, tok: _Tok) -> str:
         text = unescape_ld(self.rest_of_line(tok), self.r.encoding)
         return text.replace("\n", "")  # LDmicro removes line feeds from these texts
 
@@ -729,43 +780,41 @@ class _ElementLine:
         if len(self.toks) < 2:
             self.missing("a variable (or (none)) and a text")
         var_tok = self.toks[0]
-        self.arg_spans["var"] = _Reader.tok_span(var_tok)
+        self.arg_spans["var"] = self.tok_span(var_tok)
         text = self.numeric_text(self.toks[1:])
         if text is None:
             text = self.text_from(self.toks[1])
         first, last = self.toks[1], self.toks[-1]
-        self.arg_spans["text"] = Span(first.line - 1, first.column - 1, last.line - 1,
-                                      last.end_column - 1)
+        self.arg_spans["text"] = self.tok_span(first, last)
         return {"var": self.none(var_tok.value), "text": text}
 
     def form_string(self) -> dict:
         if len(self.toks) < 3:
             self.missing("a destination, a variable and a format text (each may be (none))")
         dest_tok, var_tok = self.toks[0], self.toks[1]
-        self.arg_spans["dest"] = _Reader.tok_span(dest_tok)
-        self.arg_spans["var"] = _Reader.tok_span(var_tok)
+        self.arg_spans["dest"] = self.tok_span(dest_tok)
+        self.arg_spans["var"] = self.tok_span(var_tok)
         text = self.numeric_text(self.toks[2:])
         if text is None:
             text = self.text_from(self.toks[2])
         first, last = self.toks[2], self.toks[-1]
-        self.arg_spans["text"] = Span(first.line - 1, first.column - 1, last.line - 1,
-                                      last.end_column - 1)
+        self.arg_spans["text"] = self.tok_span(first, last)
         return {"dest": self.none(dest_tok.value), "var": self.none(var_tok.value), "text": text}
 
     def table_head(self, what: str) -> tuple[str, str, int]:
         dest_tok, index_tok, count_tok = self.toks[0], self.toks[1], self.toks[2]
-        self.arg_spans["dest"] = _Reader.tok_span(dest_tok)
-        self.arg_spans["index"] = _Reader.tok_span(index_tok)
+        self.arg_spans["dest"] = self.tok_span(dest_tok)
+        self.arg_spans["index"] = self.tok_span(index_tok)
         count = self.integer(count_tok, f"{what} count")
         if count < 0:
-            self.fail(f"{self.kw.value} count must not be negative", _Reader.tok_span(count_tok),
+            self.fail(f"{self.kw.value} count must not be negative", self.tok_span(count_tok),
                       BAD_VALUE)
         return dest_tok.value, index_tok.value, count
 
     def values_span(self, first: int, count: int) -> Span | None:
         if count:
             a, b = self.toks[first], self.toks[first + count - 1]
-            return Span(a.line - 1, a.column - 1, b.line - 1, b.end_column - 1)
+            return self.tok_span(a, b)
         return None
 
     def form_lut(self) -> dict:
@@ -773,7 +822,7 @@ class _ElementLine:
             self.missing("dest index count asString, then the values")
         dest, index, count = self.table_head("value")
         as_string = self.convert(Field("as_string", "flag"), self.toks[3])
-        self.arg_spans["as_string"] = _Reader.tok_span(self.toks[3])
+        self.arg_spans["as_string"] = self.tok_span(self.toks[3])
         values = self.toks[4:4 + count]
         if len(values) < count:
             self.fail(f"LOOK_UP_TABLE announces {count} values but has {len(values)}",
@@ -788,7 +837,7 @@ class _ElementLine:
         if len(self.toks) > 4 + count:
             name_tok = self.toks[4 + count]
             table = name_tok.value
-            self.arg_spans["table"] = _Reader.tok_span(name_tok)
+            self.arg_spans["table"] = self.tok_span(name_tok)
             self.extra(5 + count)
         else:
             table = f"{dest}{count}"  # classic files: the table is named after dest and count
@@ -811,7 +860,7 @@ class _ElementLine:
         if len(self.toks) > 3 + 2 * count:
             name_tok = self.toks[3 + 2 * count]
             table = name_tok.value
-            self.arg_spans["table"] = _Reader.tok_span(name_tok)
+            self.arg_spans["table"] = self.tok_span(name_tok)
             self.extra(4 + 2 * count)
         return {"dest": dest, "index": index, "points": points, "table": table}
 
@@ -988,12 +1037,13 @@ def element_line(element: Element, version: str = "0.2", encoding: str = "cp1252
         var = _str(a.get("var") or "(none)")
         return f"{key} {dest} {var} {_text_token(str(a.get('text', '')))}"
     if form == "lut":
-        values = [_str(v) for v in a.get("values", ())]
+        # the operand is a sequence whichever reader made it (Field kind "values")
+        values = [_str(v) for v in cast(Iterable[object], a.get("values", ()))]
         parts = [key, _str(a["dest"]), _str(a["index"]), str(len(values)),
                  _str(a.get("as_string", 0))] + values
         return " ".join(parts + [_str(a.get("table", ""))])
     if form == "pwl":
-        points = list(a.get("points", ()))
+        points = list(cast(Iterable[tuple[object, object]], a.get("points", ())))
         parts = [key, _str(a["dest"]), _str(a["index"]), str(len(points))]
         for x, y in points:
             parts += [_str(x), _str(y)]
