@@ -37,10 +37,17 @@ def _node_json(node: Node):
     return {key: children, "span": _span(node.span)}
 
 
+def _settings(program: Program) -> dict:
+    settings = asdict(program.settings)
+    span = program.settings.mcu_span
+    settings["mcu_span"] = None if span is None else span._asdict()
+    return settings
+
+
 def program_json(program: Program) -> dict:
     return {
         "version": DUMP_VERSION,
-        "settings": asdict(program.settings),
+        "settings": _settings(program),
         "pins": [
             {"name": p.name, "pin": p.pin, "modbus_slave": p.modbus_slave, "modbus_register": p.modbus_register}
             for p in program.pins.values()

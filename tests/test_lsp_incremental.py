@@ -210,3 +210,21 @@ def test_a_locator_built_on_the_one_before_equals_a_new_one():
             program, _ = incremental.read(text)
             locator = Locator(program, text.splitlines(), "ladder", locator, incremental.moved)
             assert locator.rung_extents() == Locator(program, text.splitlines()).rung_extents()
+
+
+def test_a_rung_nested_a_thousand_deep_moves_when_a_line_is_added_above():
+    from test_deep_programs import deep_program
+
+    from lang.dump import dumps
+
+    text = render_program(deep_program())
+    incremental = IncrementalReader("ladder")
+    incremental.read(text)
+    lines = text.splitlines(keepends=True)
+    at = next(i for i, line in enumerate(lines) if line.startswith("LADDER DIAGRAM")) + 1
+    edited = "".join(lines[:at] + ["\n"] + lines[at:])
+    program, problems = incremental.read(edited)
+    assert incremental.moved  # moved, not read again
+    expected_program, expected_problems = fresh(edited)
+    assert dumps(program) == dumps(expected_program)  # every span included, written without recursion
+    assert problems == expected_problems

@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import re
 from collections import Counter, OrderedDict
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Parallel, PinAssignment, Program, Rung, Series, Settings, Span
+from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span
 from . import details
 from .rungs import Line, read_rung
 from .sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
@@ -550,35 +551,56 @@ def _detailed(rung: Rung | None) -> list[Element]:
 # --- moving a rung up or down ---------------------------------------------------------
 
 _new = object.__new__
+_new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands of rungs move)
 
 
 def shift_span(span: Span | None, delta: int) -> Span | None:
-    return span.shifted(delta) if span is not None else None
+    return None if span is None else _new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
 
 
-def _shift_node(node, delta: int, detailed: list | None = None):
-    cls = node.__class__
-    if cls is Element:
-        moved = _new(Element)
-        state = moved.__dict__
-        state.update(node.__dict__)
-        state["args"] = dict(node.args)
-        span = node.span
-        state["span"] = None if span is None else Span(span.line + delta, span.col, span.end_line + delta,
-                                                       span.end_col)
-        state["arg_spans"] = {k: Span(v.line + delta, v.col, v.end_line + delta, v.end_col)
-                              for k, v in node.arg_spans.items()}
-        if detailed is not None and node.kind in UNDRAWN:
-            detailed.append(moved)
-        return moved
-    if cls is Series:
-        return Series([_shift_node(item, delta, detailed) for item in node.items], shift_span(node.span, delta))
-    return Parallel([_shift_node(branch, delta, detailed) for branch in node.branches],
-                    shift_span(node.span, delta))
+def _shift_element(node: Element, delta: int, detailed: list | None) -> Element:
+    moved = _new(Element)
+    state = moved.__dict__
+    state.update(node.__dict__)
+    state["args"] = dict(node.args)
+    state["span"] = shift_span(node.span, delta)
+    state["arg_spans"] = {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3]))
+                          for k, v in node.arg_spans.items()}
+    if detailed is not None and node.kind in UNDRAWN:
+        detailed.append(moved)
+    return moved
+
+
+def _shift_node(node: Node, delta: int, detailed: list | None = None) -> Node:
+    if isinstance(node, Element):
+        return _shift_element(node, delta, detailed)
+    # a loop, not recursion (blocks may nest a thousand deep): (block, its
+    # children still to move, its moved children so far), innermost last
+    frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(_children(node)), [])]
+    while True:
+        block, rest, done = frames[-1]
+        for child in rest:
+            if isinstance(child, Element):
+                done.append(_shift_element(child, delta, detailed))
+            else:
+                frames.append((child, iter(_children(child)), []))
+                break
+        else:
+            frames.pop()
+            copy = (Series if block.__class__ is Series else Parallel)(done, shift_span(block.span, delta))
+            if not frames:
+                return copy
+            frames[-1][2].append(copy)
+
+
+def _children(block: Series | Parallel) -> list[Node]:
+    return block.items if isinstance(block, Series) else block.branches
 
 
 def shift_rung(rung: Rung, delta: int, detailed: list | None = None) -> Rung:
-    return Rung(_shift_node(rung.circuit, delta, detailed), shift_span(rung.span, delta))
+    circuit = _shift_node(rung.circuit, delta, detailed)
+    assert isinstance(circuit, Series)  # a series is moved as a series
+    return Rung(circuit, shift_span(rung.span, delta))
 
 
 def shift_block(block: _Block, delta: int) -> _Block:
