@@ -10,8 +10,8 @@ equals the same program read from a `.ld` file.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import NamedTuple
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 
 class Span(NamedTuple):
