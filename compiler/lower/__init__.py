@@ -9,6 +9,7 @@ scan (counter start values, TOF accumulators, random seeds) is `Code.init`.
 
 from __future__ import annotations
 
+from lang import trampoline
 from lang.codes import code
 from lang.devices import Device
 from lang.instructions import COUNTERS
@@ -115,13 +116,15 @@ class TargetBuilder(Builder):
         return self.device.pwm[pin.name]
 
 
-def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> None:
+def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[None]:
+    """A generator run by lang.trampoline: blocks may nest deeper than
+    Python's recursion limit."""
     if isinstance(node, Element):
         b.emit(ir.Note(describe(node)))
         b.lower(node, p)
     elif isinstance(node, Series):
         for i, item in enumerate(node.items):
-            _circuit(b, item, p, tail and i == len(node.items) - 1)
+            yield _circuit(b, item, p, tail and i == len(node.items) - 1)
     else:
         # every branch sees the parallel's input; a branch's side effects
         # are visible to the branches below it; nothing follows a parallel
@@ -132,7 +135,7 @@ def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> None:
         for branch in node.branches:
             bp = b.temp()
             b.emit(ir.CopyBit(bp, p))
-            _circuit(b, branch, bp, out is None)
+            yield _circuit(b, branch, bp, out is None)
             if out:
                 b.emit(ir.OrBit(out, bp))
         if out:
@@ -188,7 +191,7 @@ def lower_program(program: Program, device: Device | None, delay_loop_cycles: in
         b.emit(ir.Note(f"rung {index + 1}", rung=index))
         p = b.temp()
         b.emit(ir.CopyBit(p, b.bit("$mcr")) if mcr else ir.SetBit(p, True))
-        _circuit(b, rung.circuit, p, True)
+        trampoline.run(_circuit(b, rung.circuit, p, True))
     b.place(rung_label(len(program.rungs)))
     init = _initial_values(b, program)
     return ir.Code(b.ops, init, b.bits, b.vars, b.eeprom)

@@ -22,6 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from types import CellType, CodeType, FunctionType
 
+from .. import trampoline
 from ..instructions import COUNTERS, JUMPS
 from ..model import Element, Program, Series
 from ..storage import DEFAULT_SEED, counter_defs, variable_names
@@ -155,12 +156,15 @@ def _power(gen: Gen, prefix: str) -> str:
     return gen.slot(f"~{gen.rung}.{name}", "bit") if gen.calling else name
 
 
-def _circuit(gen: Gen, node, p: str, tail: bool) -> None:
+def _circuit(gen: Gen, node, p: str, tail: bool) -> trampoline.Call[None]:
+    """The code of a block, flat at any depth: each parallel's power is a
+    temporary, not a nested statement. A generator run by lang.trampoline,
+    since blocks may nest deeper than Python's recursion limit."""
     if isinstance(node, Element):
         gen.generate(node, p)
     elif isinstance(node, Series):
         for i, item in enumerate(node.items):
-            _circuit(gen, item, p, tail and i == len(node.items) - 1)
+            yield _circuit(gen, item, p, tail and i == len(node.items) - 1)
     else:
         # every branch sees the parallel's input; a branch's side effects
         # are visible to the branches below it
@@ -170,7 +174,7 @@ def _circuit(gen: Gen, node, p: str, tail: bool) -> None:
         for branch in node.branches:
             b = _power(gen, "b")
             gen.emit(f"{b} = {p}")
-            _circuit(gen, branch, b, out is None)
+            yield _circuit(gen, branch, b, out is None)
             if out:
                 gen.emit(f"{out} = {out} or {b}")
         if out:
@@ -338,7 +342,7 @@ def _generate(gen: Gen, program: Program, name: str, traced: bool, cells: dict[i
         gen.calling = jumps and any(e.kind == "GOSUB" for e in rung.elements())
         p = _power(gen, "p")
         gen.emit(f"{p} = {gen.bit('$mcr') if mcr else 'True'}")
-        _circuit(gen, rung.circuit, p, True)
+        trampoline.run(_circuit(gen, rung.circuit, p, True))
     writer.finish()
     return writer
 
