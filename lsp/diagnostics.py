@@ -20,7 +20,9 @@ class Publisher:
         self.server = server
         self.pending: dict[str, asyncio.TimerHandle] = {}
         self.published: dict[str, int | None] = {}
-        self.last_duration_ms = 0.0  # analysis + publication of the last run (for the log)
+        # analysis + publication after the last change: the adaptive delay's measure (an
+        # open reads and checks the whole document, an edit only what it changed)
+        self.last_duration_ms = 0.0
         self.extra: dict[str, list[Diagnostic]] = {}  # the compiler's, until the next change
 
     def set_extra(self, uri: str, found: list[Diagnostic]) -> None:
@@ -31,7 +33,7 @@ class Publisher:
         delay = self.server.settings.delay_ms(self.last_duration_ms)
         self.cancel(uri)
         if delay <= 0:
-            self.publish(uri)
+            self.publish(uri, after_change=True)
             return
         loop = asyncio.get_event_loop()
         self.pending[uri] = loop.call_later(delay / 1000, self._run, uri)
@@ -39,7 +41,7 @@ class Publisher:
     def _run(self, uri: str) -> None:
         self.pending.pop(uri, None)
         try:
-            self.publish(uri)
+            self.publish(uri, after_change=True)
         except Exception as problem:
             self.server._failure("publishDiagnostics", problem)
 
@@ -48,7 +50,7 @@ class Publisher:
         if handle is not None:
             handle.cancel()
 
-    def publish(self, uri: str) -> None:
+    def publish(self, uri: str, after_change: bool = False) -> None:
         start = time.perf_counter()
         analysis = self.server.documents.analysis(uri, include_too_large=True)
         if analysis is None:
@@ -59,7 +61,8 @@ class Publisher:
         self.server.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=items, version=analysis.version))
         self.published[uri] = analysis.version
-        self.last_duration_ms = (time.perf_counter() - start) * 1000
+        if after_change:
+            self.last_duration_ms = (time.perf_counter() - start) * 1000
 
     def clear(self, uri: str) -> None:
         self.cancel(uri)
