@@ -6,11 +6,14 @@ related places a check names. Published at once when a document opens and
 from __future__ import annotations
 
 import asyncio
+import json
 import time
 
 from lsprotocol import types
 
 from lang.diagnostics import ERROR, Diagnostic
+
+from .protocol import Encoded
 
 SOURCE = "ladder"
 
@@ -24,6 +27,7 @@ class Publisher:
         # open reads and checks the whole document, an edit only what it changed)
         self.last_duration_ms = 0.0
         self.extra: dict[str, list[Diagnostic]] = {}  # the compiler's, until the next change
+        self.encoded: dict[str, dict[Diagnostic, str]] = {}  # uri -> the JSON of each diagnostic published
 
     def set_extra(self, uri: str, found: list[Diagnostic]) -> None:
         self.extra[uri] = list(found)
@@ -57,9 +61,22 @@ class Publisher:
             if uri in self.published:
                 self.clear(uri)
             return
-        items = [to_lsp(self.server, analysis, d) for d in shown(analysis.diagnostics, self.extra.get(uri, []))]
-        self.server.text_document_publish_diagnostics(
-            types.PublishDiagnosticsParams(uri=uri, diagnostics=items, version=analysis.version))
+        # each diagnostic's JSON is kept for the next publication: an edit changes a few of them,
+        # a big document may have thousands (positions in an ASCII text are the same for the client)
+        known = self.encoded.get(uri, {}) if analysis.positions.ascii else {}
+        kept: dict[Diagnostic, str] = {}
+        texts = []
+        for diagnostic in shown(analysis.diagnostics, self.extra.get(uri, [])):
+            text = known.get(diagnostic)
+            if text is None:
+                lsp = self.server.protocol._converter.unstructure(to_lsp(self.server, analysis, diagnostic))
+                text = json.dumps(lsp, separators=(",", ":"))
+            kept[diagnostic] = text
+            texts.append(text)
+        self.encoded[uri] = kept if analysis.positions.ascii else {}
+        self.server.notify(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, Encoded(
+            f'{{"uri":{json.dumps(uri)},"version":{json.dumps(analysis.version)},'
+            f'"diagnostics":[{",".join(texts)}]}}'))
         self.published[uri] = analysis.version
         if after_change:
             self.last_duration_ms = (time.perf_counter() - start) * 1000
@@ -67,6 +84,7 @@ class Publisher:
     def clear(self, uri: str) -> None:
         self.cancel(uri)
         self.published.pop(uri, None)
+        self.encoded.pop(uri, None)
         self.server.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
 

@@ -28,10 +28,11 @@ class Raw:
 
 
 class Encoded:
-    """A result already encoded as JSON text (ASCII, as `json.dumps` writes
-    it): put into the response as it is (lsp/transport.py), so that a big
-    answer assembled from parts kept between requests (the document symbols
-    of a 2,000-rung program, 1.5 MB) is not encoded again as a whole."""
+    """A result or a notification's params already encoded as JSON text
+    (ASCII, as `json.dumps` writes it): put into the message as it is
+    (lsp/transport.py), so that a big one assembled from parts kept between
+    requests (the document symbols of a 2,000-rung program, 1.5 MB; thousands
+    of diagnostics) is not encoded again as a whole."""
 
     __slots__ = ("text",)
 

@@ -68,10 +68,15 @@ class LadderProtocol(LanguageServerProtocol):
         self._send_response(msg_id, error=future.exception().to_response_error())
 
     def _send_data(self, data):
-        result = getattr(data, "result", None)
-        if not isinstance(data, JsonRPCResponseMessage) or not isinstance(result, Encoded) or self.writer is None:
+        result, params = getattr(data, "result", None), getattr(data, "params", None)
+        if self.writer is None:
             return super()._send_data(data)
-        body = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": {result.text}}}'
+        if isinstance(data, JsonRPCResponseMessage) and isinstance(result, Encoded):
+            body = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": {result.text}}}'
+        elif isinstance(params, Encoded):  # a notification
+            body = f'{{"method": {json.dumps(data.method)}, "jsonrpc": "2.0", "params": {params.text}}}'
+        else:
+            return super()._send_data(data)
         header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n"
         written = self.writer.write((header + body).encode(self.CHARSET))
         if inspect.isawaitable(written):
