@@ -8,9 +8,10 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
 
 * a rung that is the same object as the one at its place before is unchanged;
   one the reader moved (`moved`: id(new rung) -> (old rung, lines moved)) has
-  the same content, lines further down or up; every other rung is *changed*;
-* the index replaces the entries of the changed and moved rungs (one slice of
-  each of its lists);
+  the old rung's circuit, whose elements the reader moved in place (their
+  positions are the new ones, in the index too); every other rung is *changed*;
+* the index replaces the entries of the changed rungs (one slice of each of
+  its lists);
 * the RUNGS rules run on the index of the changed rungs, before and after: the
   diagnostics the old rungs gave are taken out of the kept ones, the new ones
   put in; the same for the NAMES rules on the index of the names the changed
@@ -139,11 +140,10 @@ class Checker:
         gone_rungs = Counter(run(RUNGS, old_program, before))
         gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
 
-        touched = changed + edit.moved
-        if touched:
-            index.replace(program, min(touched), max(touched) + 1, before)
+        if changed:
+            index.replace(program, changed[0], changed[-1] + 1, before)
         else:
-            index.program = program
+            index.program, index.rungs, index.cache = program, range(len(program.rungs)), {}
         self._rungs = _kept(self._rungs, gone_rungs, edit) + run(RUNGS, program, index.view(changed))
         self._names = _kept(self._names, gone_names, edit) + run(NAMES, program, index.of_names(names))
 
@@ -157,7 +157,7 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
         if rung is was:
             continue
         origin = moved.get(id(rung))
-        if origin is not None and origin[0] is was and was.span is not None:
+        if origin is not None and origin[0] is was and rung.circuit is was.circuit and was.span is not None:
             edit.moved.append(number)
             edit.starts.append(was.span.line)
             edit.ends.append(was.span.end_line)
@@ -184,12 +184,14 @@ def _offering(index: ProgramIndex, names: set[str]) -> set[int]:
 
 
 def _kept(found: Iterable[Diagnostic], gone: Counter, edit: _Edit) -> list[Diagnostic]:
-    """`found` without the diagnostics in `gone` (as many times as they are
-    there), those of the rungs that moved moved with them."""
+    """`found`, those of the rungs that moved moved with them, without the
+    diagnostics in `gone` (as many times as they are there; computed on the
+    old rungs, whose moved elements are already at their new places)."""
     kept = []
     for diagnostic in found:
+        diagnostic = edit.shifted(diagnostic)
         if gone and gone[diagnostic] > 0:
             gone[diagnostic] -= 1
             continue
-        kept.append(edit.shifted(diagnostic))
+        kept.append(diagnostic)
     return kept

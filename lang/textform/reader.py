@@ -226,6 +226,7 @@ class _Block:
     problems: list[Diagnostic]
     number_at: int | None  # offset of the numbered line from `first` (None: unnumbered)
     detailed: list[Element] = field(default_factory=list)
+    key: tuple | None = None  # in the rung cache
 
 
 @dataclass
@@ -396,7 +397,25 @@ class TextReader:
         if at != first:
             rung = shift_rung(rung, first - at) if rung is not None else None
             found = [p.shifted(first - at) for p in found]
-        return _Block(first, last, rung, list(found), number_at, _detailed(rung))
+        return _Block(first, last, rung, list(found), number_at, _detailed(rung), key)
+
+    def _move(self, block: _Block, delta: int) -> _Block:
+        """The block `delta` lines further down: its elements and series keep
+        their identity and get their new positions in place (so that a symbol
+        table built on them stays true: lang/checks/incremental.py), in a new
+        Rung at the new place; the rung cache follows it."""
+        rung = block.rung
+        if rung is not None:
+            _move_circuit(rung.circuit, delta)
+            rung = Rung(rung.circuit, shift_span(rung.span, delta))
+        problems = [p.shifted(delta) for p in block.problems]
+        moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.detailed,
+                       block.key)
+        if block.key is not None:
+            cached = self._cache.get(block.key)
+            if cached is not None and cached[0] is block.rung:
+                self._cache[block.key] = (rung, problems, moved.first)
+        return moved
 
     # --- an edit ------------------------------------------------------------------------
 
@@ -451,7 +470,7 @@ class TextReader:
         if raw and not at_section_start and not _starts_apart(window):
             return None
         new_blocks = self._blocks(raw)
-        kept_after = [shift_block(b, delta) for b in blocks[i1 + 1:]] if delta else blocks[i1 + 1:]
+        kept_after = [self._move(b, delta) for b in blocks[i1 + 1:]] if delta else blocks[i1 + 1:]
         if delta:
             for old, new in zip(blocks[i1 + 1:], kept_after):
                 if old.rung is not None and old.rung.circuit.items:
@@ -558,7 +577,7 @@ def shift_span(span: Span | None, delta: int) -> Span | None:
     return None if span is None else _new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
 
 
-def _shift_element(node: Element, delta: int, detailed: list | None) -> Element:
+def _shift_element(node: Element, delta: int) -> Element:
     moved = _new(Element)
     state = moved.__dict__
     state.update(node.__dict__)
@@ -566,14 +585,12 @@ def _shift_element(node: Element, delta: int, detailed: list | None) -> Element:
     state["span"] = shift_span(node.span, delta)
     state["arg_spans"] = {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3]))
                           for k, v in node.arg_spans.items()}
-    if detailed is not None and node.kind in UNDRAWN:
-        detailed.append(moved)
     return moved
 
 
-def _shift_node(node: Node, delta: int, detailed: list | None = None) -> Node:
+def _shift_node(node: Node, delta: int) -> Node:
     if isinstance(node, Element):
-        return _shift_element(node, delta, detailed)
+        return _shift_element(node, delta)
     # a loop, not recursion (blocks may nest a thousand deep): (block, its
     # children still to move, its moved children so far), innermost last
     frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(_children(node)), [])]
@@ -581,7 +598,7 @@ def _shift_node(node: Node, delta: int, detailed: list | None = None) -> Node:
         block, rest, done = frames[-1]
         for child in rest:
             if isinstance(child, Element):
-                done.append(_shift_element(child, delta, detailed))
+                done.append(_shift_element(child, delta))
             else:
                 frames.append((child, iter(_children(child)), []))
                 break
@@ -597,14 +614,22 @@ def _children(block: Series | Parallel) -> list[Node]:
     return block.items if isinstance(block, Series) else block.branches
 
 
-def shift_rung(rung: Rung, delta: int, detailed: list | None = None) -> Rung:
-    circuit = _shift_node(rung.circuit, delta, detailed)
+def shift_rung(rung: Rung, delta: int) -> Rung:
+    """A copy of the rung `delta` lines further down (a cached rung read again elsewhere)."""
+    circuit = _shift_node(rung.circuit, delta)
     assert isinstance(circuit, Series)  # a series is moved as a series
     return Rung(circuit, shift_span(rung.span, delta))
 
 
-def shift_block(block: _Block, delta: int) -> _Block:
-    detailed: list[Element] = []
-    rung = shift_rung(block.rung, delta, detailed) if block.rung is not None else None
-    problems = [p.shifted(delta) for p in block.problems] if block.problems else []
-    return _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, detailed)
+def _move_circuit(node: Node, delta: int) -> None:
+    """Every position in a circuit `delta` lines further down, in place."""
+    pending = [node]  # a list, not recursion: blocks may nest a thousand deep
+    while pending:
+        node = pending.pop()
+        if isinstance(node, Element):
+            node.span = shift_span(node.span, delta)
+            node.arg_spans = {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3]))
+                              for k, v in node.arg_spans.items()}
+        else:
+            node.span = shift_span(node.span, delta)
+            pending.extend(_children(node))
