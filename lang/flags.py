@@ -15,7 +15,7 @@ from typing import NamedTuple
 from .instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from .labels import token
 from .model import Element
-from .values import as_int, is_literal
+from .values import as_int, is_literal, is_literal_fast
 
 RES = "RES"
 PWM = "PWM"
@@ -61,16 +61,7 @@ for _kind in _SOURCE_TOO:
     _SIMPLE[_kind] = _SIMPLE[_kind] + (("src", ANY),)
 
 MARKING = frozenset(_SIMPLE) | {"SHIFT_REGISTER"} | frozenset(_PULSE_KINDS)
-_DIGITS = frozenset("0123456789")
 _new = tuple.__new__  # a NamedTuple without its Python-level __new__ (hot loop)
-
-
-def _literal(text: str) -> bool:
-    """lang.values.is_literal for the hot loop (text is not empty)."""
-    first = text[0]
-    if first in _DIGITS or first == "'":
-        return True
-    return (first == "-" or first == "+") and len(text) > 1 and text[1] in _DIGITS
 
 
 def shift_stages(element: Element) -> int:
@@ -90,7 +81,7 @@ def marks(rung: int, element: Element) -> list[Mark]:
     if simple is not None:
         for field, flag in simple:
             text = args.get(field)
-            if text.__class__ is str and text and text != "(none)" and not _literal(text):
+            if text.__class__ is str and text and text != "(none)" and not is_literal_fast(text):
                 found.append(_new(Mark, (text, flag, rung, element, field)))
     elif kind == "SHIFT_REGISTER":
         base = token(args.get("name"))

@@ -33,6 +33,7 @@ from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
 from .model import Element, Parallel, Program, Series, Span
 from .targets import FAMILIES
+from .values import is_literal_fast
 
 # Operand kinds that hold variable names (or, for operands, a constant).
 _NAME_KINDS = ("bit", "var", "operand", "delay")
@@ -90,16 +91,7 @@ class Literal(NamedTuple):
     field: str
 
 
-_DIGITS = frozenset("0123456789")
 _new = tuple.__new__  # builds a NamedTuple without its Python-level __new__ (hot loop)
-
-
-def is_literal_fast(text: str) -> bool:
-    """lang.values.is_literal, inlined for the hot loop (text is not empty)."""
-    first = text[0]
-    if first in _DIGITS or first == "'":
-        return True
-    return (first == "-" or first == "+") and len(text) > 1 and text[1] in _DIGITS
 
 
 def _stages(element: Element) -> list[tuple[str, str, str]]:

@@ -26,6 +26,17 @@ def is_literal(token: str) -> bool:
     return token[0] == "'"
 
 
+_DIGITS = frozenset("0123456789")
+
+
+def is_literal_fast(text: str) -> bool:
+    """is_literal for the symbol table's hot loop (text is not empty; ASCII digits)."""
+    first = text[0]
+    if first in _DIGITS or first == "'":
+        return True
+    return (first == "-" or first == "+") and len(text) > 1 and text[1] in _DIGITS
+
+
 def literal_value(token: str) -> int:
     """The value of an integer literal; ValueError with a reason if malformed."""
     if token.startswith("'"):
