@@ -147,7 +147,7 @@ def iter_elements(node: Node) -> Iterator[Element]:
         if isinstance(node, Element):
             yield node
         else:
-            stack.extend(reversed(_children(node)))
+            stack.extend(reversed(children(node)))
 
 
 def normalise(node: Node) -> Node:
@@ -157,14 +157,14 @@ def normalise(node: Node) -> Node:
         return node
     # (block, its children still to normalise, its normal children so far),
     # innermost last: a loop, not recursion, as blocks may nest a thousand deep
-    frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(_children(node)), [])]
+    frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(children(node)), [])]
     while True:
         block, rest, kept = frames[-1]
         for child in rest:
             if isinstance(child, Element):
                 kept.append(child)  # all _keep does with an element, in a series or a parallel
             else:
-                frames.append((child, iter(_children(child)), []))
+                frames.append((child, iter(children(child)), []))
                 break
         else:
             frames.pop()
@@ -175,7 +175,7 @@ def normalise(node: Node) -> Node:
             _keep(parent, siblings, done)
 
 
-def _children(block: Series | Parallel) -> list[Node]:
+def children(block: Series | Parallel) -> list[Node]:
     return block.items if isinstance(block, Series) else block.branches
 
 

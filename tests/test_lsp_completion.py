@@ -100,3 +100,19 @@ async def test_pins_and_ports_in_the_io_table(client):
     assert "PD3" in {i.label for i in items}
     new = accept(doc, by_label["6"])
     assert new.splitlines()[row] == text.replace("|   5 |", "|   6 |")
+
+
+async def test_a_big_program_offers_the_first_names_and_says_there_are_more(client):
+    from builders import coil, contact, program
+
+    from lang.textform.writer import render_program
+    from lsp.completion import MAX_NAMES
+
+    relays = [f"Rr{number:03d}" for number in range(MAX_NAMES + 50)]
+    doc = Doc(client, new_uri(), render_program(program(*([contact("Xa"), coil(name)] for name in relays))))
+    await doc.diagnostics()
+    position = doc.find("Rr000")
+    result = await client.text_document_completion_async(types.CompletionParams(
+        text_document=td(doc.uri), position=types.Position(line=position.line, character=position.character + 2)))
+    assert result.is_incomplete  # "Rr" typed: 250 relays fit
+    assert [i.label for i in result.items] == relays[:MAX_NAMES]

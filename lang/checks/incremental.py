@@ -67,7 +67,6 @@ def same_context(old: Program, new: Program) -> bool:
 @dataclass
 class _Edit:
     changed: list[int] = field(default_factory=list)  # rung numbers
-    moved: list[int] = field(default_factory=list)  # rung numbers
     # the moved rungs' old lines, sorted: first lines, last lines, how far each moved
     starts: list[int] = field(default_factory=list)
     ends: list[int] = field(default_factory=list)
@@ -158,7 +157,6 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
             continue
         origin = moved.get(id(rung))
         if origin is not None and origin[0] is was and rung.circuit is was.circuit and was.span is not None:
-            edit.moved.append(number)
             edit.starts.append(was.span.line)
             edit.ends.append(was.span.end_line)
             edit.lines.append(origin[1])

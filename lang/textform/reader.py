@@ -14,7 +14,7 @@ from decimal import Decimal, InvalidOperation
 from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span
+from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span, children
 from . import details
 from .rungs import Line, read_rung
 from .sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
@@ -593,14 +593,14 @@ def _shift_node(node: Node, delta: int) -> Node:
         return _shift_element(node, delta)
     # a loop, not recursion (blocks may nest a thousand deep): (block, its
     # children still to move, its moved children so far), innermost last
-    frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(_children(node)), [])]
+    frames: list[tuple[Series | Parallel, Iterator[Node], list[Node]]] = [(node, iter(children(node)), [])]
     while True:
         block, rest, done = frames[-1]
         for child in rest:
             if isinstance(child, Element):
                 done.append(_shift_element(child, delta))
             else:
-                frames.append((child, iter(_children(child)), []))
+                frames.append((child, iter(children(child)), []))
                 break
         else:
             frames.pop()
@@ -608,10 +608,6 @@ def _shift_node(node: Node, delta: int) -> Node:
             if not frames:
                 return copy
             frames[-1][2].append(copy)
-
-
-def _children(block: Series | Parallel) -> list[Node]:
-    return block.items if isinstance(block, Series) else block.branches
 
 
 def shift_rung(rung: Rung, delta: int) -> Rung:
@@ -632,4 +628,4 @@ def _move_circuit(node: Node, delta: int) -> None:
                               for k, v in node.arg_spans.items()}
         else:
             node.span = shift_span(node.span, delta)
-            pending.extend(_children(node))
+            pending.extend(children(node))
