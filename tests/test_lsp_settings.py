@@ -80,20 +80,3 @@ async def test_severities_from_the_project_and_the_editor(client, tmp_path):
     client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
         settings={"ladder": {"diagnostics": {}}}))
 
-
-async def test_the_adaptive_delay_waits_only_after_a_slow_change_not_after_an_open(client):
-    """An open reads and checks the whole document (hundreds of ms for 2,000
-    rungs); the edit after it is checked incrementally, so it is not held back."""
-    from test_lsp_incremental import big_text
-
-    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
-        settings={"ladder": {"diagnosticsDelayMs": None}}))
-    await asyncio.sleep(0.2)
-    doc = Doc(client, new_uri(), big_text(2000))
-    await doc.diagnostics(timeout=30)
-    line = doc.find("0004||").line
-    loop = asyncio.get_running_loop()
-    start = loop.time()
-    doc.change(line, 10, line, 11, "-")
-    await doc.diagnostics()
-    assert loop.time() - start < 0.14  # the adaptive debounce would be 150 ms
