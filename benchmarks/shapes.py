@@ -7,8 +7,7 @@ from __future__ import annotations
 
 def chain_timers_parallels(rungs: int, part: str = "Atmel AVR ATmega2560 100-TQFP") -> str:
     """The program as a `.ld` file."""
-    lines = ["LDmicro0.2", f"MICRO={part}", "CYCLE=10000 us at Timer1, YPlcCycleDuty:0", "CRYSTAL=16000000 Hz",
-             "", "IO LIST", "    Xstart at 2 0 0", "END", "", "PROGRAM"]
+    lines = _header(part)
     for i in range(rungs):
         source = "Xstart" if i == 0 else f"R{i - 1}"
         lines.append(f"RUNG {i + 1}")

@@ -1,28 +1,42 @@
 """Simulator speed, run on demand: `python benchmarks/sim_bench.py`.
 
 Scans per second with tracing off (Simulator.step(n) runs n-1 untraced
-scans) for sample/traffic.ld (target 100,000 scans/s) and for a generated
-200-rung program (target 10,000 scans/s, i.e. 100x real time at a 10 ms
-cycle). Machines are small and noisy: the figures are medians of several
-runs, with their ratio to the target.
+scans) for sample/traffic.ld and for a generated 200-rung program, against
+targets that are the simulator's speed before its instructions moved to the
+one lowering (lang/semantics): 2.3 M and 124 k scans/s here. Machines are
+small and noisy: the figures are medians of several runs, with their ratio
+to the target.
+
+`--against DIR` measures another checkout (say, the commit before a change)
+in the same run: each side in its own process, in turn, three rounds, and
+prints the median ratio of this tree's speed to that one's.
 """
 
 from __future__ import annotations
 
+import argparse
+import json
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve().parents[1]
+# the checkout whose simulator is measured: this one, or the --root of a run for --against
+ROOT = Path(sys.argv[sys.argv.index("--root") + 1]).resolve() if "--root" in sys.argv else HERE
 sys.path.insert(0, str(ROOT))
 
 from lang.loader import load_path  # noqa: E402
 from lang.model import Element, Parallel, Program, Rung, Series, Settings  # noqa: E402
 from lang.sim import Simulator  # noqa: E402
 
-SHARED = ROOT.parent / "shared"
+SHARED = HERE.parent / "shared"
 REPEATS = 7
+ROUNDS = 3
+TRAFFIC_TARGET = 2_300_000
+GENERATED_TARGET = 124_000
+CYCLE_US = 10_000  # both programs' cycle time
 
 
 def generated_program(rungs: int = 200) -> Program:
@@ -61,7 +75,7 @@ def generated_program(rungs: int = 200) -> Program:
             items = [e("CONTACTS", name=f"Y{(i + 1) % 24}", negated=0, set1=0), e("CONTACTS", name=x, negated=0, set1=0),
                      e("COIL", name=f"R{i - 7}", type="R")]
         shapes.append(Rung(Series(items)))
-    return Program(Settings(cycle_us=10000), shapes)
+    return Program(Settings(cycle_us=CYCLE_US), shapes)
 
 
 def scans_per_second(sim: Simulator, scans: int, toggles: list[str]) -> float:
@@ -77,24 +91,52 @@ def scans_per_second(sim: Simulator, scans: int, toggles: list[str]) -> float:
     return statistics.median(rates)
 
 
-def report(label: str, rate: float, target: float, cycle_us: int) -> None:
-    real_time = rate * cycle_us / 1e6
+def report(label: str, rate: float, target: float) -> None:
+    real_time = rate * CYCLE_US / 1e6
     print(f"{label:<28} {rate:>12,.0f} scans/s   {rate / target:5.2f}x target ({target:,.0f})   "
           f"{real_time:,.0f}x real time")
 
 
-def main() -> int:
+def measure() -> dict[str, float]:
     traffic, _ = load_path(SHARED / "corpus" / "ldmicro" / "sample" / "traffic.ld")
     sim = Simulator(traffic)
     sim.step(1000)
-    report("traffic.ld", scans_per_second(sim, 50_000, ["Xbutton1", "Xbutton2"]), 100_000,
-           traffic.settings.cycle_us)
-
+    rates = {"traffic.ld": scans_per_second(sim, 50_000, ["Xbutton1", "Xbutton2"])}
     big = generated_program()
     sim = Simulator(big)
     sim.step(100)
-    report("generated 200 rungs", scans_per_second(sim, 5_000, [n for n in sim.variables() if n.startswith("X")]), 10_000,
-           big.settings.cycle_us)
+    rates["generated 200 rungs"] = scans_per_second(sim, 5_000, [n for n in sim.variables() if n.startswith("X")])
+    return rates
+
+
+def _measured_in(root: Path) -> dict[str, float]:
+    out = subprocess.run([sys.executable, __file__, "--json", "--root", str(root)], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--json", action="store_true", help="print the rates as JSON")
+    parser.add_argument("--against", type=Path, metavar="DIR", help="another checkout to compare with")
+    parser.add_argument("--root", type=Path, metavar="DIR", help="the checkout to measure (default: this one)")
+    args = parser.parse_args()
+    if args.json:
+        print(json.dumps(measure()))
+        return 0
+    if args.against:
+        ratios: dict[str, list[float]] = {}
+        for _ in range(ROUNDS):
+            ours, theirs = _measured_in(HERE), _measured_in(args.against.resolve())
+            for label in ours:
+                ratios.setdefault(label, []).append(ours[label] / theirs[label])
+                print(f"{label:<28} {ours[label]:>12,.0f} scans/s here, {theirs[label]:>12,.0f} there")
+        for label, values in ratios.items():
+            print(f"{label:<28} median ratio {statistics.median(values):.2f}x  ({', '.join(f'{v:.2f}' for v in values)})")
+        return 0
+    rates = measure()
+    report("traffic.ld", rates["traffic.ld"], TRAFFIC_TARGET)
+    report("generated 200 rungs", rates["generated 200 rungs"], GENERATED_TARGET)
     return 0
 
 

@@ -1,8 +1,8 @@
 """The native compiler: a ladder program to an Intel HEX image, for every
 family in `lang.targets.FAMILIES`.
 
-    Program --checks--> lower (compiler.lower) --> intermediate code (compiler.ir)
-            --> optimise (compiler.optimise) --> the family's back end (compiler.target)
+    Program --checks--> lower (lang.semantics.lower) --> intermediate code (lang.semantics.ir)
+            --> flatten, optimise (compiler.optimise) --> the family's back end (compiler.target)
             --> compiler.image.Image --> Intel HEX + listing
 
 `build(program, target)` selects the part, runs the checks as for a build and
@@ -20,16 +20,17 @@ from lang.config import NONE, Severities
 from lang.devices import Device, find_device
 from lang.diagnostics import ERROR, Diagnostic
 from lang.model import Program
-from lang.targets import FAMILIES, compiled, family_of, parts_text
+from lang.semantics.errors import LoweringError
+from lang.semantics.lower import lower_program
+from lang.semantics.lower.io import PWM_FULL
+from lang.targets import FAMILIES, Family, compiled, family_of, parts_text
 from lang.textform.writer import render_rung
 
 from .budget import overrun_warning, scan_budget
 from .c import CSources, Unit, generate
 from .c.arduino import BOARDS, Sketch, SketchPin, ino
-from .errors import MOVED_PIN, NO_TARGET, NOT_COMPILED, CompileError, fail, note
+from .errors import MOVED_PIN, NO_TARGET, NOT_COMPILED, CompileError, fail, lowering_failed, note
 from .image import Build
-from .lower import lower_program
-from .lower.io import PWM_FULL
 from .optimise import optimise
 from .target import BACKENDS, first_use, machine_for
 
@@ -69,7 +70,7 @@ def build(program: Program, target: str | None = None, severities: Severities = 
     problems = [d for d in check_program(program, True, severities) if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
-    code = optimise(lower_program(program, device, backend.delay_loop_cycles))
+    code = optimise(_lower(program, device, backend.delay_loop_cycles))
     image = backend.compile(code, machine_for(program, device))
     budget = scan_budget(program, device, image)
     overrun = overrun_warning(program, budget)
@@ -79,13 +80,20 @@ def build(program: Program, target: str | None = None, severities: Severities = 
     return Build(program, device, image, warnings, budget)
 
 
+def _lower(program: Program, device: Device | None, delay_loop_cycles: int, family: Family | None = None):
+    try:
+        return lower_program(program, device, delay_loop_cycles, family)
+    except LoweringError as problem:
+        raise lowering_failed(problem) from None
+
+
 def build_c(program: Program, stem: str, source: str, severities: Severities = NONE) -> CSources:
     """Portable C for the program, whatever its part (`ladder build --emit
     c`); CompileError as for `build`."""
     problems = [d for d in check_program(program, True, severities, family="c") if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
-    code = optimise(lower_program(program, None, 1, FAMILIES["c"]))
+    code = optimise(_lower(program, None, 1, FAMILIES["c"]))
     unit = Unit(stem, source, lambda index: render_rung(program.rungs[index], index + 1, 0),
                 program.settings.cycle_us)
     return generate(code, unit)

@@ -6,8 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from lang.numbers import byte_needed
-
-from . import ir
+from lang.semantics import ir
 
 UART_OPS = (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake)
 

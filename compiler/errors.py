@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from lang.codes import code
 from lang.diagnostics import Diagnostic, error, warning
+from lang.semantics import errors as lowering
 
 NO_TARGET = code("LD701")
 NOT_COMPILED = code("LD702")
@@ -26,6 +27,10 @@ MOVED_PIN = code("LD711")
 SCAN_OVERRUN = code("LD712")
 BAD_OPERAND = code("LD710")
 
+# the code of each kind of problem the lowering meets, when no check names it
+LOWERING_CODES = {lowering.OPERAND: BAD_OPERAND, lowering.TIMER: BAD_OPERAND, lowering.JUMP: BAD_OPERAND,
+                  lowering.UNSUPPORTED: NOT_COMPILED, lowering.EEPROM: EEPROM_FULL}
+
 
 class CompileError(Exception):
     def __init__(self, diagnostics: list[Diagnostic]):
@@ -40,3 +45,7 @@ def fail(code: str, message: str, element=None) -> CompileError:
 
 def note(code: str, message: str, element=None) -> Diagnostic:
     return warning(code, message, getattr(element, "span", None))
+
+
+def lowering_failed(problem: lowering.LoweringError) -> CompileError:
+    return fail(problem.check or LOWERING_CODES[problem.kind], problem.message, problem.element)

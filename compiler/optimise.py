@@ -1,4 +1,5 @@
-"""Optimising the intermediate code before it is lowered to a target.
+"""Optimising the intermediate code before it is lowered to a target, in its
+flat form (`ir.flatten`: labels, jumps and conditional jumps).
 
 * Known bits: a forward pass tracks which temporary and memory bits have a
   known value (the rung starts powered; after a conditional jump on a bit,
@@ -21,14 +22,13 @@ from __future__ import annotations
 from dataclasses import replace
 
 from lang.numbers import cdiv, cmod, wrap
-
-from . import ir
+from lang.semantics import ir
 
 _ENDS = (ir.Jump, ir.Return, ir.Halt)
 
 
 def optimise(code: ir.Code) -> ir.Code:
-    ops = code.scan
+    ops = ir.flatten(code.scan)
     while True:
         before = ops
         ops = _fold_constants(ops)

@@ -16,8 +16,8 @@ from typing import Protocol
 
 from lang.devices import Device, Pin
 from lang.model import Program
+from lang.semantics import ir
 
-from . import ir
 from .image import Image
 
 DUTY_PIN = "YPlcCycleDuty"  # LDmicro's output that is high while the scan runs

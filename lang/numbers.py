@@ -92,8 +92,10 @@ def opposite(value: int, size: int) -> int:
 
 
 def bit_mask(bit: int) -> int:
-    """1 << bit for SET_BIT/CLEAR_BIT/IF_BIT_*; a negative bit number selects no bit."""
-    return 1 << bit if bit >= 0 else 0
+    """1 << bit for SET_BIT/CLEAR_BIT/IF_BIT_*; a negative bit number selects no bit.
+    No variable is wider than 32 bits, so a bit number past 63 acts as 63: it
+    reads the sign and writes nothing, without a mask of a billion bits."""
+    return 1 << min(bit, 63) if bit >= 0 else 0
 
 
 # LDmicro's 7-segment font (display.cpp `char7seg`, as its compiled code

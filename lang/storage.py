@@ -22,6 +22,8 @@ def timer_period(cycle_us: int, delay: int, adjust: int, name: str) -> int:
     """LDmicro's period in scans: (delay + adjust*cycle) // cycle, with its
     checks (TestTimerPeriod)."""
     cycle = cycle_us
+    if cycle <= 0:
+        raise TimerError(f"Timer '{name}': the cycle time must be positive to count a delay in scans")
     if delay <= 0:
         raise TimerError(f"Timer '{name}': delay cannot be zero or negative")
     plain = delay // cycle
@@ -66,9 +68,12 @@ def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
 def counter_defs(program: Program) -> dict[str, Element]:
     """For RES C...: the first counter of that name, searching CTU, CTD, CTC
     then CTR elements (LDmicro's order)."""
+    by_kind: dict[str, dict[str, Element]] = {kind: {} for kind in COUNTERS}
+    for _, element in program.elements():
+        if element.kind in by_kind:
+            by_kind[element.kind].setdefault(str(element.args["name"]), element)
     found: dict[str, Element] = {}
     for kind in COUNTERS:
-        for _, element in program.elements():
-            if element.kind == kind:
-                found.setdefault(str(element.args["name"]), element)
+        for name, element in by_kind[kind].items():
+            found.setdefault(name, element)
     return found

@@ -1,11 +1,9 @@
-"""FORMATTED_STRING: the text's escapes, and the per-scan sender that LDmicro's
-compiled code implements (one character per scan while the UART is ready)."""
+"""FORMATTED_STRING: the text's escapes, read into the steps the lowering
+sends one per scan while the UART is ready (lang/semantics/lower/io.py)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-from .numbers import cdiv
 
 ESCAPES = {"a": 7, "b": 8, "e": 27, "f": 12, "n": 10, "r": 13, "t": 9, "v": 11,
             "'": 39, '"': 34, "?": 63, "\\": 92}
@@ -69,52 +67,3 @@ def parse_format(text: str) -> Format:
             steps.append(("c", code if code < 256 else ord("?")))
             i += 1
     return Format(tuple(steps), max(digits, 0), signed)
-
-
-def make_sender(fmt: Format):
-    """The element's per-scan function. Its state (`one` edge memory, `busy`
-    still sending, `seq` position, `conv` the value being converted, `lead`
-    suppressing leading zeros) lives in the simulator's slots."""
-    steps = fmt.steps
-    count = len(steps)
-    digits = fmt.digits
-    signed = fmt.signed
-
-    def send(now_us, power, var, one, busy, seq, conv, lead, uart):
-        if power:
-            if not one:
-                one, seq, busy = True, 0, True
-        else:
-            one = False
-        if busy and seq < count and uart.ready(now_us):
-            kind, arg = steps[seq]
-            if kind == "c":
-                byte = arg
-            elif kind == "s":
-                # the sign position also loads the absolute value to convert
-                byte, conv = (45, -var) if var < 0 else (32, var)
-            else:
-                if arg == 0:
-                    if not signed:
-                        conv = var
-                    lead = True
-                scale = 10 ** (digits - arg - 1)
-                quotient = cdiv(conv, scale)
-                conv -= quotient * scale
-                byte = (quotient + 48) & 0xFF
-                if arg != digits - 1:
-                    # all but the last digit: leading zeros become blanks
-                    if byte == 48:
-                        if lead:
-                            byte = 32
-                    else:
-                        lead = False
-            uart.send(now_us, byte)
-            seq += 1
-        if seq < count:
-            out = busy
-        else:
-            out = busy = False
-        return out, one, busy, seq, conv, lead
-
-    return send

@@ -13,7 +13,7 @@ from compiler.target import BACKENDS
 from lang.targets import FAMILIES
 
 ROOT = Path(__file__).resolve().parents[1]
-NOT_BACK_ENDS = {"lower", "run"}  # the compiler's subpackages that are not a family's back end
+NOT_BACK_ENDS = {"run"}  # the compiler's subpackages that are not a family's back end
 
 
 def _imports(path: Path, package: str) -> set[str]:
@@ -71,7 +71,7 @@ def test_the_command_line_reaches_the_language_server_only_to_start_it():
 
 def test_back_ends_see_only_the_machine_and_the_intermediate_code():
     assert back_end_folders(), "no back end found"
-    forbidden = ("lang.model", "lang.checks", "lang.loader", "lang.ldfile", "lang.textform", "compiler.lower",
+    forbidden = ("lang.model", "lang.checks", "lang.loader", "lang.ldfile", "lang.textform", "lang.semantics.lower",
                  "compiler.optimise")
     for folder in back_end_folders():
         assert _offenders(folder, forbidden) == {}, folder.name
@@ -136,3 +136,10 @@ def test_the_compiler_shares_semantics_through_lang_not_the_simulator():
     # proper; only compiler/run, which checks scenarios on firmware, drives the simulator itself
     offenders = _offenders(ROOT / "compiler", ("lang.sim",))
     assert all(path.startswith("compiler/run/") for path in offenders), offenders
+
+
+def test_one_lowering_defines_each_instruction_for_the_simulator_and_every_back_end():
+    # lang.semantics knows neither of its users; both reach the instructions only through it
+    assert _offenders(ROOT / "lang" / "semantics", ("lang.sim", "lang.checks", "compiler")) == {}
+    for path in (ROOT / "lang" / "sim" / "compile.py", ROOT / "compiler" / "__init__.py"):
+        assert "lang.semantics.lower.lower_program" in _imports(path, _package_of(path)), path

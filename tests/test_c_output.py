@@ -118,3 +118,12 @@ def test_a_runtime_with_ldmicros_older_spelling_links_through_one_define(capsys,
     symbols = subprocess.run(["nm", "-u", str(tmp_path / "x.o")], capture_output=True, text=True).stdout.split()
     assert {"Read_U_b_Xstart", "Read_U_b_Xstop", "Read_U_b_Ymotor", "Write_U_b_Ymotor"} <= set(symbols)
     assert not [s for s in symbols if "_Ub_" in s]
+
+
+def test_a_timer_with_no_cycle_time_is_a_located_error_not_a_crash(capsys, tmp_path):
+    source = tmp_path / "nocycle.ladder"
+    shutil.copyfile(ROOT / "tests" / "diagnostics" / "LD315.ladder", source)
+    status, out, err = run(capsys, "build", str(source), "--emit", "c")
+    assert status == 1 and "Traceback" not in err
+    assert f"{source}:6:26: error LD710 Timer 'T1': the cycle time must be positive" in out + err
+    assert not source.with_suffix(".c").exists()

@@ -115,6 +115,19 @@ def test_set_clear_and_test_bits():
     assert sim.value("v") == 8 and sim.value("Yok") == 1
 
 
+def test_a_bit_number_far_past_the_width_reads_the_sign_and_writes_nothing_at_once():
+    sim = Simulator(program(
+        [el("SET_BIT", var="v", bit="n")],
+        [el("IF_BIT_SET", var="w", bit="n"), el("COIL", name="Ysign", type=" ")],
+        sizes={"n": 4},
+    ))
+    sim.set_variable("v", 5)
+    sim.set_variable("w", -1)
+    sim.set_variable("n", 1_073_741_814)  # a mask of a billion bits would take seconds a scan
+    sim.step(1000)
+    assert sim.value("v") == 5 and sim.value("Ysign") == 1
+
+
 def test_bcd_unpacked():
     sim = compute(el("BIN2BCD", dest="b", src="1234"), el("BCD2BIN", dest="n", src="0x0906"),
                   sizes={"b": 4})

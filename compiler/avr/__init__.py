@@ -3,7 +3,8 @@ its listing (GNU avr-as source). Registers itself with `compiler.target`."""
 
 from __future__ import annotations
 
-from .. import ir
+from lang.semantics import ir
+
 from ..analysis import loop_labels, uses_uart
 from ..errors import FLASH_FULL, fail
 from ..image import Image, Symbol

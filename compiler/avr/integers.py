@@ -16,8 +16,9 @@ bytes stored to the destination (the wrap-around the semantics ask for).
 from __future__ import annotations
 
 from lang.numbers import wrap
+from lang.semantics import ir
 
-from .. import analysis, ir
+from .. import analysis
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits

@@ -15,7 +15,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .. import ir
+from lang.semantics import ir
+
 from ..analysis import live_intervals, use_counts
 from ..errors import NOT_COMPILED, RAM_FULL, fail
 from ..target import Machine

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .. import ir
+from lang.semantics import ir
+
 from ..errors import BAD_BAUD, BAD_PWM, PWM_FREQUENCY, fail, note
 from ..image import LoopBound
 from . import bits, integers

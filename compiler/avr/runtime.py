@@ -14,7 +14,8 @@ The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
 
 from __future__ import annotations
 
-from .. import ir
+from lang.semantics import ir
+
 from ..analysis import nearest_period, uses_uart
 from ..errors import BAD_CYCLE, fail
 from ..image import LoopBound

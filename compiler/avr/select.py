@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .. import ir
+from lang.semantics import ir
+
 from ..image import LoopBound
 from . import bits, integers, peripherals
 from .emit import SCRATCH, A, Emitter

@@ -17,7 +17,8 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .. import ir
+from lang.semantics import ir
+
 from .emit import STACK_DEPTH, Writer, c_constant, comment_safe, label_name, write_ops
 from .helpers import helper_text
 from .names import Names

@@ -17,7 +17,8 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from .. import ir
+from lang.semantics import ir
+
 from .names import C_TYPES, Names
 
 STACK_DEPTH = 8  # the simulator's GOSUB depth (docs/semantics.md)

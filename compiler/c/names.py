@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from .. import ir
+from lang.semantics import ir
 
 C_TYPES = {1: "SBYTE", 2: "SWORD", 3: "SDWORD", 4: "SDWORD"}  # LDmicro's ladder.h types by size
 

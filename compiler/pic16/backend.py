@@ -3,7 +3,8 @@ configuration word(s) and a gpasm listing."""
 
 from __future__ import annotations
 
-from .. import ir
+from lang.semantics import ir
+
 from ..errors import FLASH_FULL, fail
 from . import asm as a
 from .emit import Emitter, compress_skips

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .. import analysis, ir
+from lang.semantics import ir
+
+from .. import analysis
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .. import ir
+from lang.semantics import ir
+
 from ..errors import ANALOG_PIN, BAD_BAUD, BAD_PWM, BAUD_APPROXIMATED, NOT_COMPILED, PWM_FREQUENCY, fail, note
 from ..image import LoopBound
 from . import bits

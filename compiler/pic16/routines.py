@@ -14,7 +14,8 @@ Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
 
 from __future__ import annotations
 
-from .. import ir
+from lang.semantics import ir
+
 from ..image import LoopBound
 from . import integers as ints
 from .emit import STATUS, C, Emitter, F, W, Z

@@ -18,7 +18,8 @@ cycle before its first scan).
 
 from __future__ import annotations
 
-from .. import ir
+from lang.semantics import ir
+
 from ..analysis import nearest_period
 from ..errors import BAD_CYCLE, fail
 from ..image import LoopBound

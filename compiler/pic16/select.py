@@ -7,7 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from .. import ir
+from lang.semantics import ir
+
 from ..analysis import loop_labels
 from ..image import LoopBound
 from . import bits, integers, peripherals, routines

@@ -1,4 +1,6 @@
-"""Compile a Program once into a Python scan function.
+"""Compile a Program once into a Python scan function: the lowering
+(lang.semantics) writes its intermediate code, traced, and the simulator's
+back end (lang/sim/emit.py) writes each op as Python.
 
 The function runs n scans in a row with every slot in a local variable:
 `run(S, n, t0_us, E) -> scans done` loads the state list S, runs, and
@@ -22,14 +24,21 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from types import CellType, CodeType, FunctionType
 
-from .. import trampoline
-from ..instructions import COUNTERS, JUMPS
-from ..model import Element, Program, Series
-from ..storage import DEFAULT_SEED, counter_defs, variable_names
-from ..values import as_int, is_literal, literal_value
-from . import gen_io, gen_logic, gen_math, gen_timers  # noqa: F401  (they register the generators)
-from .codegen import GENERATORS, CannotSimulate, Gen, Slot, timer_period
-from .errors import BAD_JUMP, BAD_TIMER, NOT_SIMULATED, SimulationError, located
+from ..instructions import JUMPS
+from ..model import Element, Program
+from ..semantics import errors as lowering
+from ..semantics import ir
+from ..semantics.lower import LOWERINGS, lower_program, rung_label
+from ..targets import Family
+from .codegen import Gen, Slot
+from .emit import emit_ops
+from .errors import BAD_JUMP, BAD_OPERAND, BAD_TIMER, NOT_SIMULATED, SimulationError, located
+
+# the lowering for the simulator: every instruction the table marks `sim`
+SIMULATOR = Family("sim", "the simulator", ())
+# the code of each kind of problem the lowering meets
+LOWERING_CODES = {lowering.OPERAND: BAD_OPERAND, lowering.TIMER: BAD_TIMER, lowering.JUMP: BAD_JUMP,
+                  lowering.UNSUPPORTED: NOT_SIMULATED, lowering.EEPROM: BAD_OPERAND}
 
 # up to this many elements (about 100 rungs) one function is the faster:
 # no calls, and one copy of the state in and out per batch of scans
@@ -52,54 +61,19 @@ class Compiled:
 
 
 class JumpTable:
-    """Where GOTO, GOSUB and SUBPROG go, as rung segments; return points
-    after each GOSUB are extra segments numbered after the rungs."""
+    """The segments GOTO, GOSUB and RETURN go to: one per rung, the end of
+    the scan, then the return points after each GOSUB."""
 
     def __init__(self, gen: Gen, program: Program):
         self.gen = gen
         self.count = len(program.rungs)
-        self.labels: dict[str, int] = {}
-        self.subprogs: dict[str, int] = {}
-        self.endsubs: dict[str, int] = {}
+        self.segments = {rung_label(index): index for index in range(self.count + 1)}
         self.next_return = self.count + 1
         self.chunk = 0  # the chunk being written
         self.chunk_of: dict[int, int] = {}  # segment -> the chunk holding it
-        problems = []
-        for rung, element in program.elements():
-            label = str(element.args.get("label", ""))
-            table = {"LABEL": self.labels, "SUBPROG": self.subprogs, "ENDSUB": self.endsubs}.get(element.kind)
-            if table is None:
-                continue
-            if label in table:
-                problems.append(located(BAD_JUMP, f"{element.kind}: only one {element.kind} '{label}' "
-                                                  "is allowed", element))
-            table[label] = rung
-        for label, _rung in self.subprogs.items():
-            if label not in self.endsubs:
-                problems.append(located(BAD_JUMP, f"SUBPROG: ENDSUB '{label}' not found",
-                                        _find(program, "SUBPROG", label)))
-        if problems:
-            raise SimulationError(problems)
 
-    def goto_target(self, element: Element) -> int:
-        label = str(element.args["label"])
-        if is_literal(label):
-            # a rung number, clamped to 1..rungs+1 as LDmicro does (rungs+1 = end of scan)
-            return min(max(self.gen.literal(label), 1), self.count + 1) - 1
-        if label not in self.labels:
-            raise CannotSimulate(BAD_JUMP, f"GOTO: LABEL '{label}' not found")
-        return self.labels[label]
-
-    def gosub_target(self, element: Element) -> int:
-        label = str(element.args["label"])
-        if is_literal(label):
-            raise CannotSimulate(BAD_JUMP, f"GOSUB: SUBPROG as a number '{label}' is not allowed")
-        if label not in self.subprogs:
-            raise CannotSimulate(BAD_JUMP, f"GOSUB: SUBPROG '{label}' not found")
-        return self.subprogs[label] + 1
-
-    def after_endsub(self, element: Element) -> int:
-        return self.endsubs[str(element.args["label"])] + 1
+    def segment(self, label: str) -> int:
+        return self.segments[label]
 
     def new_return_point(self) -> int:
         self.next_return += 1
@@ -117,20 +91,30 @@ class JumpTable:
         gen.depth += 1
         gen.emit("pass")
 
-    def start(self, segment: int) -> None:
+    def split(self, segment: int) -> None:
         """End the current segment here and start `segment`, falling into it."""
-        if segment:
-            self.leave(segment)
+        self.leave(segment)
         self.enter(segment)
 
-    split = start
 
-
-def _find(program: Program, kind: str, label: str) -> Element | None:
-    for _, element in program.elements():
-        if element.kind == kind and str(element.args.get("label")) == label:
-            return element
-    return None
+def _check_jumps(elements: list[Element]) -> None:
+    """Every LABEL, SUBPROG and ENDSUB once, every SUBPROG with its ENDSUB."""
+    problems = []
+    tables: dict[str, dict[str, Element]] = {"LABEL": {}, "SUBPROG": {}, "ENDSUB": {}}
+    for element in elements:
+        table = tables.get(element.kind)
+        if table is None:
+            continue
+        label = str(element.args.get("label", ""))
+        if label in table:
+            problems.append(located(BAD_JUMP, f"{element.kind}: only one {element.kind} '{label}' is allowed",
+                                    element))
+        table[label] = element
+    for label, element in tables["SUBPROG"].items():
+        if label not in tables["ENDSUB"]:
+            problems.append(located(BAD_JUMP, f"SUBPROG: ENDSUB '{label}' not found", element))
+    if problems:
+        raise SimulationError(problems)
 
 
 def _unsupported(program: Program) -> list:
@@ -141,70 +125,27 @@ def _unsupported(program: Program) -> list:
         if rung.is_comment:
             continue
         for element in rung.elements():
-            if not element.spec.supports("sim") or element.kind not in GENERATORS:
+            if not element.spec.supports("sim") or element.kind not in LOWERINGS:
                 what = "an empty rung" if element.kind == "PLACEHOLDER" else element.kind
                 problems.append(located(NOT_SIMULATED, f"rung {index + 1}: {what} cannot be simulated",
                                         element))
     return problems
 
 
-def _power(gen: Gen, prefix: str) -> str:
-    """A variable for the power flowing in the rung. After a GOSUB the rung
-    goes on where it was, which may be in another call of its chunk's
-    function: a rung that calls a subroutine keeps these in slots."""
-    name = gen.temp(prefix)
-    return gen.slot(f"~{gen.rung}.{name}", "bit") if gen.calling else name
+def _initial_values(gen: Gen, code: ir.Code, elements: list[Element]) -> None:
+    """What LDmicro's INIT VARS block sets before the first scan (the
+    lowering's `init`) and what its simulator sets: the inputs a contact
+    marks `set1` start at 1."""
+    def init(name: str, value: int) -> None:
+        if name in gen.index:
+            gen.slots[gen.index[name]].init = value
 
-
-def _circuit(gen: Gen, node, p: str, tail: bool) -> trampoline.Call[None]:
-    """The code of a block, flat at any depth: each parallel's power is a
-    temporary, not a nested statement. A generator run by lang.trampoline,
-    since blocks may nest deeper than Python's recursion limit."""
-    if isinstance(node, Element):
-        gen.generate(node, p)
-    elif isinstance(node, Series):
-        for i, item in enumerate(node.items):
-            yield _circuit(gen, item, p, tail and i == len(node.items) - 1)
-    else:
-        # every branch sees the parallel's input; a branch's side effects
-        # are visible to the branches below it
-        out = None if tail and not gen.traced else _power(gen, "o")
-        if out:
-            gen.emit(f"{out} = False")
-        for branch in node.branches:
-            b = _power(gen, "b")
-            gen.emit(f"{b} = {p}")
-            yield _circuit(gen, branch, b, out is None)
-            if out:
-                gen.emit(f"{out} = {out} or {b}")
-        if out:
-            gen.emit(f"{p} = {out}")
-
-
-def _initial_values(gen: Gen, program: Program) -> None:
-    """What LDmicro's INIT VARS block (and its simulator, for set1 inputs)
-    sets before the first scan, in program order so the last one wins."""
-    def init(name: object, value: int) -> None:
-        key = str(name)
-        if key in gen.index:
-            gen.slots[gen.index[key]].init = value
-
-    for _, element in program.elements():
-        kind = element.kind
-        if kind == "CONTACTS" and element.args.get("set1") and str(element.args["name"]).startswith("X"):
-            init(element.args["name"], True)
-        elif kind in COUNTERS and is_literal(str(element.args.get("init", "0"))):
-            init(element.args["name"], literal_value(str(element.args.get("init", "0"))))
-        elif kind == "TOF":
-            name, delay = element.args["name"], element.args["delay"]
-            if isinstance(delay, int):
-                init(name, timer_period(gen, delay, as_int(element.args.get("adjust", 0) or 0), str(name)))
-            else:
-                # LDmicro cannot start a variable-delay TOF; start it expired
-                init(name, (1 << (8 * gen.size(str(name)) - 1)) - 1)
-        elif kind == "SEED_RANDOM":
-            init(f"$seed_{element.args['name']}", DEFAULT_SEED)
-
+    for op in code.init:
+        assert isinstance(op, ir.Move) and isinstance(op.dst, ir.Var) and isinstance(op.src, ir.Const)
+        init(op.dst.name, op.src.value)
+    for element in elements:
+        if element.kind == "CONTACTS" and element.args.get("set1") and str(element.args["name"]).startswith("X"):
+            init(str(element.args["name"]), True)
 
 
 class _Writer:
@@ -216,6 +157,8 @@ class _Writer:
         self.gen, self.name, self.cells = gen, name, cells
         self.chunks: list[Callable] = []
         self.body: list[str] = []
+        self.start: list[str] = []  # every scan's first lines, before the rungs
+        self.start_used: set[int] = set()
         gen.lines, gen.used = [], set()
 
     def rung(self, index: int) -> None:
@@ -251,12 +194,12 @@ class _Writer:
         slot, since one that is not chunked keeps them all in locals."""
         gen = self.gen
         if self.cells is not None:
-            lines = _function(gen, self.name, self.body, ["for load in LOAD:", "    load(S)"],
+            lines = _function(gen, self.name, self.start, self.body, ["for load in LOAD:", "    load(S)"],
                               ["for store in STORE:", "    store(S)"], timed=True)
-            return _closure(lines, _relay(gen), self.cells, gen.namespace)
+            return _closure(lines, self.start_used, self.cells, gen.namespace)
         names = ", ".join(f"v{i}" for i in range(len(gen.slots))) + ","
         load, store = ([f"{names} = S"], [f"S[:] = ({names})"]) if gen.slots else ([], [])
-        source = "\n".join(_function(gen, self.name, self.body, load, store, gen.uses_time)) + "\n"
+        source = "\n".join(_function(gen, self.name, self.start, self.body, load, store, gen.uses_time)) + "\n"
         exec(compile(source, "<ladder scan>", "exec"), gen.namespace)
         function = gen.namespace[self.name]
         assert callable(function)  # the exec just defined it
@@ -322,46 +265,71 @@ def _sync(gen: Gen, cells: dict[int, CellType]) -> None:
     gen.namespace.update(LOAD=loads, STORE=stores)
 
 
-def _generate(gen: Gen, program: Program, name: str, traced: bool, cells: dict[int, CellType] | None) -> _Writer:
+def _generate(gen: Gen, code: ir.Code, name: str, traced: bool, cells: dict[int, CellType] | None,
+              jumps: bool) -> _Writer:
     gen.traced = traced
     gen.elements = []
-    gen.counter_defs = counter_defs(program)
-    gen.eeprom_next = 0
-    jumps = any(e.kind in JUMPS for _, e in program.elements())
+    program = gen.program
     gen.jumps = JumpTable(gen, program) if jumps else None
-    gen.depth = 1 if jumps else 0
-    mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
     writer = _Writer(gen, name, cells)
-    for index, rung in enumerate(program.rungs):
-        # temporaries die with their rung, so each rung reuses the same few
-        # names: a chunk's frame holds its slots and little more
-        gen.rung, gen.position, gen.temp_count = index, -1, 0
+    start, rungs = _rungs(code.scan, len(program.rungs))
+    writer.start = _lines(gen, start)
+    writer.start_used = set(gen.used)
+    gen.lines, gen.used = [], set()
+    gen.depth = 1 if jumps else 0
+    for index, ops in enumerate(rungs):
         writer.rung(index)
-        if rung.is_comment or not rung.circuit.items:
-            continue
-        gen.calling = jumps and any(e.kind == "GOSUB" for e in rung.elements())
-        p = _power(gen, "p")
-        gen.emit(f"{p} = {gen.bit('$mcr') if mcr else 'True'}")
-        trampoline.run(_circuit(gen, rung.circuit, p, True))
+        gen.new_rung(index, jumps and any(isinstance(op, ir.Call) for op in _walk(ops)))
+        emit_ops(gen, ops, each=lambda: _return_point(gen))
     writer.finish()
     return writer
 
 
-def _relay(gen: Gen) -> set[int]:
-    """The master relay's slot, if the program has one."""
-    return {gen.index["$mcr"]} if "$mcr" in gen.index else set()
+def _return_point(gen: Gen) -> None:
+    """After a GOSUB's block, the segment where its RETURN comes back: the
+    rest of the rung."""
+    if gen.return_point is not None:
+        assert gen.jumps is not None
+        gen.jumps.split(gen.return_point)
+        gen.return_point = None
 
 
-def _scan_start(gen: Gen) -> list[str]:
-    """Every scan starts with the master relay closed."""
-    return [f"v{mcr} = True" for mcr in _relay(gen)]
+def _rungs(scan: list[ir.Op], count: int) -> tuple[list[ir.Op], list[list[ir.Op]]]:
+    """The code before the first rung (every scan's start), and each rung's."""
+    labels = {rung_label(index) for index in range(count + 1)}
+    start: list[ir.Op] = []
+    rungs: list[list[ir.Op]] = []
+    current = start
+    for op in scan:
+        if isinstance(op, ir.Label) and op.name in labels:
+            current = []
+            rungs.append(current)
+        else:
+            current.append(op)
+    assert len(rungs) == count + 1 and not rungs[-1], "a label for every rung and the end of the scan"
+    return start, rungs[:-1]
 
 
-def _function(gen: Gen, name: str, body: list[str], load: list[str], store: list[str], timed: bool) -> list[str]:
+def _walk(ops: list[ir.Op]):
+    for op in ops:
+        yield op
+        if isinstance(op, ir.If):
+            yield from _walk(op.then)
+            yield from _walk(op.otherwise or [])
+
+
+def _lines(gen: Gen, ops: list[ir.Op]) -> list[str]:
+    gen.lines, gen.used, gen.depth = [], set(), 0
+    emit_ops(gen, ops)
+    return gen.lines
+
+
+def _function(gen: Gen, name: str, start: list[str], body: list[str], load: list[str], store: list[str],
+              timed: bool) -> list[str]:
     lines = [f"def {name}(S, n, t0, E):", *_indented(load, 1), "    done = 0", "    try:", "        while done < n:"]
     if timed:
         lines.append(f"            now = t0 + done * {gen.cycle_us}")
-    lines += _indented(_scan_start(gen) + body or ["pass"], 3)
+    lines += _indented(start + body or ["pass"], 3)
     lines += ["            done += 1", "    except Fault as fault:", "        fault.done = done", "        raise",
               "    finally:", *_indented(store or ["pass"], 2), "    return done"]
     return lines
@@ -373,14 +341,21 @@ def compile_program(program: Program, peripherals) -> Compiled:
     problems = _unsupported(program)
     if problems:
         raise SimulationError(problems)
-    bits, sizes = variable_names(program)
-    gen = Gen(program, sizes, bits)
+    elements = [element for _, element in program.elements()]
+    jumps = any(e.kind in JUMPS for e in elements)
+    if jumps:
+        _check_jumps(elements)
+    try:
+        code = lower_program(program, None, 1, SIMULATOR, trace=True)
+    except lowering.LoweringError as problem:
+        raise SimulationError([located(LOWERING_CODES[problem.kind], problem.message, problem.element)]) from None
+    gen = Gen(program, code)
     gen.namespace.update(PER=peripherals, U=peripherals.uart)
     # a slot's cell is made when a chunk first uses it
-    cells: dict[int, CellType] | None = defaultdict(CellType) if sum(1 for _ in program.elements()) > SINGLE_ELEMENTS else None
+    cells: dict[int, CellType] | None = defaultdict(CellType) if len(elements) > SINGLE_ELEMENTS else None
     # the two variants share one Gen, so that they number the slots alike
-    writers = [_generate(gen, program, "run", False, cells), _generate(gen, program, "run_traced", True, cells)]
-    _initial_values(gen, program)
+    writers = [_generate(gen, code, "run", False, cells, jumps), _generate(gen, code, "run_traced", True, cells, jumps)]
+    _initial_values(gen, code, elements)
     if cells is not None:
         _sync(gen, cells)
     run, run_traced = (writer.function() for writer in writers)

@@ -1,24 +1,21 @@
-"""The front end's working state: the ops being written, fresh labels and
-temporaries, element memories, operands, and structured conditionals built
-from labels and conditional jumps.
-
-Every element follows what the simulator does for it (lang/sim, the reference
-semantics), statement for statement, so that the compiled scan behaves like
-the simulated one.
-"""
+"""The lowering's working state: the ops being written, fresh labels and
+temporaries, element memories, operands, and structured conditionals
+(`with b.if_(cond) as branch: ... with branch.otherwise(): ...`)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from contextlib import contextmanager
-from dataclasses import dataclass
 
 from lang.model import Element
 from lang.storage import TimerError, timer_period
 from lang.values import is_literal, literal_value
 
 from .. import ir
-from ..errors import BAD_OPERAND, fail
+from ..errors import OPERAND, TIMER, fail
+from ..ir import Condition, Holds, IsSet
+
+__all__ = ["LOWERINGS", "Builder", "Holds", "IsSet", "lowers"]
 
 DEFAULT_SIZE = 2
 
@@ -36,48 +33,31 @@ def lowers(*kinds: str):
     return register
 
 
-@dataclass(frozen=True)
-class IsSet:
-    bit: ir.Bit
-    value: bool = True
-
-
-@dataclass(frozen=True)
-class Holds:
-    a: ir.Operand
-    rel: str
-    b: ir.Operand
-
-
-Condition = IsSet | Holds
-
-
 class Branch:
-    """The else part of an `if_`: `with branch.otherwise(): ...`."""
+    """The else part of an `if_`: `with branch.otherwise(): ...`, the last
+    thing inside the `if_` block."""
 
-    def __init__(self, builder: Builder, otherwise: str, end: str):
+    def __init__(self, builder: Builder, node: ir.If):
         self.builder = builder
-        self.else_label = otherwise
-        self.end = end
-        self.used = False
+        self.node = node
 
     @contextmanager
     def otherwise(self):
-        self.used = True
-        self.builder.emit(ir.Jump(self.end))
-        self.builder.place(self.else_label)
+        self.node.otherwise = []
+        self.builder.blocks[-1] = self.node.otherwise
         yield
 
 
 class Builder:
-    def __init__(self, program, bits: set[str], sizes: dict[str, int], classes: dict[str, str]):
+    def __init__(self, program, elements: list[Element], bits: set[str], sizes: dict[str, int],
+                 classes: dict[str, str]):
         self.program = program
         self.cycle_us = program.settings.cycle_us
         self.bit_names = bits
         self.sizes = sizes
         self.classes = classes  # program bit name -> ir bit class
         self.ops: list[ir.Op] = []
-        self.init: list[ir.Op] = []
+        self.blocks = [self.ops]  # the innermost block being written last
         self.vars: dict[str, int] = {}
         self.bits: dict[str, str] = {}
         self.element: Element | None = None
@@ -88,12 +68,12 @@ class Builder:
         self.eeprom = 0  # EEPROM bytes the PERSIST variables take so far
         self.eeprom_size = 0  # the part's
         self.overflow_read = "ROverflowFlagV" in {
-            str(e.args.get("name")) for _, e in program.elements() if e.kind == "CONTACTS"}
+            str(e.args.get("name")) for e in elements if e.kind == "CONTACTS"}
 
     # --- writing ------------------------------------------------------------------
 
     def emit(self, op: ir.Op) -> None:
-        self.ops.append(op)
+        self.blocks[-1].append(op)
 
     def new_label(self, hint: str = "L") -> str:
         self._labels += 1
@@ -102,22 +82,15 @@ class Builder:
     def place(self, label: str) -> None:
         self.emit(ir.Label(label))
 
-    def jump_unless(self, cond: Condition, target: str) -> None:
-        if isinstance(cond, IsSet):
-            self.emit(ir.JumpIfBit(cond.bit, not cond.value, target))
-        else:
-            self.emit(ir.JumpIf(cond.a, ir.NEGATED[cond.rel], cond.b, target))
-
     @contextmanager
     def if_(self, cond: Condition):
         """`with b.if_(cond) as branch:` then-part, optionally ending with
         `with branch.otherwise():` else-part."""
-        branch = Branch(self, self.new_label(), self.new_label())
-        self.jump_unless(cond, branch.else_label)
-        yield branch
-        if not branch.used:
-            self.place(branch.else_label)
-        self.place(branch.end)
+        node = ir.If(cond, [], None, self.new_label(), self.new_label())
+        self.emit(node)
+        self.blocks.append(node.then)
+        yield Branch(self, node)
+        self.blocks.pop()
 
     # --- storage --------------------------------------------------------------------
 
@@ -140,7 +113,7 @@ class Builder:
 
     def var(self, name: str) -> ir.Var:
         if name in self.bit_names:
-            raise fail(BAD_OPERAND, f"'{name}' is a bit; it cannot hold an integer", self.element)
+            raise fail(OPERAND, f"'{name}' is a bit; it cannot hold an integer", self.element)
         size = self.size(name)
         self.vars[name] = size
         return ir.Var(name, size)
@@ -170,7 +143,7 @@ class Builder:
         try:
             return literal_value(str(token))
         except ValueError as bad:
-            raise fail(BAD_OPERAND, str(bad), self.element) from None
+            raise fail(OPERAND, str(bad), self.element) from None
 
     def operand(self, token) -> ir.Var | ir.Const:
         token = str(token)
@@ -181,7 +154,7 @@ class Builder:
     def dest(self, field: str = "dest") -> ir.Var:
         name = str(self.arg(field))
         if is_literal(name):
-            raise fail(BAD_OPERAND, f"'{name}' is not a valid destination", self.element)
+            raise fail(OPERAND, f"'{name}' is not a valid destination", self.element)
         return self.var(name)
 
     def period(self, delay: int, adjust: int, name: str) -> int:
@@ -189,4 +162,4 @@ class Builder:
         try:
             return timer_period(self.program.settings.cycle_us, delay, adjust, name)
         except TimerError as problem:
-            raise fail(BAD_OPERAND, str(problem), self.element) from None
+            raise fail(TIMER, str(problem), self.element) from None

@@ -1,6 +1,6 @@
 """Moves, arithmetic, bit operations, conversions, random numbers, tables,
-the shift register and display decoders (lang/sim/gen_math.py is the
-semantics followed here)."""
+the shift register and display decoders. Every result is truncated to its
+destination's size; operands are read as the signed values they hold."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from lang.codes import code
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import fail
+from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 SEED_MULTIPLIER = 69069
@@ -61,8 +61,8 @@ def shift(b: Builder, el, p: ir.Bit) -> None:
     a, n = b.operand(el.args["op1"]), b.operand(el.args["op2"])
     width = operand_width(b, el.args["op1"], d.size)
     if isinstance(n, ir.Const) and not 0 <= n.value <= 8 * width:
-        raise fail(code("LD302"), f"shift count {n.value} out of range of '{el.args['op1']}': "
-                                f"0 to {8 * width} inclusive", el)
+        raise fail(OPERAND, f"shift count {n.value} out of range of '{el.args['op1']}': "
+                                f"0 to {8 * width} inclusive", el, check=code("LD302"))
     _when(b, p, ir.Shift(el.kind.lower(), d, a, n, width))
 
 
@@ -121,7 +121,7 @@ def look_up_table(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
     values = tuple(b.literal(v) for v in el.args.get("values", ()))
     if not values:
-        raise fail(code("LD308"), "look-up table with no values", el)
+        raise fail(OPERAND, "look-up table with no values", el, check=code("LD308"))
     _when(b, p, ir.Table(d, values, b.operand(el.args["index"])))
 
 
@@ -130,9 +130,10 @@ def piecewise_linear(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
     points = [(b.literal(x), b.literal(y)) for x, y in el.args.get("points", ())]
     if not points:
-        raise fail(code("LD305"), "piecewise linear table with zero elements", el)
+        raise fail(OPERAND, "piecewise linear table with zero elements", el, check=code("LD305"))
     if any(q[0] <= r[0] for r, q in pairwise(points)):
-        raise fail(code("LD306"), "x values in a piecewise linear table must be strictly increasing", el)
+        raise fail(OPERAND, "x values in a piecewise linear table must be strictly increasing", el,
+                   check=code("LD306"))
     token = el.args["index"]
     with b.if_(IsSet(p)):
         # segments from the last down, each one that holds the index
@@ -142,8 +143,8 @@ def piecewise_linear(b: Builder, el, p: ir.Bit) -> None:
             (x0, y0), (x1, y1) = points[i - 1], points[i]
             dx, dy = x1 - x0, y1 - y0
             if not -32768 < dx * dy < 32767:
-                raise fail(code("LD307"), "numerical problem with the piecewise linear table: make the "
-                                        "entries smaller or the points closer", el)
+                raise fail(OPERAND, "numerical problem with the piecewise linear table: make the "
+                                        "entries smaller or the points closer", el, check=code("LD307"))
             with b.if_(Holds(b.operand(token), "<=", ir.Const(x1))):
                 b.emit(ir.Arith("sub", d, b.operand(token), ir.Const(x0)))
                 b.emit(ir.Arith("mul", d, d, ir.Const(dy)))

@@ -1,15 +1,16 @@
 """Peripheral instructions: ADC, PWM, PERSIST and the UART elements with
-formatted strings (lang/sim/gen_io.py and lang/strings.py are the
-semantics followed here)."""
+formatted strings (lang/strings.py reads the format). The simulator's
+peripheral objects, or the part's hardware, do the rest."""
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from typing import TYPE_CHECKING
 
 from lang.strings import parse_format
 
 from .. import ir
-from ..errors import BAD_OPERAND, EEPROM_FULL, fail
+from ..errors import EEPROM, OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
@@ -32,7 +33,7 @@ def set_pwm(b: TargetBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     resolution = str(el.args.get("resolution") or "0-100%")
     if resolution not in PWM_FULL:
-        raise fail(BAD_OPERAND, f"unknown PWM resolution '{resolution}'", el)
+        raise fail(OPERAND, f"unknown PWM resolution '{resolution}'", el)
     with b.if_(IsSet(p)):
         b.emit(ir.SetPwm(b.pwm_unit(name), b.operand(el.args["duty"]), PWM_FULL[resolution],
                          int(el.args["freq"])))
@@ -45,7 +46,7 @@ def persist(b: Builder, el, p: ir.Bit) -> None:
     address = b.eeprom
     b.eeprom += v.size
     if b.eeprom > b.eeprom_size:
-        raise fail(EEPROM_FULL, f"the PERSIST variables need {b.eeprom} bytes of EEPROM; the part has "
+        raise fail(EEPROM, f"the PERSIST variables need {b.eeprom} bytes of EEPROM; the part has "
                                 f"{b.eeprom_size}", el)
     loaded = b.memory_bit("loaded")
     with b.if_(IsSet(p)):
@@ -113,7 +114,7 @@ def uart_recv(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest("var")
     count = int(el.args.get("bytes", 1) or 1)
     if count > d.size:
-        raise fail(BAD_OPERAND, f"UART RECV of {count} bytes into '{d.name}' of {d.size} bytes", el)
+        raise fail(OPERAND, f"UART RECV of {count} bytes into '{d.name}' of {d.size} bytes", el)
     if count == 1:
         with b.if_(IsSet(p)):
             b.emit(ir.UartAvailable(p))
@@ -164,10 +165,10 @@ def formatted_string(b: Builder, el, p: ir.Bit) -> None:
     try:
         fmt = parse_format(str(el.args.get("text") or ""))
     except ValueError as bad:
-        raise fail(BAD_OPERAND, str(bad), el) from None
+        raise fail(OPERAND, str(bad), el) from None
     name = str(el.args.get("var") or "")
     if fmt.digits and not name:
-        raise fail(BAD_OPERAND, "a variable is interpolated into the formatted string, but none is specified", el)
+        raise fail(OPERAND, "a variable is interpolated into the formatted string, but none is specified", el)
     # a variable the text never inserts is not read (LD323 warns), as in LDmicro's code
     value = b.operand(name) if name and fmt.digits else ir.Const(0)
     steps, count = fmt.steps, len(fmt.steps)
@@ -186,18 +187,19 @@ def formatted_string(b: Builder, el, p: ir.Bit) -> None:
         with b.if_(Holds(seq, "<", ir.Const(count))):
             b.emit(ir.UartReady(ready))
             with b.if_(IsSet(ready)):
-                send = b.new_label()
-                for position, (kind, arg) in enumerate(steps):
-                    if kind == "c":
-                        continue
-                    with b.if_(Holds(seq, "==", ir.Const(position))):
+                # the byte of a sign or digit position is computed, any
+                # other is the text's character, from a table
+                with ExitStack() as chain:
+                    for position, (kind, arg) in enumerate(steps):
+                        if kind == "c":
+                            continue
+                        branch = chain.enter_context(b.if_(Holds(seq, "==", ir.Const(position))))
                         if kind == "s":
                             _sign(b, value, conv, byte)
                         else:
                             _digit(b, fmt, arg, value, conv, byte, quotient, lead)
-                        b.emit(ir.Jump(send))
-                b.emit(ir.Table(byte, tuple(arg if kind == "c" else 0 for kind, arg in steps), seq))
-                b.place(send)
+                        chain.enter_context(branch.otherwise())
+                    b.emit(ir.Table(byte, tuple(arg if kind == "c" else 0 for kind, arg in steps), seq))
                 b.emit(ir.UartSend(byte))
                 b.emit(ir.Arith("add", seq, seq, ir.Const(1)))
     with b.if_(Holds(seq, "<", ir.Const(count))) as branch:

@@ -1,5 +1,5 @@
-"""Timers, counters, RES and the time converters (lang/sim/gen_timers.py is
-the semantics followed here): accumulators count scans, each element
+"""Timers, counters, RES and the time converters, as LDmicro compiles them
+(intcode.cpp ELEM_TON ... ELEM_CTR): accumulators count scans, each element
 instance has its own edge memory."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from lang.instructions import TIMERS
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import BAD_OPERAND, fail
+from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
@@ -113,7 +113,7 @@ def timer(b: Builder, el, p: ir.Bit) -> None:
 def time_to_count(b: Builder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
     if not isinstance(delay, int):
-        raise fail(BAD_OPERAND, "the T2CNT delay must be a time, not a variable", el)
+        raise fail(OPERAND, "the T2CNT delay must be a time, not a variable", el)
     value = b.period(delay, 0, el.args["name"])
     with b.if_(IsSet(p)):
         b.emit(ir.Move(b.var(el.args["name"]), ir.Const(value)))
@@ -123,7 +123,7 @@ def time_to_count(b: Builder, el, p: ir.Bit) -> None:
 def time_to_delay(b: TargetBuilder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
     if not isinstance(delay, int) or delay < 0:
-        raise fail(BAD_OPERAND, "the T2DLY delay must be a time", el)
+        raise fail(OPERAND, "the T2DLY delay must be a time", el)
     loops = round(delay * b.program.settings.crystal_hz / (1_000_000 * b.delay_loop_cycles))
     with b.if_(IsSet(p)):
         b.emit(ir.Move(b.var(el.args["name"]), ir.Const(loops)))

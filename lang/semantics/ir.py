@@ -9,14 +9,21 @@ their destination; operands are read as the signed values they hold
 (docs/semantics.md, "Variable sizes"), so an op computes in the widest size
 its operands and destination need.
 
-Control flow is a flat list with labels, jumps and conditional jumps; the
-front end (`compiler.lower`) writes structured code with them and the
-optimiser (`compiler.optimise`) rewrites the list.
+The lowering (`lang.semantics.lower`) writes structured code: an element's
+conditionals are `If` blocks, and the program's jumps (GOTO, GOSUB, RETURN)
+go to the labels that start its rungs. The simulator turns that code into
+Python as it is; the compiler first makes it a flat list with labels, jumps
+and conditional jumps (`flatten`), which its optimiser rewrites and its back
+ends translate.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..model import Element
 
 
 @dataclass(frozen=True)
@@ -77,10 +84,25 @@ class Label(Op):
 @dataclass
 class Note(Op):
     """Text for the listing (the rung and element the code below is for);
-    `rung` marks the start of a rung's code (its index in the program)."""
+    `rung` marks the start of a rung's code (its index in the program),
+    `element` the start of an element's (the ladder element itself, which
+    the simulator reports faults and energized state on)."""
 
     text: str
     rung: int | None = None
+    element: Element | None = field(default=None, compare=False)
+
+
+@dataclass
+class Trace(Op):
+    """The element whose code this follows (or, for a jump, precedes) has
+    `bit` as its output power: the simulator records it for the editor.
+    Only a lowering asked to trace writes it."""
+
+    bit: Bit
+
+    def reads(self):
+        return (self.bit,)
 
 
 @dataclass
@@ -135,6 +157,79 @@ JUMPS = (Jump, JumpIfBit, JumpIf, JumpIfBitOf)
 @dataclass
 class Return(Op):
     pass
+
+
+# --- structured conditionals ----------------------------------------------------------
+
+@dataclass(frozen=True)
+class IsSet:
+    bit: Bit
+    value: bool = True
+
+
+@dataclass(frozen=True)
+class Holds:
+    """`a rel b`, comparing the signed values."""
+
+    a: Operand
+    rel: str
+    b: Operand
+
+
+@dataclass(frozen=True)
+class BitOf:
+    """Bit `index` of `a` equals `value` (an index below 0 reads 0, one at or
+    past the width the sign bit)."""
+
+    a: Operand
+    index: Operand
+    value: bool
+
+
+Condition = IsSet | Holds | BitOf
+
+
+@dataclass
+class If(Op):
+    """`then` when `cond` holds, else `otherwise` (None: no else part). The
+    labels, chosen when the lowering wrote it, are the flat form's."""
+
+    cond: Condition
+    then: list[Op]
+    otherwise: list[Op] | None
+    else_label: str
+    end_label: str
+
+
+def flatten(ops: list[Op]) -> list[Op]:
+    """The flat form of structured code: each If becomes a conditional jump
+    over its `then` part to its else label."""
+    flat: list[Op] = []
+    _flatten_into(flat, ops)
+    return flat
+
+
+def _flatten_into(flat: list[Op], ops: list[Op]) -> None:
+    for op in ops:
+        if not isinstance(op, If):
+            flat.append(op)
+            continue
+        flat.append(_jump_unless(op.cond, op.else_label))
+        _flatten_into(flat, op.then)
+        if op.otherwise is not None:
+            flat += [Jump(op.end_label), Label(op.else_label)]
+            _flatten_into(flat, op.otherwise)
+        else:
+            flat.append(Label(op.else_label))
+        flat.append(Label(op.end_label))
+
+
+def _jump_unless(cond: Condition, target: str) -> Op:
+    if isinstance(cond, IsSet):
+        return JumpIfBit(cond.bit, not cond.value, target)
+    if isinstance(cond, Holds):
+        return JumpIf(cond.a, NEGATED[cond.rel], cond.b, target)
+    return JumpIfBitOf(cond.a, cond.index, not cond.value, target)
 
 
 # --- bits ----------------------------------------------------------------------

@@ -1,10 +1,11 @@
-"""The front end: a checked ladder Program becomes intermediate code.
+"""The lowering: a checked ladder Program becomes intermediate code.
 
 Rungs run top to bottom, each on a fresh power bit; series are evaluated
-left to right on it, parallels branch by branch from a copy of their input
-(lang/sim/compile.py is the semantics followed here). Every rung has a
-label, so GOTO and GOSUB jump to rungs; what LDmicro sets before the first
-scan (counter start values, TOF accumulators, random seeds) is `Code.init`.
+left to right on it, parallels branch by branch from a copy of their input.
+Every rung has a label, so GOTO and GOSUB jump to rungs; what LDmicro sets
+before the first scan (counter start values, TOF accumulators, random seeds)
+is `Code.init`. The simulator and every back end run this code: it is the
+one definition of what each instruction does (docs/semantics.md).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from lang import trampoline
 from lang.codes import code
 from lang.devices import Device
-from lang.instructions import COUNTERS
+from lang.instructions import COUNTERS, JUMPS
 from lang.labels import describe
 from lang.model import Element, Program, Series
 from lang.storage import DEFAULT_SEED, counter_defs, variable_names
@@ -20,7 +21,7 @@ from lang.targets import Family, family_of
 from lang.values import as_int, is_literal, literal_value
 
 from .. import ir
-from ..errors import NOT_COMPILED, fail
+from ..errors import JUMP, UNSUPPORTED, fail
 from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
 from .builder import LOWERINGS, Builder
 
@@ -35,13 +36,13 @@ def rung_label(index: int) -> str:
 class Jumps:
     """Where GOTO, GOSUB and the end of a SUBPROG's body go, as rung labels."""
 
-    def __init__(self, program: Program):
+    def __init__(self, program: Program, elements: list[tuple[int, Element]]):
         self.count = len(program.rungs)
         self.labels: dict[str, int] = {}
         self.subprogs: dict[str, int] = {}
         self.endsubs: dict[str, int] = {}
         tables = {"LABEL": self.labels, "SUBPROG": self.subprogs, "ENDSUB": self.endsubs}
-        for rung, element in program.elements():
+        for rung, element in elements:
             if element.kind in tables:
                 tables[element.kind].setdefault(str(element.args.get("label", "")), rung)
 
@@ -52,19 +53,21 @@ class Jumps:
             number = literal_value(label)
             return rung_label(min(max(number, 1), self.count + 1) - 1)
         if label not in self.labels:
-            raise fail(code("LD207"), f"GOTO: LABEL '{label}' not found", element)
+            raise fail(JUMP, f"GOTO: LABEL '{label}' not found", element, check=code("LD207"))
         return rung_label(self.labels[label])
 
     def gosub_target(self, element: Element) -> str:
         label = str(element.args["label"])
+        if is_literal(label):
+            raise fail(JUMP, f"GOSUB: SUBPROG as a number '{label}' is not allowed", element, check=code("LD209"))
         if label not in self.subprogs:
-            raise fail(code("LD208"), f"GOSUB: SUBPROG '{label}' not found", element)
+            raise fail(JUMP, f"GOSUB: SUBPROG '{label}' not found", element, check=code("LD208"))
         return rung_label(self.subprogs[label] + 1)
 
     def after_endsub(self, element: Element) -> str:
         label = str(element.args["label"])
         if label not in self.endsubs:
-            raise fail(code("LD205"), f"SUBPROG: ENDSUB '{label}' not found", element)
+            raise fail(JUMP, f"SUBPROG: ENDSUB '{label}' not found", element, check=code("LD205"))
         return rung_label(self.endsubs[label] + 1)
 
 
@@ -75,28 +78,38 @@ class TargetBuilder(Builder):
     (C) the user's runtime owns the peripherals: an A/D reading or a PWM
     output is known by its name, and the EEPROM has no size of ours to check."""
 
-    def __init__(self, program: Program, device: Device | None, family: Family, delay_loop_cycles: int,
-                 bits, sizes, classes):
-        super().__init__(program, bits, sizes, classes)
+    def __init__(self, program: Program, elements: list[tuple[int, Element]], device: Device | None,
+                 family: Family, delay_loop_cycles: int, bits, sizes, classes, trace: bool = False):
+        super().__init__(program, [e for _, e in elements], bits, sizes, classes)
+        self.trace = trace
+        # the simulator, which traces, shows the flag with every other variable
+        self.overflow_read = self.overflow_read or trace
         self.device = device
         self.family = family
         self.delay_loop_cycles = delay_loop_cycles
         self.eeprom_size = device.memory.get("eeprom", 0) if device is not None else C_EEPROM_BYTES
-        self.jumps = Jumps(program)
+        self.jumps = Jumps(program, elements)
         self.counter_defs = counter_defs(program)
 
     def lower(self, element: Element, power: ir.Bit) -> None:
         self.element = element
         self.position += 1
+        self.emit(ir.Note(describe(element), element=element))
         if not element.spec.supports(self.family.key) or element.kind not in LOWERINGS:
-            raise fail(NOT_COMPILED, f"{element.kind} cannot be compiled for {self.family.title}", element)
+            raise fail(UNSUPPORTED, f"{element.kind} cannot be compiled for {self.family.title}", element)
+        # a jump leaves the element's code at once: its power is traced before
+        jumps = element.kind in JUMPS
+        if self.trace and jumps:
+            self.emit(ir.Trace(power))
         LOWERINGS[element.kind](self, element, power)
+        if self.trace and not jumps:
+            self.emit(ir.Trace(power))
 
     def _pin(self, device: Device, name: str):
         assignment = self.program.pins.get(name)
         pin = device.pin(assignment.pin) if assignment is not None else None
         if pin is None:
-            raise fail(NOT_COMPILED, f"'{name}' has no pin of the {device.title}", self.element)
+            raise fail(UNSUPPORTED, f"'{name}' has no pin of the {device.title}", self.element)
         return pin
 
     def adc_channel(self, name: str) -> int:
@@ -104,7 +117,7 @@ class TargetBuilder(Builder):
             return 0
         pin = self._pin(self.device, name)
         if pin.name not in self.device.adc:
-            raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no A/D channel", self.element)
+            raise fail(UNSUPPORTED, f"'{name}' is on {pin.name}, which has no A/D channel", self.element)
         return self.device.adc[pin.name]
 
     def pwm_unit(self, name: str) -> str:
@@ -112,7 +125,7 @@ class TargetBuilder(Builder):
             return name
         pin = self._pin(self.device, name)
         if pin.name not in self.device.pwm:
-            raise fail(NOT_COMPILED, f"'{name}' is on {pin.name}, which has no PWM output", self.element)
+            raise fail(UNSUPPORTED, f"'{name}' is on {pin.name}, which has no PWM output", self.element)
         return self.device.pwm[pin.name]
 
 
@@ -120,7 +133,6 @@ def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[N
     """A generator run by lang.trampoline: blocks may nest deeper than
     Python's recursion limit."""
     if isinstance(node, Element):
-        b.emit(ir.Note(describe(node)))
         b.lower(node, p)
     elif isinstance(node, Series):
         for i, item in enumerate(node.items):
@@ -142,11 +154,11 @@ def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[N
             b.emit(ir.CopyBit(p, out))
 
 
-def _initial_values(b: TargetBuilder, program: Program) -> list[ir.Op]:
+def _initial_values(b: TargetBuilder, elements: list[tuple[int, Element]]) -> list[ir.Op]:
     """What LDmicro's INIT VARS block sets before the first scan, in program
     order so that the last one wins (docs/semantics.md, "Start values")."""
     ops: list[ir.Op] = []
-    for _, element in program.elements():
+    for _, element in elements:
         b.element = element
         kind = element.kind
         if kind in COUNTERS and is_literal(str(element.args.get("init", "0"))):
@@ -170,17 +182,20 @@ def _classes(names) -> dict[str, str]:
 
 
 def lower_program(program: Program, device: Device | None, delay_loop_cycles: int,
-                  family: Family | None = None) -> ir.Code:
+                  family: Family | None = None, trace: bool = False) -> ir.Code:
     """The program's intermediate code for a part of a compiled family (or,
-    with no device, for `family`), whose back end's variable delay loop
-    takes `delay_loop_cycles` per count."""
+    with no device, for `family`: C, or the simulator), whose back end's
+    variable delay loop takes `delay_loop_cycles` per count; with `trace`,
+    each element's output power is recorded (`ir.Trace`) and the overflow
+    flag kept even when no contact reads it, as the simulator needs."""
     bits, sizes = variable_names(program)
     family = family or (family_of(device) if device is not None else None)
     assert family is not None, "a part of a compiled family, or the family to lower for"
     # on a part the X and Y names with pins are I/O; in C every one is (the user's runtime reads and writes it)
     pinned = program.pins if device is not None else bits
-    b = TargetBuilder(program, device, family, delay_loop_cycles, bits, sizes, _classes(pinned))
-    mcr = any(e.kind == "MASTER_RELAY" for _, e in program.elements())
+    elements = list(program.elements())
+    b = TargetBuilder(program, elements, device, family, delay_loop_cycles, bits, sizes, _classes(pinned), trace)
+    mcr = any(e.kind == "MASTER_RELAY" for _, e in elements)
     if mcr:
         b.emit(ir.SetBit(b.bit("$mcr"), True))
     for index, rung in enumerate(program.rungs):
@@ -193,5 +208,5 @@ def lower_program(program: Program, device: Device | None, delay_loop_cycles: in
         b.emit(ir.CopyBit(p, b.bit("$mcr")) if mcr else ir.SetBit(p, True))
         trampoline.run(_circuit(b, rung.circuit, p, True))
     b.place(rung_label(len(program.rungs)))
-    init = _initial_values(b, program)
+    init = _initial_values(b, elements)
     return ir.Code(b.ops, init, b.bits, b.vars, b.eeprom)

@@ -1,5 +1,6 @@
-"""Contacts, coils, edge elements, comparisons, bit tests and program flow
-(lang/sim/gen_logic.py is the semantics followed here)."""
+"""Contacts, coils, edge elements, comparisons, bit tests and program flow.
+Each follows the intermediate code LDmicro compiles for it (intcode.cpp), so
+that the simulation matches the MCU scan for scan."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from lang.instructions import RELATIONS
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import BAD_OPERAND, fail
+from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
@@ -112,11 +113,8 @@ def if_bit(b: Builder, el, p: ir.Bit) -> None:
     value = b.operand(el.args["var"])
     index = b.operand(el.args["bit"])
     wanted = el.kind == "IF_BIT_SET"
-    with b.if_(IsSet(p)):
-        done = b.new_label()
-        b.emit(ir.JumpIfBitOf(value, index, wanted, done))
+    with b.if_(IsSet(p)), b.if_(ir.BitOf(value, index, not wanted)):
         b.emit(ir.SetBit(p, False))
-        b.place(done)
 
 
 @lowers("SHORT", "LABEL", "COMMENT")
@@ -164,7 +162,7 @@ def delay(b: Builder, el, p: ir.Bit) -> None:
     amount = str(el.args["delay"])
     if is_literal(amount):
         if b.literal(amount) < 0:
-            raise fail(BAD_OPERAND, "a delay cannot be negative", el)
+            raise fail(OPERAND, "a delay cannot be negative", el)
         _when_powered(b, p, ir.Delay(ir.Const(b.literal(amount)), loops=False))
     else:
         _when_powered(b, p, ir.Delay(b.var(amount), loops=True))
