@@ -188,7 +188,7 @@ _BAUD_FORMS = (
 _IO_RE = re.compile(r"[ \t]*(\S+)[ \t]+at[ \t]+(\S+)(?:[ \t]+(\S+))?(?:[ \t]+(\S+))?")
 _IO_PREFIXES = "XYAPIMCH"
 _DIGITS_RE = re.compile(r"[0-9]{1,40}")
-_VAR_RE = re.compile(r"[ \t]*([+-]?[0-9]{1,40})[ \t]+bytes[ \t]+(\S+)(?:[ \t].*)?\Z")
+_VAR_RE = re.compile(r"[ \t]*([+-]?[0-9]{1,40})[ \t]+bytes[ \t]+(\S+)((?:[ \t].*)?)\Z")
 _VAR_LEGACY_RE = re.compile(r"[ \t]*(\S+)[ \t]+signed[ \t]+([+-]?[0-9]{1,40})[ \t]+bit variable\Z")
 _PULLUP_RE = re.compile(r"[ \t]*(\S)(\S):[ \t]*0[xX]([0-9A-Fa-f]+)")
 
@@ -440,8 +440,10 @@ class _Reader:
         line = self.line_text(tok.line - 1)
         span = Span(tok.line - 1, 0, tok.line - 1, len(line))
         match = _VAR_RE.match(line)
+        note = ""
         if match:
             size, name = int(match.group(1)), match.group(2)
+            note = match.group(3) if match.group(3).strip() else ""
         else:
             match = _VAR_LEGACY_RE.match(line)
             if not match:
@@ -451,6 +453,9 @@ class _Reader:
             name, size = match.group(1), (int(match.group(2)) + 7) // 8
         self.program.var_sizes.pop(name, None)
         self.program.var_sizes[name] = size
+        self.program.var_notes.pop(name, None)
+        if note:
+            self.program.var_notes[name] = note
 
     def pullup_entry(self, tok: _Tok) -> None:
         line = self.line_text(tok.line - 1)
@@ -907,7 +912,7 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
         out += ["END", "", "VAR LIST"]
         for name, size in program.var_sizes.items():
             list_lines.add(len(out))
-            out.append(f"  {size:3d} bytes {name}")
+            out.append(f"  {size:3d} bytes {name}{program.var_notes.get(name, '')}")
         out.append("END")
     out += ["", "IO LIST"]
     for pin in program.pins.values():

@@ -129,6 +129,9 @@ class Program:
     pins: dict[str, PinAssignment] = field(default_factory=dict)
     var_sizes: dict[str, int] = field(default_factory=dict)
     pullups: dict[str, int] = field(default_factory=dict)
+    # what follows a name on its VAR LIST line: LDmicro 5.4 writes " \tNow not used !!!" (or its
+    # translation) for a variable its last compile did not allocate; kept as written
+    var_notes: dict[str, str] = field(default_factory=dict)
 
     def elements(self) -> Iterator[tuple[int, Element]]:
         """Every element with the index of its rung, in evaluation order."""

@@ -208,6 +208,9 @@ def _read_vars(section: Section, program: Program, problems: list[Diagnostic]) -
             problems.append(error(codes.SECTION, "expected `<n> bytes <name>`", Span.at(number, 0, len(text))))
             continue
         program.var_sizes[match.group(2)] = int(match.group(1))
+        note = text[match.end():].rstrip()
+        if note.strip():
+            program.var_notes[match.group(2)] = note
 
 
 # --- reading again after an edit ----------------------------------------------------------

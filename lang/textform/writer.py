@@ -219,7 +219,8 @@ def render_program(program: Program, columns: int | None = None) -> str:
               " ----------------------------+--------------------+-----+------+-----------"]
     lines += io_rows(program)
     lines += ["", "VAR LIST:"]
-    lines += [f"  {size:3d} bytes {name}" for name, size in sorted(program.var_sizes.items())]
+    lines += [f"  {size:3d} bytes {name}{program.var_notes.get(name, '')}"
+              for name, size in sorted(program.var_sizes.items())]
     settings = details.write_settings(program)
     if settings:
         lines += ["", "SETTINGS:"] + settings

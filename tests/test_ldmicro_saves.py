@@ -1,0 +1,76 @@
+"""LDmicro 5.4.1.1 itself is the oracle of the `.ld` round trip: each corpus
+file, loaded and saved by LDmicro (tests/ldmicro/build-save.sh adds the batch
+command `/s IN OUT` to it and installs it at /opt/ldmicro-save, or
+LDMICRO_SAVE=), then taken through `.ld -> .ladder -> .ld`, must come back as
+LDmicro saved it, byte for byte, but for the two things the README lists
+that we do not keep yet: an `IO LIST` line of a pin with no assignment
+(`Xa at 0 0 0`), and blanks that end a line of a comment (the drawing cannot
+show them)."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from corpus import all_ld_files
+from test_ldfile_bytes import rel, through_the_text_form
+
+pytestmark = pytest.mark.ldmicro
+
+SAVER = Path(os.environ.get("LDMICRO_SAVE", "/opt/ldmicro-save/ldmicro.exe"))
+UNASSIGNED = re.compile(rb"    \S+ at 0 0 0\r\n")
+# a comment's line breaks are `\r\n` escapes inside its one .ld line
+COMMENT_LINE_END = re.compile(rb" +(?=\\r\\n)")
+
+
+def saved_by_ldmicro(path: Path, scratch: Path) -> bytes:
+    if not SAVER.exists():
+        pytest.fail(f"LDmicro with its save command is not installed at {SAVER}: run tests/ldmicro/build-save.sh")
+    shutil.copyfile(path, scratch / "prog.ld")
+    env = {key: value for key, value in os.environ.items() if key not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    env.update(WINEPREFIX=str(SAVER.parent / "wineprefix"), WINEDLLOVERRIDES="mscoree,mshtml=", WINEDEBUG="-all",
+               LC_ALL="C", LANG="C")
+    # without a display a message box LDmicro opens (an unknown part...) closes at once; the
+    # output goes to a file, not a pipe that wine's server would hold open for seconds
+    with open(scratch / "wine.log", "wb") as log:
+        done = subprocess.run(["wine", str(SAVER), "/s", "prog.ld", "saved.ld"], cwd=scratch, env=env, timeout=60,
+                              stdout=log, stderr=log)
+    assert done.returncode == 0 and (scratch / "saved.ld").exists(), (scratch / "wine.log").read_text("latin-1")
+    return (scratch / "saved.ld").read_bytes()
+
+
+def without_what_we_do_not_keep(saved: bytes) -> bytes:
+    start, end = saved.index(b"\r\nIO LIST\r\n"), saved.index(b"\r\nPROGRAM\r\n")
+    io_list = UNASSIGNED.sub(b"", saved[start:end])
+    lines = []
+    for line in saved[end:].split(b"\r\n"):
+        keyword, blank, text = line.partition(b"COMMENT ")
+        lines.append(keyword + blank + COMMENT_LINE_END.sub(b"", text) if blank and not keyword.strip() else line)
+    return saved[:start] + io_list + b"\r\n".join(lines)
+
+
+@pytest.fixture(scope="module")
+def saves(tmp_path_factory) -> dict[Path, bytes]:
+    """Every corpus file as LDmicro saves it (each save about half a second)."""
+    found = {}
+    for number, path in enumerate(all_ld_files()):
+        scratch = tmp_path_factory.mktemp(f"save{number}")
+        found[path] = saved_by_ldmicro(path, scratch)
+    return found
+
+
+@pytest.mark.parametrize("path", all_ld_files(), ids=rel)
+def test_a_file_ldmicro_saved_comes_back_as_ldmicro_saved_it(path, saves):
+    saved = saves[path]
+    assert through_the_text_form(saved) == without_what_we_do_not_keep(saved)
+
+
+def test_most_files_ldmicro_saved_come_back_byte_for_byte(saves):
+    """48 of the 66 today: the others have pins with no assignment, or comment
+    lines ending in blanks."""
+    same = [through_the_text_form(saved) == saved for saved in saves.values()]
+    assert len(same) == 66 and sum(same) >= 48
