@@ -55,8 +55,10 @@ def emit_ops(gen: Gen, ops: list[ir.Op], each: Callable[[], None] | None = None)
 
 
 def _bit_of_test(op: ir.Op, after: ir.Op | None) -> tuple[ir.Bit, ir.Condition] | None:
+    """The bit and the test of `p = False; if test: p = True`, a test that does not read p."""
     if (isinstance(op, ir.SetBit) and not op.value and isinstance(after, ir.If) and after.otherwise is None
-            and after.then == [ir.SetBit(op.dst, True)]):
+            and after.then == [ir.SetBit(op.dst, True)]
+            and not (isinstance(after.cond, ir.IsSet) and after.cond.bit == op.dst)):
         return op.dst, after.cond
     return None
 
