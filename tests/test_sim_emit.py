@@ -16,7 +16,7 @@ P, X = ir.Bit("Rp"), ir.Bit("Xa")
 
 def run(ops: list[ir.Op], **start: bool) -> dict[str, bool]:
     """The values after the code emit_ops writes for `ops`."""
-    gen = Gen(Program(), ir.Code(ops, [], {}, {}))
+    gen = Gen(Program())
     gen.new_rung(0, False)
     emit_ops(gen, ops)
     names = {slot.key: f"v{i}" for i, slot in enumerate(gen.slots)}
@@ -46,3 +46,24 @@ def test_power_cleared_by_a_test(test_bit, p, x):
     ops = [ir.If(ir.IsSet(P), [ir.If(ir.IsSet(test_bit), [ir.SetBit(P, False)], None, "c", "d")], None, "a", "b")]
     held = x if test_bit == X else p
     assert run(ops, Rp=p, Xa=x)["Rp"] == (p and not held)
+
+
+V = ir.Var("Tacc", 2)
+
+
+def run_int(ops: list[ir.Op], value: int) -> int:
+    gen = Gen(Program())
+    gen.new_rung(0, False)
+    emit_ops(gen, ops)
+    local = gen.var(V)
+    scope: dict = {}
+    exec("\n".join([f"{local} = {value}", *gen.lines]), {}, scope)
+    return scope[local]
+
+
+@pytest.mark.parametrize("limit, value, result", [(100, 5, 6), (32767, 32766, 32767), (32768, 32767, -32768)])
+def test_a_count_below_a_limit_adds_one_without_truncation_only_where_it_cannot_overflow(limit, value, result):
+    """`if v < limit: v += 1` is written without wrapping when the limit fits
+    the variable; a limit past its largest value keeps the wrap."""
+    ops = [ir.If(ir.Holds(V, "<", ir.Const(limit)), [ir.Arith("add", V, V, ir.Const(1))], None, "a", "b")]
+    assert run_int(ops, value) == result

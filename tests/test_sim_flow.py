@@ -149,6 +149,21 @@ def test_missing_label_is_a_located_error():
     assert raised.value.diagnostics[0].code == "LD603"
 
 
+def test_a_label_twice_and_a_subroutine_without_end_are_located_errors():
+    second, unended = el("LABEL", label="top"), el("SUBPROG", label="sub")
+    with pytest.raises(SimulationError) as raised:
+        Simulator(program([el("LABEL", label="top")], [second], [unended], [el("GOTO", label="top")]))
+    found = [(d.code, d.message, d.span) for d in raised.value.diagnostics]
+    assert found == [("LD603", "LABEL: only one LABEL 'top' is allowed", second.span),
+                     ("LD603", "SUBPROG: ENDSUB 'sub' not found", unended.span)]
+
+
+def test_labels_without_a_jump_are_not_checked():
+    """Nothing jumps: a repeated LABEL changes nothing (the checks warn of it)."""
+    sim = Simulator(program([el("LABEL", label="top")], [el("LABEL", label="top")]))
+    sim.step()
+
+
 def subroutine_program(*calls):
     return program(
         *calls,

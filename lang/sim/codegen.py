@@ -38,10 +38,9 @@ class Slot:
 
 
 class Gen:
-    def __init__(self, program: Program, code: ir.Code):
+    def __init__(self, program: Program):
         self.program = program
         self.cycle_us = program.settings.cycle_us
-        self.code = code
         self.slots: list[Slot] = []
         self.index: dict[str, int] = {}
         self.lines: list[str] = []

@@ -28,7 +28,7 @@ from ..instructions import JUMPS
 from ..model import Element, Program
 from ..semantics import errors as lowering
 from ..semantics import ir
-from ..semantics.lower import LOWERINGS, lower_program, rung_label
+from ..semantics.lower import LOWERINGS, Jumps, lower_program, rung_label
 from ..targets import Family
 from .codegen import Gen, Slot
 from .emit import emit_ops
@@ -97,22 +97,13 @@ class JumpTable:
         self.enter(segment)
 
 
-def _check_jumps(elements: list[Element]) -> None:
+def _check_jumps(program: Program, elements: list[tuple[int, Element]]) -> None:
     """Every LABEL, SUBPROG and ENDSUB once, every SUBPROG with its ENDSUB."""
-    problems = []
-    tables: dict[str, dict[str, Element]] = {"LABEL": {}, "SUBPROG": {}, "ENDSUB": {}}
-    for element in elements:
-        table = tables.get(element.kind)
-        if table is None:
-            continue
-        label = str(element.args.get("label", ""))
-        if label in table:
-            problems.append(located(BAD_JUMP, f"{element.kind}: only one {element.kind} '{label}' is allowed",
-                                    element))
-        table[label] = element
-    for label, element in tables["SUBPROG"].items():
-        if label not in tables["ENDSUB"]:
-            problems.append(located(BAD_JUMP, f"SUBPROG: ENDSUB '{label}' not found", element))
+    jumps = Jumps(program, elements)
+    problems = [located(BAD_JUMP, f"{e.kind}: only one {e.kind} '{e.args.get('label', '')}' is allowed", e)
+                for e in jumps.repeated]
+    problems += [located(BAD_JUMP, f"SUBPROG: ENDSUB '{e.args.get('label', '')}' not found", e)
+                 for e in jumps.unended()]
     if problems:
         raise SimulationError(problems)
 
@@ -341,15 +332,16 @@ def compile_program(program: Program, peripherals) -> Compiled:
     problems = _unsupported(program)
     if problems:
         raise SimulationError(problems)
-    elements = [element for _, element in program.elements()]
+    placed = list(program.elements())
+    elements = [element for _, element in placed]
     jumps = any(e.kind in JUMPS for e in elements)
     if jumps:
-        _check_jumps(elements)
+        _check_jumps(program, placed)
     try:
         code = lower_program(program, None, 1, SIMULATOR, trace=True)
     except lowering.LoweringError as problem:
         raise SimulationError([located(LOWERING_CODES[problem.kind], problem.message, problem.element)]) from None
-    gen = Gen(program, code)
+    gen = Gen(program)
     gen.namespace.update(PER=peripherals, U=peripherals.uart)
     # a slot's cell is made when a chunk first uses it
     cells: dict[int, CellType] | None = defaultdict(CellType) if len(elements) > SINGLE_ELEMENTS else None

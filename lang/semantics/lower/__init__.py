@@ -34,17 +34,33 @@ def rung_label(index: int) -> str:
 
 
 class Jumps:
-    """Where GOTO, GOSUB and the end of a SUBPROG's body go, as rung labels."""
+    """Where GOTO, GOSUB and the end of a SUBPROG's body go, as rung labels
+    (the first LABEL, SUBPROG or ENDSUB of a label counts; `repeated` holds
+    the others)."""
 
     def __init__(self, program: Program, elements: list[tuple[int, Element]]):
         self.count = len(program.rungs)
         self.labels: dict[str, int] = {}
         self.subprogs: dict[str, int] = {}
         self.endsubs: dict[str, int] = {}
+        self.repeated: list[Element] = []
+        self._subprog_elements: dict[str, Element] = {}
         tables = {"LABEL": self.labels, "SUBPROG": self.subprogs, "ENDSUB": self.endsubs}
         for rung, element in elements:
-            if element.kind in tables:
-                tables[element.kind].setdefault(str(element.args.get("label", "")), rung)
+            table = tables.get(element.kind)
+            if table is None:
+                continue
+            label = str(element.args.get("label", ""))
+            if label in table:
+                self.repeated.append(element)
+                continue
+            table[label] = rung
+            if element.kind == "SUBPROG":
+                self._subprog_elements[label] = element
+
+    def unended(self) -> list[Element]:
+        """The SUBPROGs with no ENDSUB of their label."""
+        return [e for label, e in self._subprog_elements.items() if label not in self.endsubs]
 
     def goto_target(self, element: Element) -> str:
         label = str(element.args["label"])
