@@ -30,6 +30,13 @@ class Field:
     default: object = None  # what a short legacy .ld line or an undrawn detail leaves
     drawn: bool = True  # shown in the text drawing (else kept in DETAILS)
     optional: bool = False  # a trailing .ld operand some files leave out: absent is None, written back absent
+    # how LDmicro's I/O list takes the name (lang.iolist): "bit" by its first letter of XYPIM, "auto"
+    # by its first letter of XYAMH, "adc"/"pwm" whatever its letter, "spi"/"i2c" a bus's pins
+    io: str = ""
+
+    def __post_init__(self):
+        if self.kind == "bit" and not self.io:
+            object.__setattr__(self, "io", "bit")
 
 
 @dataclass(frozen=True)
@@ -82,12 +89,12 @@ def bit(name: str, prefixes: str, access: str = "read") -> Field:
     return Field(name, "bit", prefixes, access)
 
 
-def var(name: str, access: str = "write", prefixes: str = "") -> Field:
-    return Field(name, "var", prefixes, access)
+def var(name: str, access: str = "write", prefixes: str = "", io: str = "") -> Field:
+    return Field(name, "var", prefixes, access, io=io)
 
 
-def operand(name: str) -> Field:
-    return Field(name, "operand")
+def operand(name: str, io: str = "") -> Field:
+    return Field(name, "operand", io=io)
 
 
 def flag(name: str, default: int = 0, drawn: bool = True) -> Field:
@@ -251,7 +258,7 @@ _COUNTER_LIMITS = {"CTU": 10, "CTD": -10, "CTC": 9, "CTR": -9}  # LDmicro's edit
 for _key, (_title, _top, _glyph, _doc) in _COUNTERS.items():
     define(
         _key, _title,
-        (Field("name", "var", "C", "rw"), operand("max"),
+        (Field("name", "var", "C", "rw"), operand("max", io="auto"),
          Field("init", "operand", default="0"), Field("kind", "edge", access="", default="/")),
         text(_top), text(_glyph),
         _doc + " The counting edge is `/` rising (default), `\\` falling, `-` every scan "
@@ -274,7 +281,7 @@ for _key, _op, _title in (("EQU", "==", "equal"), ("NEQ", "!=", "not equal"), ("
     )
 
 define(
-    "IF_BIT_SET", "if bit set", (var("var", "read"), operand("bit")),
+    "IF_BIT_SET", "if bit set", (var("var", "read", io="auto"), operand("bit")),
     box("[", "", "", "{var}", "]"), box("[", "if Bit SET ", "", "{bit}", "]"),
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 1.",
     "bits",
@@ -282,7 +289,7 @@ define(
     ldmicro_written=('var',),
 )
 define(
-    "IF_BIT_CLEAR", "if bit clear", (var("var", "read"), operand("bit")),
+    "IF_BIT_CLEAR", "if bit clear", (var("var", "read", io="auto"), operand("bit")),
     box("[", "", "", "{var}", "]"), box("[", "if Bit CLR ", "", "{bit}", "]"),
     "Passes power when its input is 1 and the given bit (a bit number) of the variable is 0.",
     "bits",
@@ -293,7 +300,7 @@ define(
 # --- moves and arithmetic ---------------------------------------------------------------
 
 define(
-    "MOVE", "move", (var("dest"), operand("src")),
+    "MOVE", "move", (var("dest", io="auto"), operand("src", io="auto")),
     box("{MOV ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
     "While its input is 1, copies the source (a variable or a constant) into the destination.",
     "math", eol=True,
@@ -308,7 +315,7 @@ for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtra
                                  ("SR0", "sr0", "logical shift right", False), ("ROL", "rol", "rotate left", False),
                                  ("ROR", "ror", "rotate right", False)):
     define(
-        _key, _title, (var("dest"), operand("op1"), operand("op2")),
+        _key, _title, (var("dest", io="auto"), operand("op1", io="auto"), operand("op2", io="auto")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "{op1}", _sym, "{op2}", "}"),
         f"While its input is 1, sets the destination to op1 {_sym} op2 "
         "(signed integers of the destination's size; ADD and SUB set ROverflowFlagV on overflow).",
@@ -316,13 +323,13 @@ for _key, _sym, _title, _eol in (("ADD", "+", "add", True), ("SUB", "-", "subtra
     )
 for _key, _sym, _title in (("NEG", "-", "negate"), ("NOT", "~", "bitwise not")):
     define(
-        _key, _title, (var("dest"), operand("op1")),
+        _key, _title, (var("dest", io="auto"), operand("op1", io="auto")),
         box("{" + _key + " ", "", "", "{dest}", ":=}"), box("{", "", _sym, "{op1}", "}"),
         f"While its input is 1, sets the destination to {_sym}op1.",
         "math", example=f"{_key} dest src", ldmicro_written=("dest",),
     )
 define(
-    "SET_BIT", "set bit", (var("var", "rw"), operand("bit")),
+    "SET_BIT", "set bit", (var("var", "rw", io="auto"), operand("bit")),
     box("{", "", "", "{var}", "}"), box("{", "SET Bit ", "", "{bit}", "}"),
     "While its input is 1, sets the given bit (a bit number) of the variable.",
     "bits",
@@ -330,7 +337,7 @@ define(
     ldmicro_written=('var',),
 )
 define(
-    "CLEAR_BIT", "clear bit", (var("var", "rw"), operand("bit")),
+    "CLEAR_BIT", "clear bit", (var("var", "rw", io="auto"), operand("bit")),
     box("{", "", "", "{var}", "}"), box("{", "CLR Bit ", "", "{bit}", "}"),
     "While its input is 1, clears the given bit (a bit number) of the variable.",
     "bits",
@@ -348,7 +355,7 @@ for _key, _title, _doc in (("BIN2BCD", "binary to BCD", "converts the source to 
 for _key, _doc in (("SWAP", "swaps the source's nibbles (1 byte) or reverses its byte order"),
                    ("OPPOSITE", "reverses the order of the source's bits")):
     define(
-        _key, _key.lower(), (var("dest"), operand("src")),
+        _key, _key.lower(), (var("dest", io="auto"), operand("src", io="auto")),
         box("{", "", "", "{dest}", ":=}"), box("{" + _key + " ", "", "", "{src}", "}"),
         f"While its input is 1, {_doc} and stores the result in the destination.",
         "math", example=f"{_key} dest src", ldmicro_written=("dest",),
@@ -406,7 +413,7 @@ define(
 # --- analog, PWM, EEPROM ----------------------------------------------------------------------
 
 define(
-    "READ_ADC", "read A/D converter", (var("name", "write", "A"), integer("refs", 0, drawn=False)),
+    "READ_ADC", "read A/D converter", (var("name", "write", "A", io="adc"), integer("refs", 0, drawn=False)),
     text("{name}"), text("{{READ ADC}}"),
     "While its input is 1, reads the analog input pin assigned to the A name into "
     "that variable (0 to 1023 on 10-bit converters).",
@@ -416,7 +423,7 @@ define(
 )
 define(
     "SET_PWM", "set PWM duty cycle",
-    (operand("duty"), Field("freq", "int", access=""), Field("name", "var", "P", "write"),
+    (operand("duty"), Field("freq", "int", access=""), Field("name", "var", "P", "write", io="pwm"),
      token("resolution", "", drawn=False)),
     box("", "{duty}", " ", "{freq:hz}", ""), box("{", "PWM", " ", "{name}", "}"),
     "While its input is 1, drives the PWM pin at the given frequency with the given "
@@ -534,7 +541,7 @@ define("COMMENT", "comment", (Field("text", "text", access=""),), None, None,
 for _n in ("7", "9", "14", "16"):
     define(
         _n + "SEGMENTS", f"{_n}-segment decoder",
-        (var("dest"), operand("src"), Field("common", "token", access="", default="C")),
+        (var("dest", io="auto"), operand("src"), Field("common", "token", access="", default="C")),
         box("{" + _n + "SEG ", "", "", "{dest}", ":=}"), box("{", "{common}", "", "{src}", "}"),
         f"While its input is 1, sets the destination to the {_n}-segment pattern of the "
         "source character (C common cathode, A common anode).",
@@ -545,7 +552,7 @@ for _n in ("7", "9", "14", "16"):
 define(
     "BUS", "bus tracer",
     # .ld order: the source bit for destination bit 7 first, bit 0 last
-    (var("dest"), operand("src")) + tuple(integer(f"b{i}", i, drawn=False) for i in range(7, -1, -1)),
+    (var("dest", io="auto"), operand("src", io="auto")) + tuple(integer(f"b{i}", i, drawn=False) for i in range(7, -1, -1)),
     box("{BUS ", "", "", "{dest}", ":=}"), box("{", "", "", "{src}", "}"),
     "While its input is 1, copies each bit j of the source to bit b_j of the destination "
     "(the .ld line lists b7 first; the default 7 6 5 4 3 2 1 0 copies the byte).",
@@ -557,25 +564,27 @@ define(
 _SPI_DETAILS = (token("mode", "Master", drawn=False), token("modes", "0", drawn=False),
                 token("size", "8", drawn=False), token("first", "MSB", drawn=False),
                 token("bitrate", "1000000", drawn=False))
-define("SPI", "SPI transfer", (token("name"), Field("send", "operand"), Field("recv", "var", access="write"))
+define("SPI", "SPI transfer",
+       (Field("name", "token", access="", io="spi"), Field("send", "operand"), Field("recv", "var", access="write"))
        + _SPI_DETAILS,
        box("{SPI ", "", "", "{name}", "}"), box("{->", "{recv}", "", "{send}", "->}"),
        "Sends and receives a byte over the SPI bus (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY, example='SPI SPI1 send recv Master 0 8 MSB 1000000', ldmicro_written=('send', 'recv'))
-define("SPI_WR", "SPI write", (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False))
+define("SPI_WR", "SPI write",
+       (Field("name", "token", access="", io="spi"), Field("send", "operand"), token("recv", "recv", drawn=False))
        + _SPI_DETAILS,
        box("{SPI WR ", "", "", "{name}", "}"), box("{", "", '"', "{send}", '"->}'),
        "Writes a string over the SPI bus (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY, example='SPI_WR SPI1 send recv Master 0 8 MSB 1000000')
 define("I2C_RD", "I2C read",
-       (token("name"), token("send", "send", drawn=False), Field("recv", "var", access="write"),
+       (Field("name", "token", access="", io="i2c"), token("send", "send", drawn=False), Field("recv", "var", access="write"),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C RD ", "", "", "{name}", "}"), box("{->", "{recv}", "{address}", "{register}", "}"),
        "Reads a register of an I2C device (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY, example='I2C_RD I2C1 send recv Master 0 0 MSB 100000')
 define("I2C_WR", "I2C write",
-       (token("name"), Field("send", "operand"), token("recv", "recv", drawn=False),
+       (Field("name", "token", access="", io="i2c"), Field("send", "operand"), token("recv", "recv", drawn=False),
         token("mode", "Master", drawn=False), token("address"), token("register"),
         token("first", "MSB", drawn=False), token("bitrate", "100000", drawn=False)),
        box("{I2C WR ", "", "", "{name}", "}"), box("{", "{address}", "{register}", "{send}", "->}"),

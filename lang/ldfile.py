@@ -50,6 +50,7 @@ from lark.exceptions import LarkError
 from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
 from .diagnostics import Diagnostic, error, warning
 from .instructions import INSTRUCTIONS, LD_KEYWORDS, Field, Instruction
+from .iolist import io_list, listed_type
 from .model import (
     Element,
     Node,
@@ -61,7 +62,6 @@ from .model import (
     Span,
     rung_circuit,
 )
-from .roles import BUS_PIN_SUFFIXES
 from .trampoline import Call, run
 from .values import decode_bytes, encode_text, escape_ld, is_literal, literal_value, unescape_ld
 
@@ -186,7 +186,6 @@ _BAUD_FORMS = (
     re.compile(rf"BAUD={_I}"),
 )
 _IO_RE = re.compile(r"[ \t]*(\S+)[ \t]+at[ \t]+(\S+)(?:[ \t]+(\S+))?(?:[ \t]+(\S+))?")
-_IO_PREFIXES = "XYAPIMCH"
 _DIGITS_RE = re.compile(r"[0-9]{1,40}")
 _VAR_RE = re.compile(r"[ \t]*([+-]?[0-9]{1,40})[ \t]+bytes[ \t]+(\S+)((?:[ \t].*)?)\Z")
 _VAR_LEGACY_RE = re.compile(r"[ \t]*(\S+)[ \t]+signed[ \t]+([+-]?[0-9]{1,40})[ \t]+bit variable\Z")
@@ -408,7 +407,7 @@ class _Reader:
                       f"'{self.quoted(tok)}'", span)
             return
         name, pin_text, slave_text, reg_text = match.groups()
-        if not any(part in name for part in BUS_PIN_SUFFIXES) and name[0] not in _IO_PREFIXES:
+        if listed_type(name) is None:
             self.warn(LD_SYNTAX, f"line skipped in IO LIST: '{name}' is no pin name "
                       f"(X, Y, A, P, I, M, C or H): '{self.quoted(tok)}'", span)
             return
@@ -418,10 +417,10 @@ class _Reader:
         digits = _DIGITS_RE.match(pin_text)
         if digits:
             pin = int(digits.group(0))
-            if pin == 0:
-                return  # not assigned
             slave = self.small_int(slave_text, tok, span)
             register = self.small_int(reg_text, tok, span)
+            if not (pin or slave or register):
+                return  # not assigned: the writer lists every I/O name the program uses
         else:
             pin, slave, register = pin_text, 0, 0
         self.program.pins.pop(name, None)
@@ -915,7 +914,10 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
             out.append(f"  {size:3d} bytes {name}{program.var_notes.get(name, '')}")
         out.append("END")
     out += ["", "IO LIST"]
-    for pin in program.pins.values():
+    for io in io_list(program, encoding):
+        if version == "0.1" and io.name[0] not in "XYA" and io.name not in program.pins:
+            continue  # LDmicro's 0.1 writer lists only X, Y and A names (and loses the others' pins)
+        pin = program.pins.get(io.name) or PinAssignment(io.name, 0)
         list_lines.add(len(out))
         if isinstance(pin.pin, int):
             out.append(f"    {pin.name} at {pin.pin} {pin.modbus_slave} {pin.modbus_register}")

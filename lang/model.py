@@ -121,6 +121,12 @@ class PinAssignment:
     modbus_register: int = 0
     span: Span | None = field(default=None, compare=False, repr=False)
 
+    @property
+    def assigned(self) -> bool:
+        """A pin is given: LDmicro writes pin 0 for a name with none (which
+        may still have a Modbus address)."""
+        return str(self.pin).strip() not in ("", "0", "None")
+
 
 @dataclass
 class Program:

@@ -307,11 +307,18 @@ def test_program_section_as_ldmicro_5_4_writes_it(name):
 
 
 def test_demo_is_written_as_ldmicro_writes_it():
-    original = (EXPORT / "demo.ld").read_text()
+    original = (EXPORT / "demo.ld").read_text().splitlines()
     written = write_ld(load(EXPORT / "demo.ld"))
+    lines = written.splitlines()
     # LDmicro writes a blank after each PULL-UP LIST entry; the corpus file has none
-    assert [line.rstrip() for line in written.splitlines()] == original.splitlines()
     assert "    PB: 0xFF \n" in written
+    # and lists every I/O name, by type and name, as LDmicro 5.4.1.1 saves this file
+    start, end = lines.index("IO LIST"), lines.index("PROGRAM")
+    assert lines[start:end] == ["IO LIST", "    Xa at 0 0 0", "    Xb at 0 0 0", "    Xc at 0 0 0", "    Xe at 0 0 0",
+                                "    Xstart at 4 0 0", "    Xstop at 5 0 0", "    Ylamp at 15 0 0",
+                                "    Ymotor at 14 0 0", "    Yout at 0 0 0", "END", ""]
+    rest = [line.rstrip() for line in lines[:start] + lines[end:]]
+    assert rest == original[:original.index("IO LIST")] + original[original.index("PROGRAM"):]
 
 
 def test_catalog_element_lines_are_5_4_long_forms():
@@ -385,6 +392,9 @@ def test_writer_header_order_and_rung_numbers():
         "\n"
         "IO LIST\n"
         "    Xa at 2 0 0\n"
+        "    YPlcCycleDuty at 0 0 0\n"
+        "    Yb at 0 0 0\n"
+        "    Yc at 0 0 0\n"
         "    Ab at PA0\n"
         "    Ic at 3 1 100\n"
         "END\n"
@@ -608,7 +618,7 @@ def test_lists():
     assert program.pullups == {"PA": 0x0F, "PB": 0xFF}
     assert program.var_sizes == {"Ca": 2, "tab": 129, "cnt": 2}
     assert program.pins == {"Xa": PinAssignment("Xa", 2), "Yb": PinAssignment("Yb", 3),
-                            "Mcoil": PinAssignment("Mcoil", 7, 2, 17),
+                            "Hreg": PinAssignment("Hreg", 0, 1, 40001), "Mcoil": PinAssignment("Mcoil", 7, 2, 17),
                             "I2C1_SCL": PinAssignment("I2C1_SCL", 139)}
     # without MICRO= the pull-ups are not applied
     program, diagnostics = read_ld("LDmicro0.2\nPULL-UP LIST\n    PB: 0xFF\nEND\nPROGRAM\n")

@@ -16,6 +16,7 @@ import pytest
 from corpus import CORPUS, all_ld_files
 
 from lang.diagnostics import ERROR
+from lang.iolist import io_list
 from lang.ldfile import write_ld_bytes
 from lang.loader import load_bytes
 from lang.textform.writer import render_program
@@ -122,13 +123,21 @@ def var_list_lines_in_full(lines: list[str]) -> list[str]:
     return _entries(lines, "VAR LIST", rewrite)
 
 
-def io_list_in_full(lines: list[str]) -> list[str]:
-    def rewrite(line: str) -> str | None:
+def io_list_as_ldmicro_writes_it(lines: list[str]) -> list[str]:
+    """Every I/O name the program uses, assigned or not (`at 0 0 0`), by
+    LDmicro's I/O type, then by name; a pin in full (`Xa at 2` -> `Xa at 2 0
+    0`); a 0.1 file lists X, Y and A names and assigned pins only. Which names and types the
+    drawing gives is lang.iolist's: LDmicro's own saves check that list
+    (test_ldmicro_saves)."""
+    start, end = _section(lines, "IO LIST")
+    assigned = {}
+    for line in lines[start + 1:end]:
         name, pin, slave, register = re.fullmatch(r"\s*(\S+) at (\S+)(?: (\d+) (\d+))?", line).groups()
-        if pin == "0" or name[1:] == "new":  # unassigned
-            return None
-        return f"    {name} at {pin} {slave or 0} {register or 0}"
-    return _entries(lines, "IO LIST", rewrite)
+        if name[1:] != "new" and (pin, slave or "0", register or "0") != ("0", "0", "0"):
+            assigned[name] = f"{pin} {slave or 0} {register or 0}" if pin.isdigit() else pin
+    program = load_bytes("\n".join(lines).encode("cp1252"), "x.ld").program
+    listed = [io.name for io in io_list(program) if not _dialect_01(lines) or io.name[0] in "XYA" or io.name in assigned]
+    return lines[:start + 1] + [f"    {name} at {assigned.get(name, '0 0 0')}" for name in listed] + lines[end:]
 
 
 def _program(lines: list[str]) -> tuple[list[str], list[str]]:
@@ -208,7 +217,7 @@ def comment_line_end_blanks_dropped(lines: list[str]) -> list[str]:
 
 
 RULES = [header_lines_in_full, sections_of_the_dialect, pullup_lines_end_in_a_blank,
-         var_list_lines_in_full, io_list_in_full, single_element_blocks_dropped,
+         var_list_lines_in_full, io_list_as_ldmicro_writes_it, single_element_blocks_dropped,
          rungs_numbered_two_blanks_a_level, element_lines_in_long_form, formatted_strings_as_text,
          comment_line_end_blanks_dropped]
 
@@ -264,9 +273,10 @@ NOT_IN_54_FORM = {
     "test-uart.ld": ["sections_of_the_dialect", "element_lines_in_long_form", "formatted_strings_as_text"],
     "swatch2.ld": ["header_lines_in_full", "sections_of_the_dialect", "var_list_lines_in_full",
                    "element_lines_in_long_form", "comment_line_end_blanks_dropped"],
-    "catalog.ld": ["header_lines_in_full", "sections_of_the_dialect", "rungs_numbered_two_blanks_a_level"],
-    "demo.ld": ["pullup_lines_end_in_a_blank"],
-    "longnames.ld": ["sections_of_the_dialect"],
+    "catalog.ld": ["header_lines_in_full", "sections_of_the_dialect", "io_list_as_ldmicro_writes_it",
+                   "rungs_numbered_two_blanks_a_level"],
+    "demo.ld": ["pullup_lines_end_in_a_blank", "io_list_as_ldmicro_writes_it"],
+    "longnames.ld": ["sections_of_the_dialect", "io_list_as_ldmicro_writes_it"],
 }
 
 

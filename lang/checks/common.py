@@ -257,16 +257,6 @@ def scan_format(text: str) -> tuple[list[str], list[tuple[str, str]]]:
 # --- pins ------------------------------------------------------------------------
 
 
-
-def is_assigned(assignment) -> bool:
-    """LDmicro writes pin 0 for a name with no pin."""
-    pin = assignment.pin
-    if pin is None:
-        return False
-    text = str(pin).strip()
-    return text not in ("", "0")
-
-
 def pin_text(assignment) -> str:
     pin = assignment.pin
     return f"pin {pin}" if isinstance(pin, int) or str(pin).isdigit() else str(pin)
@@ -296,7 +286,7 @@ def used_pins(program, index) -> list[tuple]:
     found = []
     if device is not None:
         for name, assignment in program.pins.items():
-            if name in index.uses and is_assigned(assignment):
+            if name in index.uses and assignment.assigned:
                 found.append((name, assignment, device.pin(assignment.pin)))
     index.cache["used_pins"] = found
     return found

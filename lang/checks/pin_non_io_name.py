@@ -7,7 +7,7 @@ from ..diagnostics import Diagnostic, report
 from ..index import ProgramIndex
 from ..model import Program
 from ..roles import BUS_PIN_SUFFIXES
-from .common import is_analog, is_assigned, is_pwm, pin_text
+from .common import is_analog, is_pwm, pin_text
 
 CODE = rule_code(__name__)
 
@@ -15,7 +15,7 @@ CODE = rule_code(__name__)
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, assignment in program.pins.items():
-        if not is_assigned(assignment) or name[:1] in ("X", "Y", "A", "P") or name not in index.uses:
+        if not assignment.assigned or name[:1] in ("X", "Y", "A", "P") or name not in index.uses:
             continue
         if any(suffix in name for suffix in BUS_PIN_SUFFIXES):
             continue

@@ -6,7 +6,7 @@ from ..codes import rule_code
 from ..diagnostics import Diagnostic, Related, report
 from ..index import ProgramIndex
 from ..model import PinAssignment, Program
-from .common import is_assigned, pin_text
+from .common import pin_text
 
 CODE = rule_code(__name__)
 
@@ -24,7 +24,7 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
     owners: dict[object, tuple[str, PinAssignment]] = {}
     for name, assignment in program.pins.items():
-        if name not in index.uses or not is_assigned(assignment):
+        if name not in index.uses or not assignment.assigned:
             continue
         key = _key(device, assignment)
         if key not in owners:

@@ -7,7 +7,7 @@ from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
 from ..index import ProgramIndex
 from ..model import Program
-from .common import NAMES, is_analog, is_assigned, is_pwm
+from .common import NAMES, is_analog, is_pwm
 
 CODE = rule_code(__name__)
 SCOPE = NAMES
@@ -33,7 +33,7 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         if name == CLASSIC_PWM:
             continue
         assignment = program.pins.get(name)
-        if assignment is not None and is_assigned(assignment):
+        if assignment is not None and assignment.assigned:
             continue
         uses = [u for u in index.uses[name] if u.access != "table"]
         if not uses:

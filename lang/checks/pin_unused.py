@@ -7,7 +7,7 @@ from ..diagnostics import Diagnostic, report
 from ..index import ProgramIndex
 from ..model import Program
 from ..roles import BUS_PIN_SUFFIXES
-from .common import is_assigned, pin_text
+from .common import pin_text
 
 CODE = rule_code(__name__)
 
@@ -15,7 +15,7 @@ CODE = rule_code(__name__)
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, assignment in program.pins.items():
-        if name in index.uses or not is_assigned(assignment):
+        if name in index.uses or not assignment.assigned:
             continue
         if name == "YPlcCycleDuty" and program.settings.cycle_duty:
             continue

@@ -14,7 +14,7 @@ from itertools import islice
 from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS, Instruction
-from ..model import Element, Program, Settings, Span
+from ..model import Element, PinAssignment, Program, Settings, Span
 from .sections import Section
 
 # key in the file -> (Settings attribute, kind)
@@ -30,6 +30,9 @@ SETTING_KEYS = {
     "LDmicro file version": ("ld_version", "str"),
 }
 PULLUP_PREFIX = "pull-ups "
+# a name's Modbus address, which LDmicro keeps with its pin but its export does not show
+MODBUS_PREFIX = "Modbus "
+_MODBUS_RE = re.compile(r"slave (\d+), address (\d+)")
 
 _NAME_KINDS = ("var", "bit", "label", "token", "name")
 
@@ -52,6 +55,9 @@ def write_settings(program: Program) -> list[str]:
         lines.append(f"  {key}: {text}")
     for port, mask in program.pullups.items():
         lines.append(f"  {PULLUP_PREFIX}{port}: 0x{mask:X}")
+    for pin in program.pins.values():
+        if pin.modbus_slave or pin.modbus_register:
+            lines.append(f"  {MODBUS_PREFIX}{pin.name}: slave {pin.modbus_slave}, address {pin.modbus_register}")
     return lines
 
 
@@ -70,6 +76,11 @@ def read_settings(section: Section, program: Program, problems: list[Diagnostic]
             if key.startswith(PULLUP_PREFIX):
                 program.pullups[key[len(PULLUP_PREFIX):].strip()] = int(value, 0)
                 continue
+            if key.startswith(MODBUS_PREFIX):
+                name = key[len(MODBUS_PREFIX):].strip()
+                column = text.find(name, text.index(MODBUS_PREFIX) + len(MODBUS_PREFIX))
+                _read_modbus(name, value, program, span, Span.at(number, column, column + len(name)), problems)
+                continue
             if key not in SETTING_KEYS:
                 problems.append(error(codes.SECTION, f"unknown setting {key!r}; known: "
                                       + ", ".join(SETTING_KEYS), span))
@@ -87,6 +98,18 @@ def read_settings(section: Section, program: Program, problems: list[Diagnostic]
             setattr(program.settings, attribute, parsed)
         except ValueError:
             problems.append(error(codes.SECTION, f"bad value {value!r} for {key!r}", span))
+
+
+def _read_modbus(name: str, value: str, program: Program, span: Span, name_span: Span,
+                 problems: list[Diagnostic]) -> None:
+    address = _MODBUS_RE.fullmatch(value)
+    if not address or not name:
+        problems.append(error(codes.SECTION, f"bad Modbus address {value!r} for {name!r}: expected "
+                                             "`Modbus NAME: slave N, address N`", span))
+        return
+    slave, register = int(address.group(1)), int(address.group(2))
+    pin = program.pins.setdefault(name, PinAssignment(name, 0, span=name_span))
+    pin.modbus_slave, pin.modbus_register = slave, register
 
 
 # --- DETAILS --------------------------------------------------------------------

@@ -193,10 +193,15 @@ def _read_io(section: Section, program: Program, problems: list[Diagnostic]) -> 
             problems.append(error(codes.SECTION, f"{pin_text!r} is not a pin number or port bit (e.g. 4 or PD2)",
                                   Span.at(number, column, column + len(pin_text))))
             continue
-        if pin in (None, 0) or name in program.pins:
+        known = program.pins.get(name)
+        if pin in (None, 0) or (known is not None and known.assigned):
             continue
         column = text.find(name)
-        program.pins[name] = PinAssignment(name, pin, span=Span.at(number, column, column + len(name)))
+        span = Span.at(number, column, column + len(name))
+        if known is None:
+            program.pins[name] = PinAssignment(name, pin, span=span)
+        else:  # its Modbus address came first, in SETTINGS
+            known.pin, known.span = pin, span
 
 
 def _read_vars(section: Section, program: Program, problems: list[Diagnostic]) -> None:

@@ -12,11 +12,11 @@ from decimal import Decimal
 
 from ..devices import find_device
 from ..drawing import CELL, Box, center_offset, with_wires
+from ..iolist import MODBUS_TYPES, io_list
 from ..model import Element, Program, Rung
 from . import details
 from .layout import Grid, layout, natural_width
 
-IO_TYPES = {"X": "digital in", "Y": "digital out", "A": "adc input", "P": "PWM out"}
 COMMENT_MARGIN = 8  # LDmicro keeps a comment line 8 characters short of the right rail
 
 
@@ -180,35 +180,23 @@ def header_line(program: Program) -> str:
 
 
 def io_rows(program: Program) -> list[str]:
+    """The I/O table: LDmicro's I/O list, in its order and with its type
+    names; a Modbus name takes no pin, so shows none."""
     device = find_device(program.settings.mcu) if program.settings.mcu else None
-    names = {name for _, element in program.elements() for name in _pin_names(element)}
-    names.update(program.pins)
-    order = "XYAP"
     rows = []
-    # the pins in the order the program keeps them (an .ld file's IO LIST order survives a
-    # round trip), then the names without a pin by role and name
-    unassigned = sorted(names - set(program.pins), key=lambda n: (order.index(n[0]) if n[:1] in order else len(order), n))
-    for name in [*program.pins, *unassigned]:
-        kind = IO_TYPES.get(name[:1], "general var")
-        assignment = program.pins.get(name)
+    for io in io_list(program):
+        assignment = program.pins.get(io.name)
         pin_text, port, label = "", "", ""
-        if assignment is not None:
+        if assignment is not None and assignment.assigned:
             pin_text = str(assignment.pin)
             pin = device.pin(assignment.pin) if device else None
             if pin is not None and pin.is_io:
                 port, label = pin.name, pin.label
-        elif program.settings.mcu:
+        elif program.settings.mcu and io.type not in MODBUS_TYPES:
             pin_text = "(not assigned)"
-        row = f"  {name:<27}| {kind:<19}| {pin_text:>3} | {port:<5} | {label}"
+        row = f"  {io.name:<27}| {io.type_name:<19}| {pin_text:>3} | {port:<5} | {label}"
         rows.append(row.rstrip())
     return rows
-
-
-def _pin_names(element: Element):
-    for f in element.spec.fields:
-        value = element.args.get(f.name)
-        if f.kind in ("bit", "var") and isinstance(value, str) and value[:1] in IO_TYPES and len(value) > 1:
-            yield value
 
 
 def render_program(program: Program, columns: int | None = None) -> str:

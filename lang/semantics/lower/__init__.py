@@ -208,7 +208,7 @@ def lower_program(program: Program, device: Device | None, delay_loop_cycles: in
     family = family or (family_of(device) if device is not None else None)
     assert family is not None, "a part of a compiled family, or the family to lower for"
     # on a part the X and Y names with pins are I/O; in C every one is (the user's runtime reads and writes it)
-    pinned = program.pins if device is not None else bits
+    pinned = [name for name, pin in program.pins.items() if pin.assigned] if device is not None else bits
     elements = list(program.elements())
     b = TargetBuilder(program, elements, device, family, delay_loop_cycles, bits, sizes, _classes(pinned), trace)
     mcr = any(e.kind == "MASTER_RELAY" for _, e in elements)
