@@ -32,6 +32,13 @@ class IncrementalReader:
     def last_window(self) -> tuple[int, int]:
         return self._text.last_window
 
+    def split(self) -> tuple[list[str], list[tuple[str, int]]] | None:
+        """The lines of the text form read last, and the title and title line
+        of each of its sections (None for a .ld file)."""
+        if self.kind == LD_KIND:
+            return None
+        return self._text.lines, [(s.title, s.title_line) for s in self._text.sections]
+
     def read(self, text: str) -> tuple[Program, list[Diagnostic]]:
         if self.kind == LD_KIND:
             return parse(text, self.kind)

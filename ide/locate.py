@@ -58,13 +58,17 @@ def in_box(span: Span, line: int, col: int, end_inclusive: bool = False) -> bool
 
 class Locator:
     def __init__(self, program: Program, lines: list[str], kind: str = "ladder",
-                 previous: Locator | None = None, moved: dict[int, tuple[Rung, int]] | None = None):
+                 previous: Locator | None = None, moved: dict[int, tuple[Rung, int]] | None = None,
+                 titles: list[tuple[str, int]] | None = None):
         """`previous`: the locator of the text before an edit, whose rungs'
         lines are taken for the rungs kept (the same objects) and moved
-        (`moved`, as the reader gives it) instead of walking them again."""
+        (`moved`, as the reader gives it) instead of walking them again;
+        `titles`: each section's title and title line, as the reader found
+        them (else the lines are split again)."""
         self.program = program
         self.lines = lines
         self.kind = kind
+        self._titles = titles
         self._starts: list[int] = []
         self._extents: list[tuple[int, int, int]] = []  # (first line, last line, rung index), in order
         known: dict[int, tuple[int, int]] = {}
@@ -193,14 +197,16 @@ class Locator:
         if self.kind == "ld":
             return []
         found = []
-        parts = split_sections(self.lines)
-        for position, section in enumerate(parts):
-            first = section.title_line if section.title_line >= 0 else 0
-            if position + 1 < len(parts):
-                last = parts[position + 1].title_line - 1
+        titles = self._titles
+        if titles is None:
+            titles = [(section.title, section.title_line) for section in split_sections(self.lines)]
+        for position, (title, title_line) in enumerate(titles):
+            first = title_line if title_line >= 0 else 0
+            if position + 1 < len(titles):
+                last = titles[position + 1][1] - 1
             else:
                 last = len(self.lines) - 1
-            found.append((section.title, first, max(first, last)))
+            found.append((title, first, max(first, last)))
         return found
 
     def section_at(self, line: int) -> str | None:

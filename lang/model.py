@@ -13,6 +13,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+from .instructions import INSTRUCTIONS, Instruction
+
 
 class Span(NamedTuple):
     """A source range: 0-based lines, 0-based character columns, end exclusive.
@@ -55,9 +57,7 @@ class Element:
     arg_spans: dict[str, Span] = field(default_factory=dict, compare=False, repr=False)
 
     @property
-    def spec(self):
-        from .instructions import INSTRUCTIONS
-
+    def spec(self) -> Instruction:
         return INSTRUCTIONS[self.kind]
 
 

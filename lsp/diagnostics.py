@@ -21,7 +21,7 @@ SOURCE = "ladder"
 class Publisher:
     def __init__(self, server):
         self.server = server
-        self.pending: dict[str, asyncio.TimerHandle] = {}
+        self.pending: dict[str, asyncio.Handle] = {}
         self.published: dict[str, int | None] = {}
         # analysis + publication after the last change: the adaptive delay's measure (an
         # open reads and checks the whole document, an edit only what it changed)
@@ -36,10 +36,12 @@ class Publisher:
     def schedule(self, uri: str) -> None:
         delay = self.server.settings.delay_ms(self.last_duration_ms)
         self.cancel(uri)
-        if delay <= 0:
-            self.publish(uri, after_change=True)
-            return
         loop = asyncio.get_event_loop()
+        if delay <= 0:
+            # once the messages that have arrived are read (lsp/transport.py): of edits that
+            # queued up while the server was busy, only the last one is checked and published
+            self.pending[uri] = loop.call_soon(self._run, uri)
+            return
         self.pending[uri] = loop.call_later(delay / 1000, self._run, uri)
 
     def _run(self, uri: str) -> None:
@@ -119,7 +121,8 @@ def register(server) -> None:
 
     def opened(ls, uri):
         publisher.cancel(uri)
-        publisher.publish(uri)
+        with ls.idle.reading():
+            publisher.publish(uri)
 
     def changed(ls, uri):
         publisher.extra.pop(uri, None)

@@ -63,6 +63,48 @@ def language_of(uri: str, text: str, language_id: str | None = None) -> str | No
     return LANGUAGE_IDS.get(language_id or "")
 
 
+class RungResults:
+    """The per-rung results of one document's features (semantic tokens,
+    symbols, folding), shared by all its versions: (feature, id(rung)) ->
+    (rung, value), valid while that rung object is in the program (the reader
+    keeps a rung's object while its lines stay as they are, where they are).
+    A rung the reader moved up or down is a new object; its result is the old
+    one's shifted, worked out when a feature first asks for it, so an edit
+    that moves a thousand rungs costs nothing until then."""
+
+    # results kept per rung of the program before the dead ones are dropped
+    SLACK = 8
+
+    def __init__(self, shifters: dict[str, Callable[[Any, int], Any]]):
+        self.values: dict[tuple[str, int], tuple[Rung, object]] = {}
+        self.shifters = shifters
+
+    def get(self, feature: str, rung: Rung, origin: tuple[Rung, int] | None, compute):
+        key = (feature, id(rung))
+        found = self.values.get(key)
+        if found is not None and found[0] is rung:
+            return found[1]
+        shift = self.shifters.get(feature)
+        if origin is not None and shift is not None:
+            before = self.values.get((feature, id(origin[0])))
+            if before is not None and before[0] is origin[0]:
+                value = shift(before[1], origin[1])
+                self.values[key] = (rung, value)
+                return value
+        value = compute()
+        self.values[key] = (rung, value)
+        return value
+
+    def prune(self, program: Program, keep: dict[int, tuple[Rung, int]]) -> None:
+        """Drops the results of rungs gone (but those a moved rung still
+        takes its result from), once there are many."""
+        if len(self.values) <= self.SLACK * (len(program.rungs) + 100):
+            return
+        live = {id(rung): rung for rung in program.rungs}
+        live.update((id(old), old) for old, _ in keep.values())
+        self.values = {key: value for key, value in self.values.items() if live.get(key[1]) is value[0]}
+
+
 class Analysis:
     """Everything known about one version of one document."""
 
@@ -78,10 +120,12 @@ class Analysis:
         self._codec = codec
         self.too_large = False
         self.severities = NONE  # the project's and the editor's choices (lang/config.py)
-        # per-rung results of the features (semantic tokens, symbols, folding):
-        # (feature, id(rung)) -> (rung, value), carried over to the next analysis
-        # for the rungs it kept (same object: same text at the same place)
-        self.memo: dict[tuple[str, int], tuple[object, object]] = {}
+        self.memo = RungResults({})  # the document's, shared with its other versions
+        # rung id -> (the rung of an earlier version it was moved from, by how many lines), for
+        # the rungs whose results have not followed them yet
+        self.moved_from: dict[int, tuple[Rung, int]] = {}
+        # the text's lines and its sections' titles, as the reader split it (None: split here)
+        self.split: tuple[list[str], list[tuple[str, int]]] | None = None
         self.results: dict[str, object] = {}  # whole-document results for this exact text
         self._checker = checker or Checker()  # the document's: it knows the program checked last
         # rungs moved since the program the checker checked last (ide.incremental's `moved`)
@@ -92,13 +136,7 @@ class Analysis:
 
     def per_rung(self, feature: str, index: int, compute):
         rung = self.program.rungs[index]
-        key = (feature, id(rung))
-        found = self.memo.get(key)
-        if found is not None and found[0] is rung:
-            return found[1]
-        value = compute(index)
-        self.memo[key] = (rung, value)
-        return value
+        return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
 
     def once(self, feature: str, compute):
         """A whole-document result, computed once per text."""
@@ -108,7 +146,7 @@ class Analysis:
 
     @cached_property
     def lines(self) -> list[str]:
-        return self.text.splitlines()
+        return self.split[0] if self.split is not None else self.text.splitlines()
 
     @property
     def has_errors(self) -> bool:
@@ -142,9 +180,10 @@ class Analysis:
     @cached_property
     def locator(self) -> Locator:
         previous, self._previous_locator = self._previous_locator, None
+        titles = self.split[1] if self.split is not None else None
         if previous is None:
-            return Locator(self.program, self.lines, self.kind)
-        return Locator(self.program, self.lines, self.kind, *previous)
+            return Locator(self.program, self.lines, self.kind, titles=titles)
+        return Locator(self.program, self.lines, self.kind, *previous, titles=titles)
 
     @cached_property
     def positions(self) -> Positions:
@@ -161,6 +200,7 @@ class Documents:
         self._analyses: dict[str, Analysis] = {}
         self._readers: dict[str, IncrementalReader] = {}
         self._checkers: dict[str, Checker] = {}
+        self._results: dict[str, RungResults] = {}
         # feature -> fn(value, lines moved): how a per-rung result follows its rung
         self.shifters: dict[str, Callable[[Any, int], Any]] = {}
         self._config_errors: set[str] = set()
@@ -194,6 +234,11 @@ class Documents:
         if found is not None and found.too_large and not include_too_large:
             return None
         return found
+
+    def latest(self, uri: str) -> Analysis | None:
+        """The analysis made last, whether or not the text changed since (the
+        next analysis carries its per-rung results over)."""
+        return self._analyses.get(uri)
 
     def _analysis(self, uri: str) -> Analysis | None:
         document = self._document(uri)
@@ -233,8 +278,11 @@ class Documents:
         analysis = Analysis(uri, document.version, kind, text, program, problems,
                             self.server.workspace.position_codec, self._checkers[uri], moved)
         analysis.severities = self.severities(uri)
-        if cached is not None and cached.memo:
-            analysis.memo = self._carry(cached.memo, program, reader.moved)
+        analysis.split = reader.split()
+        analysis.memo = self._results.setdefault(uri, RungResults(self.shifters))
+        if cached is not None:
+            analysis.moved_from = _still_moved(cached.moved_from, program, reader.moved)
+        analysis.memo.prune(program, analysis.moved_from)
         if cached is not None and cached.kind == kind and "locator" in cached.__dict__:
             analysis._previous_locator = (cached.locator, reader.moved)
         self._analyses[uri] = analysis
@@ -261,29 +309,32 @@ class Documents:
             found = NONE
         return found.merged(self.server.settings.severities)
 
-    def _carry(self, memo: dict, program: Program, moved: dict) -> dict:
-        """The per-rung results that still hold: rungs kept as they were, and
-        rungs moved up or down (their results moved with them)."""
-        live = {id(rung): rung for rung in program.rungs}
-        carried = {key: value for key, value in memo.items() if live.get(key[1]) is value[0]}
-        if moved:
-            by_old: dict[int, list[tuple[str, Rung, object]]] = {}
-            for (feature, old_id), (old_rung, value) in memo.items():
-                by_old.setdefault(old_id, []).append((feature, old_rung, value))
-            for new_id, (old_rung, delta) in moved.items():
-                for feature, rung, value in by_old.get(id(old_rung), ()):
-                    shift = self.shifters.get(feature)
-                    if rung is old_rung and shift is not None and new_id in live:
-                        carried[(feature, new_id)] = (live[new_id], shift(value, delta))
-        return carried
-
     def forget(self, uri: str) -> None:
         self._analyses.pop(uri, None)
+        self._results.pop(uri, None)
         self._readers.pop(uri, None)
         self._checkers.pop(uri, None)
 
     def uris(self) -> list[str]:
         return list(self._analyses)
+
+
+def _still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,
+                 moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+    """Where each rung of `program` whose results have not followed it comes
+    from: the rungs the reader just moved (from wherever their rung of the
+    version before came from), and those the version before had still to
+    follow and that stayed as they were."""
+    found = {}
+    if earlier:
+        for rung in program.rungs:
+            origin = earlier.get(id(rung))
+            if origin is not None:
+                found[id(rung)] = origin
+    for new, (old, delta) in moved.items():
+        before = earlier.get(id(old))
+        found[new] = (before[0], before[1] + delta) if before is not None else (old, delta)
+    return found
 
 
 def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,

@@ -199,6 +199,11 @@ def encode(found, previous: tuple[int, int] = (0, 0)) -> list[int]:
     return data
 
 
+def encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None:
+    """A rung's tokens encoded, kept while the rung is unchanged."""
+    return analysis.per_rung("semantic-encoded", index, lambda i: _encoded_rung(analysis, i))
+
+
 def _encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None:
     """A rung's tokens kept encoded: (first line, first column, last line, last
     column, the JSON numbers of its tokens after the first's line and column)."""
@@ -225,7 +230,7 @@ def full_text(analysis) -> str:
             previous = (tokens[-1][0], tokens[-1][1])
 
     for _, _, index in analysis.locator.rung_extents():
-        part = analysis.per_rung("semantic-encoded", index, lambda i: _encoded_rung(analysis, i))
+        part = encoded_rung(analysis, index)
         if part is None:
             continue
         first_line, first_col, last_line, last_col, rest = part

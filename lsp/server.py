@@ -240,11 +240,12 @@ def create_server() -> LadderServer:
         semantic,
         simulation,
         symbols,
+        warmup,
     )
 
     server = LadderServer()
     for module in (lifecycle, diagnostics, hover, formatting, completion, navigation, symbols, semantic,
-                   actions, convert, simulation):
+                   actions, convert, simulation, warmup):
         module.register(server)
     return server
 

@@ -72,11 +72,16 @@ def _with_text(symbol: dict) -> tuple[dict, str]:
     return symbol, _encoded(symbol)
 
 
+def rung_symbol(analysis, index: int) -> tuple[dict, str]:
+    """A rung's symbol and its JSON text, kept while the rung is unchanged."""
+    return analysis.per_rung("symbol", index, lambda i: _with_text(_rung_symbol(analysis, i)))
+
+
 def rung_symbols(analysis) -> list[tuple[dict, str]]:
     """Each drawn rung's symbol, with its JSON text."""
     found = []
     for _, _, index in analysis.locator.rung_extents():
-        symbol, text = analysis.per_rung("symbol", index, lambda i: _with_text(_rung_symbol(analysis, i)))
+        symbol, text = rung_symbol(analysis, index)
         name = rung_title(analysis.program, index)  # the number changes when rungs are added above
         if symbol["name"] != name:
             symbol, text = _with_text(dict(symbol, name=name))
@@ -117,6 +122,11 @@ def _flat(symbols: list[dict], uri: str, container: str | None = None) -> list[d
     return out
 
 
+def rung_fold(analysis, index: int) -> dict | None:
+    """A rung's folding range, kept while the rung is unchanged."""
+    return analysis.per_rung("fold", index, lambda i: _rung_fold(analysis, i))
+
+
 def _rung_fold(analysis, index: int) -> dict | None:
     extent = analysis.locator.rung_lines(index)
     first, last = extent
@@ -129,7 +139,7 @@ def _rung_fold(analysis, index: int) -> dict | None:
 def folding_ranges(analysis) -> list[dict]:
     ranges = []
     for _, _, index in analysis.locator.rung_extents():
-        found = analysis.per_rung("fold", index, lambda i: _rung_fold(analysis, i))
+        found = rung_fold(analysis, index)
         if found is not None:
             ranges.append(found)
     if analysis.kind == LADDER:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types
+from test_lsp_incremental import big_text
 from test_lsp_support import Doc, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -113,3 +114,30 @@ async def test_results_follow_edits(client):
         fresh = Doc(client, new_uri(), doc.text)
         await fresh.diagnostics()
         assert await everything(doc.uri) == await everything(fresh.uri)
+
+
+async def test_results_follow_edits_made_between_two_requests(client):
+    """A rung moved by several edits in a row, none of them followed by a
+    request, takes its results from where they were last worked out (the
+    document's results are shared by its versions, a moved rung's shifted
+    when a feature first asks): the same as the text opened afresh. The
+    edits come right after the open of 400 rungs, while the server works its
+    answers out ahead of the requests."""
+    doc = Doc(client, new_uri(), big_text(400))
+    line = doc.find("0002|").line
+    blank = "    ||" + " " * 68 + "||\n"
+    doc.change(line - 3, 0, line - 3, 0, blank)  # lines added above rung 2 ...
+    doc.change(line - 3, 0, line - 3, 0, blank + blank)
+    doc.change(line - 3, 0, line - 2, 0, "")  # ... one taken away again
+    doc.change(line + 3, 0, line + 3, 0, "    ||                |" + " " * 51 + "||\n")  # a line in rung 2
+    await doc.diagnostics()
+    fresh = Doc(client, new_uri(), doc.text)
+    await fresh.diagnostics()
+    ident, again = td(doc.uri), td(fresh.uri)
+    assert (await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=ident))
+            == await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=again)))
+    assert ((await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=ident))).data
+            == (await client.text_document_semantic_tokens_full_async(
+                types.SemanticTokensParams(text_document=again))).data)
+    assert (await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=ident))
+            == await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=again)))

@@ -9,7 +9,7 @@ token is then depends on both lines (`{MOV` and `{ADD` share a glyph shape).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache, lru_cache
 
 from ..drawing import read_fields
@@ -38,6 +38,7 @@ class Candidate:
     glyph_re: re.Pattern
     top_re: re.Pattern | None
     head: str  # literal start of the glyph, for cheap dispatch
+    kinds: dict[str, str] = field(compare=False)
 
 
 def _head(pattern_text: str) -> str:
@@ -61,7 +62,7 @@ def _candidates() -> tuple[Candidate, ...]:
         literal = "".join(
             part[1] for part in instruction.glyph.templates()[0].parts() if part[0] == "lit"
         )
-        found.append(Candidate(instruction, glyph_re, top_re, _head(literal)))
+        found.append(Candidate(instruction, glyph_re, top_re, _head(literal), kinds))
     return tuple(found)
 
 
@@ -85,32 +86,47 @@ def _shape_key(glyph: str) -> str:
     return stripped[:1]
 
 
+@lru_cache(maxsize=4096)
+def _glyph_reads(glyph: str) -> tuple[tuple[Candidate, tuple | str], ...]:
+    """Each instruction a glyph can be, with the field values the glyph gives
+    it (or why they are wrong): the same glyph stands under many names."""
+    glyph_text = "-" + glyph + "-"
+    found: list[tuple[Candidate, tuple | str]] = []
+    for candidate in _by_head_char().get(_shape_key(glyph), ()):
+        glyph_match = candidate.glyph_re.match(glyph_text)
+        if not glyph_match:
+            continue
+        symbol = candidate.instruction.glyph
+        assert symbol is not None  # _candidates() keeps the instructions that have one
+        try:
+            found.append((candidate, tuple(read_fields(glyph_match, symbol.templates(), candidate.kinds).items())))
+        except ValueError as bad:
+            found.append((candidate, str(bad)))
+    return tuple(found)
+
+
 @lru_cache(maxsize=65536)
 def recognise(glyph: str, top: str) -> tuple[str, tuple] | None:
     """The instruction key and its drawn field values for a glyph and the
     text above it, or None if no instruction draws like that. Cached: real
     programs repeat the same elements many times."""
-    glyph_text = "-" + glyph + "-"
-    for candidate in _by_head_char().get(_shape_key(glyph), ()):
-        glyph_match = candidate.glyph_re.match(glyph_text)
-        if not glyph_match:
-            continue
+    for candidate, values in _glyph_reads(glyph):
         instruction = candidate.instruction
-        symbol = instruction.glyph
-        assert symbol is not None  # _candidates() keeps the instructions that have one
         if candidate.top_re is None:
             if top.strip():
                 continue
-            templates = symbol.templates()
-            found = read_fields(glyph_match, templates, instruction.kinds)
-            return instruction.key, tuple(found.items())
-        top_match = candidate.top_re.match(top)
-        if not top_match:
-            continue
-        assert instruction.top is not None  # top_re was made from it
-        found = read_fields(glyph_match, symbol.templates(), instruction.kinds)
-        found.update(read_fields(top_match, instruction.top.templates(), instruction.kinds))
-        return instruction.key, tuple(found.items())
+            top_values: dict = {}
+            if isinstance(values, str):
+                raise ValueError(values)
+        else:
+            top_match = candidate.top_re.match(top)
+            if not top_match:
+                continue
+            if isinstance(values, str):
+                raise ValueError(values)
+            assert instruction.top is not None  # top_re was made from it
+            top_values = read_fields(top_match, instruction.top.templates(), candidate.kinds)
+        return instruction.key, (*values, *top_values.items()) if top_values else values
     return None
 
 

@@ -157,12 +157,12 @@ def _trim(block: list, symbol: int | None) -> tuple[list, int]:
 def _fix_right_rail(block: list[Line]) -> None:
     """The right rail is where most lines of the rung end in `||`; a long name
     may have eaten its first `|`."""
-    ends = Counter(len(line.text.rstrip()) - 2 for line in block if line.text.rstrip().endswith("||"))
+    stripped_lines = [line.text.rstrip() for line in block]
+    ends = [len(stripped) - 2 for stripped in stripped_lines if stripped.endswith("||")]
     if not ends:
         return
-    rail = ends.most_common(1)[0][0]
-    for line in block:
-        stripped = line.text.rstrip()
+    rail = ends[0] if ends.count(ends[0]) == len(ends) else Counter(ends).most_common(1)[0][0]
+    for line, stripped in zip(block, stripped_lines):
         if len(stripped) - 2 == rail and stripped.endswith("||"):
             line.end = rail
         elif len(stripped) - 1 == rail + 1 and stripped.endswith("|"):
@@ -277,9 +277,12 @@ class TextReader:
         # rungs of the last read that are rungs of the read before moved by lines added
         # or removed above them: id(new rung) -> (old rung, lines moved)
         self.moved: dict[int, tuple[Rung, int]] = {}
+        # the last text read, split in lines and in sections, for the editor's helpers to share
+        self.lines: list[str] = []
+        self.sections: list[Section] = []
 
     def read(self, text: str) -> tuple[Program, list[Diagnostic]]:
-        lines = text.splitlines()
+        lines = self.lines = text.splitlines()
         previous = self._state
         self.moved = {}
         state = None
@@ -313,6 +316,7 @@ class TextReader:
         if state is not None:
             state.sections = sections
         self._state = state
+        self.sections = sections
         if state is None:
             return self._assemble(lines, sections, None, None)
         return self._assemble(lines, sections, state.blocks, state.raw_problems)

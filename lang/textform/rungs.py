@@ -317,15 +317,20 @@ class _RungReader:
         if folded is None:
             folded = self._fold_short_open_quiet(row)
         glyphs = [(s, e) for kind, s, e, _ in folded if kind in ("glyph", "short", "open")]
-        chars = list(name_line.text[:name_line.end])
+        text = name_line.text[:name_line.end]
         # a claimed cell is a `|` inside the drawing: look up this line's own,
         # not every claimed cell of the rung for every row (a tall rung has thousands)
-        col = name_line.text.find("|", name_line.start, name_line.end)
+        connectors = []
+        col = text.find("|", name_line.start)
         while col >= 0:
             if (row - 1, col) in self.claimed:
+                connectors.append(col)
+            col = text.find("|", col + 1)
+        if connectors:
+            chars = list(text)
+            for col in connectors:
                 chars[col] = " "  # a connector, not part of a name
-            col = name_line.text.find("|", col + 1, name_line.end)
-        text = "".join(chars)
+            text = "".join(chars)
         for match in TOP_TOKEN.finditer(text, name_line.start):
             word = (match.start(), match.end())
             best, best_overlap = None, 0

@@ -1,0 +1,62 @@
+"""The whole-document answers made ready after a document opens.
+
+Editors ask for the outline, the semantic tokens and the folding ranges of an
+open document, and again after each edit. Each rung's part of those answers
+is kept while the rung is unchanged (`Analysis.per_rung`), so an edit costs
+only the rungs it changed; the first answer costs every rung, about 250 ms
+for 2,000 rungs, and every request behind it would wait as long. So after a
+document opens the server works those parts out itself, a few rungs at a
+time, and reads every message that has arrived between two slices: a
+request or an edit waits one slice at most."""
+
+from __future__ import annotations
+
+import asyncio
+
+from .semantic import encoded_rung
+from .symbols import rung_fold, rung_symbol
+
+SLICE = 8  # rungs worked out between two looks at the input: about a millisecond
+PARTS = (rung_symbol, encoded_rung, rung_fold)
+
+
+async def warm(server, uri: str) -> None:
+    """Works the parts out on the version opened: the document's results are
+    shared by its versions (`RungResults`), so a later version takes those of
+    the rungs it kept, and an edit during the warm-up costs neither a new
+    read nor a new locator."""
+    opened = server.documents.analysis(uri)
+    if opened is None:
+        return
+    extents = opened.locator.rung_extents()
+    for done in range(0, len(extents), SLICE):
+        await asyncio.sleep(0)
+        if server.documents.latest(uri) is None:
+            return  # closed
+        for _, _, index in extents[done:done + SLICE]:
+            for part in PARTS:
+                part(opened, index)
+
+
+def register(server) -> None:
+    tasks: dict[str, asyncio.Future] = {}
+
+    def stop(ls, uri):
+        task = tasks.pop(uri, None)
+        if task is not None:
+            task.cancel()
+
+    def opened(ls, uri):
+        stop(ls, uri)
+        task = tasks[uri] = asyncio.ensure_future(warm(ls, uri))
+
+        def finished(_) -> None:
+            if tasks.get(uri) is task:
+                del tasks[uri]
+            if not task.cancelled() and task.exception() is not None:
+                ls._failure("the warm-up of the document's answers", task.exception())
+
+        task.add_done_callback(finished)
+
+    server.subscribe("opened", opened)
+    server.subscribe("closed", stop)
