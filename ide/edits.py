@@ -382,4 +382,4 @@ def drawn_operands(rung: Rung, number: int, columns: int) -> tuple[list[str], li
 
 
 def comment_rung(text: str) -> Rung:
-    return Rung(Series([Element("COMMENT", {"text": text})]))
+    return Rung(Series([Element("COMMENT", {"text": text, "line_ends": ()})]))

@@ -533,7 +533,11 @@ define("SLEEP", "sleep", (Field("name", "token", access="", default="", drawn=Fa
 define("PLACEHOLDER", "empty rung", (), None, text("--"),
        "Marks an empty rung; a program with one cannot be compiled.", "flow",
        support=frozenset({"parse", "check"}), label='empty rung')
-define("COMMENT", "comment", (Field("text", "text", access=""),), None, None,
+define("COMMENT", "comment",
+       # the blanks that end each line in an .ld file (a count of spaces per line; left out
+       # when no line has any): the drawing cannot show them
+       (Field("text", "text", access=""), Field("line_ends", "values", access="", default=(), drawn=False)),
+       None, None,
        "A comment rung; it does nothing.", "flow", ld_form="comment", example="COMMENT a note")
 
 # --- displays, bus and target-specific elements ------------------------------------------------

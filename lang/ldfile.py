@@ -714,9 +714,12 @@ class _ElementLine:
 
     def form_comment(self) -> dict:
         raw = self.raw[self.kw.column - 1 + len("COMMENT") + 1:]
-        text = unescape_ld(raw, self.r.encoding).replace("\r\n", "\n")
-        # blanks at the end of a comment line carry nothing and cannot be drawn
-        return {"text": "\n".join(line.rstrip(" \t") for line in text.split("\n"))}
+        lines = unescape_ld(raw, self.r.encoding).replace("\r\n", "\n").split("\n")
+        # the drawing cannot show the blanks that end a line: they are kept apart (a tab there
+        # is dropped)
+        stripped = [line.rstrip(" \t") for line in lines]
+        ends = tuple(str(len(line) - len(line.rstrip(" "))) for line in lines)
+        return {"text": "\n".join(stripped), "line_ends": ends if any(end != "0" for end in ends) else ()}
 
     def form_sleep(self) -> dict:
         name = self.toks[0].value if self.toks else ""
@@ -1001,7 +1004,11 @@ def _text_token(text: str) -> str:
     return token
 
 
-def _comment_token(text: str) -> str:
+def _comment_token(text: str, line_ends: Iterable[object] = ()) -> str:
+    ends = [int(str(end)) for end in line_ends]
+    lines = text.split("\n")
+    if len(ends) == len(lines):
+        text = "\n".join(line + " " * end for line, end in zip(lines, ends))
     token = escape_ld(text.replace("\n", "\r\n"), False)
     if text == "(none)":
         token = "\\x28" + token[1:]
@@ -1021,7 +1028,7 @@ def element_line(element: Element, version: str = "0.2", encoding: str = "cp1252
     form = ins.ld_form
     key = ins.key
     if form == "comment":
-        return f"COMMENT {_comment_token(str(a.get('text', '')))}"
+        return f"COMMENT {_comment_token(str(a.get('text', '')), cast(Iterable[object], a.get('line_ends', ())))}"
     if form == "coil":
         flags = [int(a.get("type", " ") == symbol) for symbol in "/SRT"]
         return f"COIL {a['name']} " + " ".join(map(str, flags))

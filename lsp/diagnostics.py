@@ -1,7 +1,9 @@
 """Diagnostics as you type: the reader's and the checks' problems, with the
 codes `ladder check` gives, a link to each code's documentation and the
 related places a check names. Published at once when a document opens and
-`ladder.diagnosticsDelayMs` after the last change while typing (0: at once)."""
+`ladder.diagnosticsDelayMs` after the last change while typing (0: as soon as
+the messages that have arrived are read, so that of edits queued up only the
+last one is checked)."""
 
 from __future__ import annotations
 

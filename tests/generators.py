@@ -112,7 +112,10 @@ def eol_parallel(depth: int):
 def rungs(draw):
     if draw(st.integers(0, 9)) == 0:
         text = draw(st.lists(value_for(None, INSTRUCTIONS["COMMENT"].fields[0]), min_size=1, max_size=3))
-        return Rung(Series([Element("COMMENT", {"text": "\n".join(text)})]))
+        # the blanks that end its lines in an .ld file (kept in DETAILS by the text form)
+        ends = draw(st.one_of(st.just(()), st.lists(st.integers(0, 3).map(str), min_size=len(text),
+                                                     max_size=len(text)).map(tuple)))
+        return Rung(Series([Element("COMMENT", {"text": "\n".join(text), "line_ends": ends})]))
     circuit = draw(series(2, ends_line=draw(st.booleans())))
     return Rung(rung_circuit(circuit))
 

@@ -213,7 +213,7 @@ def test_catalog_has_one_rung_per_element_type():
             "I2C_RD", {"name": "I2C1", "send": "send", "recv": "recv", "mode": "Master", "address": "0",
                        "register": "0", "first": "MSB", "bitrate": "100000"}),
         "WSFR sfr srs": ("WSFR", {"sfr": "sfr", "src": "srs"}),
-        "COMMENT --add comment here--": ("COMMENT", {"text": "--add comment here--"}),
+        "COMMENT --add comment here--": ("COMMENT", {"text": "--add comment here--", "line_ends": ()}),
         "PLACEHOLDER": ("PLACEHOLDER", {}),
     }
     for line, (kind, args) in expected.items():
@@ -435,16 +435,19 @@ def test_comments_keep_line_breaks_and_blanks():
     element = one("COMMENT first\\r\\nsecond line  with  blanks\\r\\n")
     assert element.args["text"] == "first\nsecond line  with  blanks\n"
     assert element_line(element) == "COMMENT first\\r\\nsecond line  with  blanks\\r\\n"
-    # a lone CR stays what it is; blanks ending a line are dropped, as LDmicro's export does
+    # a lone CR stays what it is; blanks ending a line are kept apart (the drawing, like
+    # LDmicro's export, cannot show them) and written back
     for text in ["a\rb", " leading", "back\\slash", "tab\there", "", "(none)"]:
-        line = element_line(Element("COMMENT", {"text": text}))
+        line = element_line(Element("COMMENT", {"text": text, "line_ends": ()}))
         assert one(line).args["text"] == text, line
-    assert one("COMMENT ends in blanks\\x20\\x20\\r\\nnext  ").args["text"] == "ends in blanks\nnext"
+    blanks = one("COMMENT ends in blanks\\x20\\x20\\r\\nnext  ")
+    assert blanks.args == {"text": "ends in blanks\nnext", "line_ends": ("2", "0")}
+    assert element_line(blanks) == "COMMENT ends in blanks  \\r\\nnext"  # as LDmicro writes them
     assert one("COMMENT (none)").args["text"] == ""
 
 
 def test_non_ascii_text_round_trips_through_bytes():
-    program = Program(rungs=[Rung(Series([Element("COMMENT", {"text": "Température €\nsuite"})])),
+    program = Program(rungs=[Rung(Series([Element("COMMENT", {"text": "Température €\nsuite", "line_ends": ()})])),
                              Rung(Series([Element("FORMATTED_STRING", {"var": "v", "text": "°C é"})]))])
     for version in ("0.2", "0.1"):
         data = write_ld_bytes(program, version=version)
@@ -469,7 +472,7 @@ def test_text_that_looks_like_character_codes_is_protected():
 
 
 def test_long_lines_are_reported_not_silent():
-    program = Program(rungs=[Rung(Series([Element("COMMENT", {"text": "x" * 600})]))],
+    program = Program(rungs=[Rung(Series([Element("COMMENT", {"text": "x" * 600, "line_ends": ()})]))],
                       pins={"X" + "n" * 70: PinAssignment("X" + "n" * 70, 5)})
     diagnostics = []
     text = write_ld(program, diagnostics=diagnostics)

@@ -34,7 +34,7 @@ def starter_program(part: str) -> Program | None:
                   key=lambda pin: bool(pin.functions))
     inputs = free[0]
     outputs = next(pin for pin in free[1:] if "Input Only" not in pin.label)
-    comment = Element("COMMENT", {"text": f"{device.title}: Xbutton lights Ylamp"})
+    comment = Element("COMMENT", {"text": f"{device.title}: Xbutton lights Ylamp", "line_ends": ()})
     contact = Element("CONTACTS", {"name": "Xbutton", "negated": 0, "set1": 0})
     coil = Element("COIL", {"name": "Ylamp", "type": " "})
     return Program(

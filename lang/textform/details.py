@@ -115,21 +115,22 @@ def _read_modbus(name: str, value: str, program: Program, span: Span, name_span:
 # --- DETAILS --------------------------------------------------------------------
 
 def identity(element: Element) -> str:
-    """What names an element in DETAILS: its first drawn name."""
+    """What names an element in DETAILS: its first drawn name (none for a
+    comment: `COMMENT #3` is the third)."""
     instruction = element.spec
     drawn = [f for f in instruction.fields if f.drawn]
     for f in drawn:
         if f.kind in _NAME_KINDS:
             return str(element.args[f.name])
-    return str(element.args[drawn[0].name]) if drawn else ""
+    return str(element.args[drawn[0].name]) if drawn and drawn[0].kind != "text" else ""
 
 
 def undrawn(element: Element) -> dict[str, object]:
     """The element's parameters the drawing does not show, where not default."""
     return {
-        f.name: element.args[f.name]
+        f.name: element.args.get(f.name, f.default)
         for f in element.spec.fields
-        if not f.drawn and element.args[f.name] != f.default
+        if not f.drawn and element.args.get(f.name, f.default) != f.default
     }
 
 

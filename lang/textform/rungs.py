@@ -65,7 +65,7 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung | None, list[D
     comment = _read_comment(lines)
     if comment is not None:
         text, comment_span = comment
-        element = Element("COMMENT", {"text": text}, comment_span)
+        element = Element("COMMENT", {"text": text, "line_ends": ()}, comment_span)
         return Rung(Series([element], comment_span), span), []
     reader = _RungReader(lines, symbol_index)
     circuit = reader.read()
