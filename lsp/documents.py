@@ -236,8 +236,8 @@ class Documents:
         return found
 
     def latest(self, uri: str) -> Analysis | None:
-        """The analysis made last, whether or not the text changed since (the
-        next analysis carries its per-rung results over)."""
+        """The analysis made last, whether or not the text changed since
+        (None once the document is closed): no reading."""
         return self._analyses.get(uri)
 
     def _analysis(self, uri: str) -> Analysis | None:
