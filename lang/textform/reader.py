@@ -13,7 +13,6 @@ from decimal import Decimal, InvalidOperation
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
-from ..instructions import INSTRUCTIONS
 from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span, children
 from . import details
 from .rungs import Line, read_rung
@@ -220,9 +219,6 @@ def _read_vars(section: Section, program: Program, problems: list[Diagnostic]) -
 
 # --- reading again after an edit ----------------------------------------------------------
 
-# instruction -> (field, default) of the parameters only DETAILS can set
-UNDRAWN = {key: tuple((f.name, f.default) for f in spec.fields if not f.drawn)
-           for key, spec in INSTRUCTIONS.items() if any(not f.drawn for f in spec.fields)}
 CACHE_SIZE = 20000
 
 
@@ -233,7 +229,6 @@ class _Block:
     rung: Rung | None  # None: the rung could not be read
     problems: list[Diagnostic]
     number_at: int | None  # offset of the numbered line from `first` (None: unnumbered)
-    detailed: list[Element] = field(default_factory=list)
     key: tuple | None = None  # in the rung cache
 
 
@@ -264,9 +259,9 @@ class TextReader:
     * Rungs are also cached by their text, whatever their line: a rung that
       moved is not read again, only its positions are shifted.
     * The sections after the diagram are small and are read again every time.
-      DETAILS sets element parameters in place, so the parameters the drawing
-      does not show are reset to their defaults before it is applied: a cached
-      rung never keeps what an earlier version's DETAILS set."""
+      DETAILS sets element parameters on copies of the rungs it changes
+      (lang/textform/details.py): a cached rung never keeps what an earlier
+      version's DETAILS set."""
 
     def __init__(self, cache_size: int = CACHE_SIZE):
         self.cache_size = cache_size
@@ -342,9 +337,6 @@ class TextReader:
                     problems.extend(block.problems)
                     if block.rung is not None:
                         rungs.append(block.rung)
-                    for element in block.detailed:
-                        for name, default in UNDRAWN[element.kind]:
-                            element.args[name] = default
                 program.rungs = rungs
             elif section.title == IO:
                 _read_io(section, program, problems)
@@ -409,7 +401,7 @@ class TextReader:
         if at != first:
             rung = shift_rung(rung, first - at) if rung is not None else None
             found = [p.shifted(first - at) for p in found]
-        return _Block(first, last, rung, list(found), number_at, _detailed(rung), key)
+        return _Block(first, last, rung, list(found), number_at, key)
 
     def _move(self, block: _Block, delta: int) -> _Block:
         """The block `delta` lines further down: its elements and series keep
@@ -421,8 +413,7 @@ class TextReader:
             _move_circuit(rung.circuit, delta)
             rung = Rung(rung.circuit, shift_span(rung.span, delta))
         problems = [p.shifted(delta) for p in block.problems]
-        moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.detailed,
-                       block.key)
+        moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.key)
         if block.key is not None:
             cached = self._cache.get(block.key)
             if cached is not None and cached[0] is block.rung:
@@ -571,12 +562,6 @@ def _end_line(lines: list[tuple[int, str]]) -> int | None:
         if "[END]" in text and _rail(text) >= 0:
             return number
     return None
-
-
-def _detailed(rung: Rung | None) -> list[Element]:
-    if rung is None:
-        return []
-    return [e for e in rung.elements() if e.kind in UNDRAWN]
 
 
 # --- moving a rung up or down ---------------------------------------------------------
