@@ -16,11 +16,10 @@ from typing import Protocol
 
 from lang.devices import Device, Pin
 from lang.model import Program
+from lang.roles import CYCLE_DUTY_PIN
 from lang.semantics import ir
 
 from .image import Image
-
-DUTY_PIN = "YPlcCycleDuty"  # LDmicro's output that is high while the scan runs
 
 
 @dataclass(frozen=True)
@@ -57,7 +56,7 @@ def machine_for(program: Program, device: Device) -> Machine:
     settings = program.settings
     pins = {name: pin for name, assignment in program.pins.items()
             if (pin := device.pin(assignment.pin)) is not None}
-    duty = pins.get(DUTY_PIN) if settings.cycle_duty else None
+    duty = pins.get(CYCLE_DUTY_PIN) if settings.cycle_duty else None
     return Machine(
         device=device,
         crystal_hz=settings.crystal_hz,

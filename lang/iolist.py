@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 from .labels import token
 from .model import Program
+from .roles import CYCLE_DUTY_PIN
 from .values import is_literal_fast
 
 # LDmicro's numbers for the I/O types it lists; they order the list
@@ -40,7 +41,6 @@ _ANY_LETTER = {"adc": READ_ADC, "pwm": PWM_OUTPUT}
 # how LDmicro reads an IO LIST line back: a bus pin by its suffix, anything else by its letter
 _READ_LETTER = {"X": DIG_INPUT, "Y": DIG_OUTPUT, "A": READ_ADC, "P": PWM_OUTPUT, "I": MODBUS_CONTACT,
                 "M": MODBUS_COIL, "C": COUNTER, "H": MODBUS_HREG}
-CYCLE_DUTY_PIN = "YPlcCycleDuty"
 
 
 class Io(NamedTuple):
@@ -50,6 +50,11 @@ class Io(NamedTuple):
     @property
     def type_name(self) -> str:
         return TYPE_NAMES[self.type]
+
+
+def bus_pin(name: str) -> bool:
+    """A pin an SPI or I2C bus takes (`SPI1_MOSI`), named after its bus."""
+    return any(suffix in name for pins in BUS_PINS.values() for suffix, _ in pins)
 
 
 def listed_type(name: str) -> int | None:

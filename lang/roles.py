@@ -21,8 +21,8 @@ ROLES: dict[str, tuple[str, str]] = {
 GENERAL = ("integer variable", "a general-purpose signed integer variable (1 to 4 bytes, 2 by default)")
 BIT_PREFIXES = "XYRMIP"
 PIN_PREFIXES = "XYAP"  # names that take a pin of the part
-# the pins an SPI or I2C bus takes have names of their own, which LDmicro lists with the I/O
-BUS_PIN_SUFFIXES = ("_MOSI", "_MISO", "_SCK", "__SS", "_SCL", "_SDA")
+# LDmicro's output that is high while the scan runs (the cycle duty setting)
+CYCLE_DUTY_PIN = "YPlcCycleDuty"
 
 
 def role(name: str) -> tuple[str, str]:

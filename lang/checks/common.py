@@ -10,7 +10,7 @@ from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
 from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..numbers import cdiv
-from ..roles import ROLES, role
+from ..roles import CYCLE_DUTY_PIN, ROLES, role
 from ..strings import ESCAPES, HEX
 from ..values import format_delay, is_literal, literal_value
 
@@ -29,7 +29,7 @@ PROGRAM = "program"
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
 
 # Names the compiler writes itself (§4.2): never "read but never written".
-GENERATED = frozenset({"ROverflowFlagV", "RUartRecvErrorFlag", "RUartSendErrorFlag", "YPlcCycleDuty"})
+GENERATED = frozenset({"ROverflowFlagV", "RUartRecvErrorFlag", "RUartSendErrorFlag", CYCLE_DUTY_PIN})
 
 
 def rung_no(index: int) -> str:

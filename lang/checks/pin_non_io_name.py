@@ -5,8 +5,8 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
 from ..index import ProgramIndex
+from ..iolist import bus_pin
 from ..model import Program
-from ..roles import BUS_PIN_SUFFIXES
 from .common import is_analog, is_pwm, pin_text
 
 CODE = rule_code(__name__)
@@ -17,7 +17,7 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     for name, assignment in program.pins.items():
         if not assignment.assigned or name[:1] in ("X", "Y", "A", "P") or name not in index.uses:
             continue
-        if any(suffix in name for suffix in BUS_PIN_SUFFIXES):
+        if bus_pin(name):
             continue
         if is_analog(index, name) or is_pwm(index, name):
             continue

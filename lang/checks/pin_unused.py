@@ -5,8 +5,9 @@ from __future__ import annotations
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
 from ..index import ProgramIndex
+from ..iolist import bus_pin
 from ..model import Program
-from ..roles import BUS_PIN_SUFFIXES
+from ..roles import CYCLE_DUTY_PIN
 from .common import pin_text
 
 CODE = rule_code(__name__)
@@ -17,9 +18,9 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     for name, assignment in program.pins.items():
         if name in index.uses or not assignment.assigned:
             continue
-        if name == "YPlcCycleDuty" and program.settings.cycle_duty:
+        if name == CYCLE_DUTY_PIN and program.settings.cycle_duty:
             continue
-        if any(suffix in name for suffix in BUS_PIN_SUFFIXES):
+        if bus_pin(name):
             continue
         found.append(report(
             CODE,
