@@ -39,8 +39,7 @@ _BY_LETTER = {
 }
 _ANY_LETTER = {"adc": READ_ADC, "pwm": PWM_OUTPUT}
 # how LDmicro reads an IO LIST line back: a bus pin by its suffix, anything else by its letter
-_READ_LETTER = {"X": DIG_INPUT, "Y": DIG_OUTPUT, "A": READ_ADC, "P": PWM_OUTPUT, "I": MODBUS_CONTACT,
-                "M": MODBUS_COIL, "C": COUNTER, "H": MODBUS_HREG}
+_READ_LETTER = {**_BY_LETTER["bit"], **_BY_LETTER["auto"], "C": COUNTER}
 
 
 class Io(NamedTuple):
@@ -52,19 +51,24 @@ class Io(NamedTuple):
         return TYPE_NAMES[self.type]
 
 
+def _bus_type(name: str) -> int | None:
+    for suffixes in BUS_PINS.values():
+        for suffix, io_type in suffixes:
+            if suffix in name:
+                return io_type
+    return None
+
+
 def bus_pin(name: str) -> bool:
     """A pin an SPI or I2C bus takes (`SPI1_MOSI`), named after its bus."""
-    return any(suffix in name for pins in BUS_PINS.values() for suffix, _ in pins)
+    return _bus_type(name) is not None
 
 
 def listed_type(name: str) -> int | None:
     """The type LDmicro gives an IO LIST line's name when it reads the file
     (None: it skips the line)."""
-    for suffixes in BUS_PINS.values():
-        for suffix, io_type in suffixes:
-            if suffix in name:
-                return io_type
-    return _READ_LETTER.get(name[:1])
+    bus = _bus_type(name)
+    return bus if bus is not None else _READ_LETTER.get(name[:1])
 
 
 def _named(value: object) -> str:

@@ -61,3 +61,16 @@ def test_an_ldmicro01_file_lists_x_y_and_a_names_and_keeps_every_pin():
     text = ("LDmicro0.1\nIO LIST\n    Pout at 17\nEND\n\nPROGRAM\nRUNG\n  CONTACTS Mx 0 0\n  SET_PWM d 1000 Pout\n"
             "END\nRUNG\n  CONTACTS Xb 0 0\n  SET_PWM d 1000 Pdim\nEND\nRUNG\n  CONTACTS Xb 0 0\n  READ_ADC Apot 0\nEND\n")
     assert io_section(write_ld(read_ld(text)[0])) == ["    Xb at 0 0 0", "    Apot at 0 0 0", "    Pout at 17 0 0"]
+
+
+def test_a_pin_on_a_name_ldmicro_does_not_list_is_kept_last():
+    """A relay given a pin in the text form's table (LD410 reports it) is not
+    in LDmicro's list (its .ld reader skips such a line); the pin the user
+    wrote is kept, after every listed name."""
+    text = render_program(read_ld(HEAD + "IO LIST\nEND\n\n" + PROGRAM)[0])
+    lines = text.splitlines()
+    table = lines.index(" ----------------------------+--------------------+-----+------+-----------")
+    lines.insert(table + 1, "  Rrelay                     | int. relay         |   5 |")
+    program = load_bytes("\n".join(lines).encode(), "x.ladder").program
+    assert io_section(write_ld(program)) == ["    Xb at 0 0 0", "    Yout at 0 0 0", "    Rrelay at 5 0 0"]
+    assert "  Rrelay                     | general var        |   5 |" in render_program(program)

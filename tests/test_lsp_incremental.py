@@ -208,8 +208,11 @@ def test_a_locator_built_on_the_one_before_equals_a_new_one():
                     rng.randrange(10**6), rng.choice(EDIT_CHARS))
             text = apply(text, step)
             program, _ = incremental.read(text)
-            locator = Locator(program, text.splitlines(), "ladder", locator, incremental.moved)
-            assert locator.rung_extents() == Locator(program, text.splitlines()).rung_extents()
+            lines, titles = incremental.split()
+            locator = Locator(program, lines, "ladder", locator, incremental.moved, titles=titles)
+            fresh = Locator(program, text.splitlines())
+            assert locator.rung_extents() == fresh.rung_extents()
+            assert lines == text.splitlines() and locator.sections == fresh.sections  # the reader's split
 
 
 def test_a_rung_nested_a_thousand_deep_moves_when_a_line_is_added_above():
