@@ -35,26 +35,51 @@ def program(tmp_path) -> Path:
     return tmp_path / "lamp.ladder"
 
 
-@pytest.mark.parametrize("argv", [
-    ["sim", "{p}", "--cycles", "3", "--vcd", "{d}/nodir/x.vcd"],
-    ["new", "--part", "atmega8", "{d}/nodir/x.ladder"],
-    ["convert", "{p}", "{d}/nodir/x.ld"],
-    ["build", "{p}", "-o", "{d}/nodir/x.hex"],
-])
+OUTPUTS = [
+    ["sim", "{p}", "--cycles", "3", "--vcd", "{d}/x.vcd"],
+    ["new", "--part", "atmega8", "{d}/x.ladder"],
+    ["convert", "{p}", "{d}/x.ld"],
+    ["build", "{p}", "-o", "{d}/x.hex"],
+    ["build", "{p}", "--emit", "c", "-o", "{d}/x.c"],
+]
+
+
+@pytest.mark.parametrize("argv", OUTPUTS)
+def test_an_output_in_folders_that_do_not_exist_creates_them(capsys, tmp_path, program, argv):
+    argv = [a.format(p=program, d=tmp_path / "new" / "folders") for a in argv]
+    status, _, err = run(capsys, *argv)
+    assert status == 0, err
+    assert (tmp_path / "new" / "folders" / Path(argv[-1]).name).is_file()
+
+
+@pytest.mark.parametrize("argv", OUTPUTS)
 def test_an_output_that_cannot_be_written_is_one_clear_error(capsys, tmp_path, program, argv):
-    argv = [a.format(p=program, d=tmp_path) for a in argv]
+    """A folder in the path is a file: nothing can make it a folder."""
+    (tmp_path / "afile").write_text("", encoding="utf-8")
+    argv = [a.format(p=program, d=tmp_path / "afile" / "sub") for a in argv]
     status, _, err = run(capsys, *argv)
     assert status == 2
-    assert re.search(r"nodir/x\.\w+: error: cannot write: No such file or directory", err), err
+    assert re.search(r"afile(/sub)?: error: cannot write: (Not a directory|File exists)", err), err
     assert "Traceback" not in err
 
 
-def test_junit_that_cannot_be_written(capsys, tmp_path):
+def _blink_scenario(tmp_path) -> Path:
     scenario = tmp_path / "s.scn"
     scenario.write_text(f"program {SAMPLES / 'blink.ld'}\n\nscenario off\nat 0 set Xbutton = 1\n"
                         "at 50 ms expect Cwhich = 0\n", encoding="utf-8")
-    status, _, err = run(capsys, "test", scenario, "--junit", tmp_path / "nodir" / "r.xml")
-    assert status == 2 and "r.xml: error: cannot write" in err
+    return scenario
+
+
+def test_junit_in_a_folder_that_does_not_exist(capsys, tmp_path):
+    status, _, err = run(capsys, "test", _blink_scenario(tmp_path), "--junit", tmp_path / "reports" / "ci" / "r.xml")
+    assert status == 0, err
+    ElementTree.parse(tmp_path / "reports" / "ci" / "r.xml")
+
+
+def test_junit_that_cannot_be_written(capsys, tmp_path):
+    (tmp_path / "afile").write_text("", encoding="utf-8")
+    status, _, err = run(capsys, "test", _blink_scenario(tmp_path), "--junit", tmp_path / "afile" / "r.xml")
+    assert status == 2 and "error: cannot write" in err
 
 
 def test_fmt_goes_on_after_a_read_only_file(capsys, tmp_path):

@@ -37,10 +37,18 @@ def has_errors(diagnostics: list[Diagnostic]) -> bool:
 
 
 def write_output(path: str | Path, data: bytes) -> bool:
-    """Write a file whole (lang.files); False after `path: error: cannot
-    write: reason`, the one message every command gives."""
+    """Write a file whole (lang.files), creating the folders it names that do
+    not exist yet (as `-o build/x.hex` users expect); False after `path:
+    error: cannot write: reason`, the one message every command gives."""
+    return writing(path, lambda: write_whole(path, data))
+
+
+def writing(path: str | Path, write) -> bool:
+    """Run `write()` once the folders of `path` exist; False after the
+    message `write_output` gives when a folder or the file cannot be made."""
     try:
-        write_whole(path, data)
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        write()
     except OSError as problem:
         print(f"{problem.filename or path}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
         return False

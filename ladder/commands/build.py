@@ -30,6 +30,7 @@ from ._common import (
     load,
     report,
     write_output,
+    writing,
 )
 
 
@@ -88,10 +89,7 @@ def run(args) -> int:
         return build
     report(args.file, build.warnings, stream=sys.stderr)
     output = Path(args.output) if args.output else Path(args.file).with_suffix(".hex")
-    try:
-        build.write(output)
-    except OSError as problem:
-        print(f"{problem.filename or output}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
+    if not writing(output, lambda: build.write(output)):
         return EXIT_USAGE
     print(build.summary())
     if build.budget is not None:
@@ -137,11 +135,6 @@ def _emit_c(args, program) -> int:
     header, ladder_h = output.with_suffix(".h"), output.with_name("ladder.h")
     files = [(output, sources.c), (header, sources.h)]
     if sketch is not None:
-        try:
-            output.parent.mkdir(exist_ok=True)
-        except OSError as problem:
-            print(f"{output.parent}: error: cannot write: {problem.strerror or problem}", file=sys.stderr)
-            return EXIT_USAGE
         files.insert(0, (output.with_suffix(".ino"), sketch))
     if not ladder_h.exists():
         files.append((ladder_h, default_ladder_h()))
