@@ -10,9 +10,6 @@ case (`scan: at most N cycles = T µs of the C ms cycle (P%)`)."""
 
 from __future__ import annotations
 
-from pathlib import Path
-from urllib.parse import urlparse
-
 from lsprotocol import types
 
 from lang.devices import find_device
@@ -21,7 +18,7 @@ from lang.loader import load_file
 from lang.targets import compiled
 from lang.values import encode_text
 
-from .documents import path_of
+from .documents import file_path
 from .protocol import UserError
 
 
@@ -34,9 +31,9 @@ def _uri_argument(args) -> str:
 def convert(ls, uri: str, target: object) -> dict:
     if target not in ("ladder", "ld"):
         raise UserError(f"target must be \"ladder\" or \"ld\", not {target!r}")
-    if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:
+    source = file_path(uri)
+    if source is None:
         raise UserError("save the document to a file first: the converted file is written beside it")
-    source = Path(path_of(uri))
     analysis = ls.documents.analysis(uri)
     if analysis is not None:
         program, problems = analysis.program, analysis.problems
@@ -110,7 +107,8 @@ def build(ls, uri: str) -> dict:
     analysis = ls.documents.analysis(uri)
     if analysis is None:
         raise UserError("not a ladder document")
-    if urlparse(uri).scheme != "file" or not Path(path_of(uri)).name:
+    source = file_path(uri)
+    if source is None:
         raise UserError("save the document to a file first: the HEX file is written beside it")
     publisher = ls.diagnostics
     if analysis.has_errors:
@@ -126,7 +124,7 @@ def build(ls, uri: str) -> dict:
         shown = "; ".join(d.message for d in problem.diagnostics[:3])
         more = len(problem.diagnostics) - 3
         return {"ok": False, "summary": shown + (f" (and {more} more)" if more > 0 else ""), "hex": None}
-    out = Path(path_of(uri)).with_suffix(".hex")
+    out = source.with_suffix(".hex")
     try:
         result.write(out)
     except OSError as problem:

@@ -15,11 +15,11 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from functools import cached_property
-from pathlib import Path, PurePath
-from typing import Any
-from urllib.parse import unquote, urlparse
+from pathlib import Path, PurePath, PureWindowsPath
+from typing import Any, TypeVar, overload
 
 from lsprotocol import types
+from pygls import uris
 
 from ide.incremental import IncrementalReader
 from ide.locate import Locator
@@ -28,6 +28,7 @@ from lang.checks import Checker
 from lang.config import NONE, Severities
 from lang.diagnostics import ERROR, WARNING, Diagnostic
 from lang.index import ProgramIndex
+from lang.loader import checkable, checked
 from lang.model import Program, Rung, Span
 
 from .positions import Positions
@@ -43,16 +44,37 @@ MAX_CHARS = 5_000_000
 TOO_LARGE = "lsp-too-large"
 
 
-def path_of(uri: str) -> str:
-    parsed = urlparse(uri)
-    return unquote(parsed.path or "")
+P = TypeVar("P", bound=PurePath)
+
+
+@overload
+def file_path(uri: str) -> Path | None: ...
+
+
+@overload
+def file_path(uri: str, flavour: type[P]) -> P | None: ...
+
+
+def file_path(uri: str, flavour: type[PurePath] = Path) -> PurePath | None:
+    """The file a `file:` URI names, None for another scheme or a URI that
+    names no file. pygls reads the URI as VS Code writes it: percent-escapes,
+    a drive letter (`file:///c%3A/Users/me/prog.ladder`, `file:///C:/...`),
+    a UNC share (`file://server/share/prog.ladder`) as `//server/share/...`.
+    The flavour (the machine's own `Path`; `PureWindowsPath` reads a URI as a
+    Windows server does) decides what a backslash is and what is absolute: a
+    path that is not (a drive letter on Linux) is None, so that nothing is
+    ever written relative to the server's working folder."""
+    found = uris.to_fs_path(uri)
+    path = flavour(found) if found else None
+    return path if path is not None and path.name and path.is_absolute() else None
 
 
 def language_of(uri: str, text: str, language_id: str | None = None) -> str | None:
     """docs/lsp-protocol.md: `*.ladder`, `*.txt` starting `LDmicro export
     text`, `*.ld` starting `LDmicro`; other documents only when the client says
     they are ours (an untitled buffer)."""
-    suffix = PurePath(path_of(uri)).suffix.lower()
+    # any scheme (an untitled buffer may have a name); a backslash separates as `/` does, as on Windows
+    suffix = PureWindowsPath(uris.urlparse(uri)[2]).suffix.lower()
     head = text[:64].lstrip("\ufeff")
     if suffix == ".ladder":
         return LADDER
@@ -154,11 +176,14 @@ class Analysis:
 
     @cached_property
     def checks(self) -> list[Diagnostic]:
-        """The checks' diagnostics, as `ladder check` gives them: only for a
-        program that was read without errors."""
-        if self.too_large or self.has_errors or any(p.code == codes.UNREADABLE for p in self.problems):
+        """The checks' diagnostics, as `ladder check` gives them: for a
+        program read without errors, or whose only errors are in rungs that
+        could not be read (lang.loader.checkable)."""
+        if self.too_large or any(p.code == codes.UNREADABLE for p in self.problems) or \
+                not checkable(self.program, self.problems):
             return []
-        return self._checker.check(self.program, self.moved, self.severities)
+        found = self._checker.check(self.program, self.moved, self.severities)
+        return checked(self.program, found) if self.has_errors else found
 
     @property
     def checked(self) -> bool:
@@ -299,9 +324,9 @@ class Documents:
         """The settings file's choices for the document's folder, with the
         editor's `ladder.diagnostics` on top; a file that cannot be used is
         reported in the log once and left out."""
-        path = path_of(uri)
+        path = file_path(uri)
         try:
-            found = config.find(Path(path)) if uri.startswith("file:") and path else NONE
+            found = config.find(path) if path is not None else NONE
         except config.ConfigError as bad:
             if str(bad) not in self._config_errors:
                 self._config_errors.add(str(bad))
