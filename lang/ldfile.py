@@ -47,7 +47,8 @@ from typing import Protocol, cast
 from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import LarkError
 
-from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE
+from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE, code
+from .devices import find_device, packages_of
 from .diagnostics import Diagnostic, error, warning
 from .instructions import INSTRUCTIONS, LD_KEYWORDS, Field, Instruction
 from .iolist import io_list, listed_type
@@ -71,6 +72,7 @@ __all__ = [
     "write_ld",
     "write_ld_bytes",
     "element_line",
+    "package_pins",
     "line_limit_diagnostics",
     "MAX_LINE_BYTES",
     "MAX_LIST_LINE_BYTES",
@@ -83,6 +85,9 @@ MAX_LIST_LINE_BYTES = 63
 MAX_NAME_BYTES = 63  # MAX_NAME_LEN 64
 MAX_ENTRIES = 63  # MAX_ELEMENTS_IN_SUBCKT 64: the loader fails at the 64th entry
 MAX_LUT_VALUES = 64
+
+PORT_BIT_PIN = code("LD013")
+PIN_NOT_ON_PART = code("LD402")
 
 _GRAMMAR_PATH = Path(__file__).with_name("ld.lark")
 _PARSER: Lark | None = None
@@ -917,15 +922,13 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
             out.append(f"  {size:3d} bytes {name}{program.var_notes.get(name, '')}")
         out.append("END")
     out += ["", "IO LIST"]
+    numbers, unwritable = package_pins(program)
     for io in io_list(program, encoding):
         if version == "0.1" and io.name[0] not in "XYA" and io.name not in program.pins:
             continue  # LDmicro's 0.1 writer lists only X, Y and A names (and loses the others' pins)
         pin = program.pins.get(io.name) or PinAssignment(io.name, 0)
         list_lines.add(len(out))
-        if isinstance(pin.pin, int):
-            out.append(f"    {pin.name} at {pin.pin} {pin.modbus_slave} {pin.modbus_register}")
-        else:
-            out.append(f"    {pin.name} at {pin.pin}")
+        out.append(f"    {pin.name} at {numbers.get(pin.name, pin.pin)} {pin.modbus_slave} {pin.modbus_register}")
     out += ["END", "", "PROGRAM"]
     spans: dict[int, Span | None] = {}
     for number, rung in enumerate(program.rungs, 1):
@@ -933,11 +936,46 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
         _write_circuit(rung_circuit(rung.circuit), out, spans, version, encoding)
         out.append("END")
     text = "\n".join(out) + "\n"
+    if unwritable and diagnostics is None:
+        raise ValueError("; ".join(d.message for d in unwritable))
     if diagnostics is not None:
+        diagnostics.extend(unwritable)
         diagnostics.extend(line_limit_diagnostics(out, encoding, list_lines, spans))
         if version == "0.1":
             diagnostics.extend(_control_characters(program))
     return text
+
+
+def package_pins(program: Program) -> tuple[dict[str, int], list[Diagnostic]]:
+    """The package pin number of every pin given by port bit (`PB5`, `RB0`,
+    `ADC6`), from the pin table of the program's part and package, and an
+    error for each that has none there. LDmicro's IO LIST holds only package
+    pin numbers and reads the field as a number: `Yled at PB5` is pin 0 to it,
+    "not assigned"."""
+    numbers: dict[str, int] = {}
+    problems: list[Diagnostic] = []
+    mcu = program.settings.mcu
+    device = find_device(mcu) if mcu else None
+    for name, assignment in program.pins.items():
+        text = assignment.pin
+        if isinstance(text, int):
+            continue
+        pin = device.pin(text) if device is not None else None
+        if pin is not None:
+            numbers[name] = pin.number
+            continue
+        if device is None:
+            table = f"textladder has no pin table for '{mcu}'" if mcu else "the program names no part"
+            problems.append(error(PORT_BIT_PIN, f"'{name}' is at {text}, a port bit, and {table} to look up its "
+                                                "package pin number in (an .ld file's IO LIST holds numbers only): "
+                                                "choose a part, or give the pin by number", assignment.span))
+            continue
+        elsewhere = [other.package for other in packages_of(device.part) if other.pin(text) is not None]
+        where = (f"has only in its {' and '.join(elsewhere)} package, not in the {device.package} of the program"
+                 if elsewhere else f"({device.package}) does not have")
+        problems.append(error(PIN_NOT_ON_PART, f"'{name}' is assigned to {text}, which the {device.title} {where}",
+                              assignment.span))
+    return numbers, problems
 
 
 def _control_characters(program: Program) -> list[Diagnostic]:

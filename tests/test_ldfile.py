@@ -369,7 +369,7 @@ def test_writer_header_order_and_rung_numbers():
                                               Series([Element("OSR", {}),
                                                       Element("COIL", {"name": "Yc", "type": "T"})])])])),
                        Rung(Series([]))],
-                      {"Xa": PinAssignment("Xa", 2), "Ab": PinAssignment("Ab", "PA0"),
+                      {"Xa": PinAssignment("Xa", 2), "Ab": PinAssignment("Ab", "RE0"),
                        "Ic": PinAssignment("Ic", 3, 1, 100)},
                       {"Tx": 2}, {"PA": 0xFF})
     text = write_ld(program)
@@ -395,7 +395,7 @@ def test_writer_header_order_and_rung_numbers():
         "    YPlcCycleDuty at 0 0 0\n"
         "    Yb at 0 0 0\n"
         "    Yc at 0 0 0\n"
-        "    Ab at PA0\n"
+        "    Ab at 8 0 0\n"  # RE0: a port bit is written as its package pin
         "    Ic at 3 1 100\n"
         "END\n"
         "\n"
@@ -417,6 +417,7 @@ def test_writer_header_order_and_rung_numbers():
     assert diagnostics == []
     assert again.settings.cycle_timer == -1  # cycle 0: free running
     program.settings.cycle_timer = -1
+    program.pins["Ab"].pin = 8
     assert again == program
     data = write_ld_bytes(program)
     assert data.startswith(b"LDmicro0.2\r\nMICRO=") and b"\n" not in data.replace(b"\r\n", b"")

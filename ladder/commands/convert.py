@@ -72,6 +72,9 @@ def run(args) -> int:
         ladder = suffix == ".ladder"
         newline = "\n" if ladder else "\r\n"
         encoding = args.output_encoding or ("utf-8" if ladder else DEFAULT_CODEPAGE)
+    if has_errors(warnings):  # a pin the .ld cannot hold: no file LDmicro would refuse
+        report(args.source, warnings, sys.stderr)
+        return EXIT_PROBLEMS
     try:
         data = encode_text(text.replace("\n", newline), encoding)
     except UnicodeEncodeError as problem:

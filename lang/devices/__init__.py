@@ -34,6 +34,7 @@ __all__ = [
     "Device",
     "find_device",
     "all_devices",
+    "packages_of",
     "part_names",
     "is_known_ldmicro_name",
 ]
@@ -210,6 +211,11 @@ def find_device(name: str) -> Device | None:
 def all_devices() -> list[Device]:
     """One Device per (part, package), sorted by part then package."""
     return [_devices()[k] for k in sorted(_devices())]
+
+
+def packages_of(part: str) -> list[Device]:
+    """Every package of a part (its device-file key), in the file's order."""
+    return [_devices()[(part, package["package"])] for package in _documents()[part]["packages"]]
 
 
 def part_names() -> list[str]:
