@@ -6,6 +6,8 @@ notification; in real time the server scans on a timer and pushes at most 10
 states a second. Editing the document reloads the program into the running
 simulator (names that still exist keep their values). While a simulation
 runs, inlay hints show the names' values after the end of each line (never inside the drawing).
+The state carries what the UART sent: its byte count and its last messages
+(lang/sim/uart.py), as `ladder sim --watch uart` prints them.
 
 `set` and `toggle` change a value without running a scan; the next step (or
 the real-time timer) shows its effect, as in a PLC whose inputs change
@@ -21,6 +23,7 @@ from lsprotocol import types
 
 from ide.conditions import parse_condition
 from lang.sim import SimulationError, Simulator
+from lang.sim.uart import messages, show_bytes
 
 from .documents import LD
 from .protocol import UserError
@@ -29,6 +32,8 @@ NOTIFICATION = "ladder/simulationState"
 REALTIME_PERIOD = 0.1  # seconds between real-time scans batches (and notifications)
 MAX_CATCH_UP_MS = 1000.0  # a slow machine does not try to catch up more than this
 UNTIL_SLICE = 0.02  # seconds of work between two looks at the other requests
+UART_MESSAGES = 20  # the last messages of the UART a state carries
+UART_TAIL = 2048  # the last bytes sent, where they are looked for
 
 
 class Session:
@@ -68,7 +73,7 @@ class Simulations:
     def state(self, session: Session | None, uri: str, **extra) -> dict:
         if session is None:
             return {"uri": uri, "running": False, "realtime": False, "timeMs": 0.0, "scan": 0,
-                    "energized": [], "values": {}, "error": None, **extra}
+                    "energized": [], "values": {}, "uart": {"sent": 0, "messages": []}, "error": None, **extra}
         sim, analysis = session.sim, session.analysis
         energized = []
         rungs = analysis.program.rungs
@@ -88,7 +93,7 @@ class Simulations:
             energized.append(_range_json(analysis.positions.range(span)))
         return {"uri": uri, "running": True, "realtime": session.realtime, "timeMs": float(sim.time_ms),
                 "scan": sim.scan_count, "energized": energized, "values": sim.variables(),
-                "error": session.error, **extra}
+                "uart": _uart_state(sim), "error": session.error, **extra}
 
     def publish(self, session: Session | None, uri: str, **extra) -> dict:
         state = self.state(session, uri, **extra)
@@ -264,6 +269,19 @@ def _rung_hints(analysis, rung, first, last, values, seen) -> list[types.InlayHi
             position=analysis.positions.to_client(line, len(analysis.line(line))),
             label="  ".join(names[col] for col in sorted(names)), padding_left=True))
     return found
+
+
+def _uart_state(sim: Simulator) -> dict:
+    """How many bytes the UART sent, and its last messages with the time
+    each began (the one under way included)."""
+    uart = sim.peripherals.uart
+    recent = uart.sent[-UART_TAIL:]
+    found = messages(recent, uart.byte_time_us, sim.cycle_us)
+    if len(recent) < len(uart.sent):
+        found = found[1:]  # it may have begun before the bytes looked at
+    return {"sent": len(uart.sent),
+            "messages": [{"timeMs": m.scan_us / 1000, "text": show_bytes(bytes(m.data))}
+                         for m in found[-UART_MESSAGES:]]}
 
 
 def _range_json(r: types.Range) -> dict:

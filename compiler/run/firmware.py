@@ -10,7 +10,9 @@ holds on the simulator says so: that is where the two part.
 What the firmware cannot be given is a located failure, not a silent gap: a
 `set` of anything but an input or an A/D reading (the MCU's memory is not
 written from outside), an input with no pin on the part, UART bytes into
-gpsim.
+gpsim. The firmware then runs up to the first such action, every
+expectation decided before it is reported as usual, and each one after it
+as not checked: the firmware's run is no longer the scenario's.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 from lang.model import Program
-from lang.sim.scenario import Failure, Scenario, run_scenario
+from lang.sim.scenario import Action, Failure, RunStopped, Scenario, run_scenario
 from lang.sim.trace import format_time
 
 from . import c as c_run
@@ -40,11 +42,12 @@ def missing_tool(on: str) -> str | None:
     return None if c_run.available() else f"no C compiler (Debian package: {c_run.DEBIAN_PACKAGES})"
 
 
-def stimulus(scenario: Scenario, cycle_us: int) -> tuple[list[Event], int]:
-    """The scenario's actions as events before the scans they come before,
-    and how many scans it runs (as lang.sim.scenario.run_scenario does)."""
+def stimulus(scenario: Scenario, cycle_us: int, actions: list[Action] | None = None) -> tuple[list[Event], int]:
+    """The scenario's actions (or `actions`) as events before the scans they
+    come before, and how many scans it runs (as lang.sim.scenario.run_scenario
+    does)."""
     events = []
-    for action in scenario.actions:
+    for action in scenario.actions if actions is None else actions:
         scan = -(-action.time_us // cycle_us)
         if isinstance(action.value, bytes):
             events += [Event(scan, "uart", byte) for byte in action.value]
@@ -53,24 +56,35 @@ def stimulus(scenario: Scenario, cycle_us: int) -> tuple[list[Event], int]:
     return events, -(-scenario.run_until_us // cycle_us) + 1
 
 
-def _unsupported(on: str, scenario: Scenario, program: Program, cycle_us: int) -> list[Failure]:
+def _unsupported(on: str, scenario: Scenario, program: Program, cycle_us: int) -> list[tuple[Action, Failure]]:
     found = []
     for action in scenario.actions:
         when = format_time(action.time_us, cycle_us)
         if action.kind == "uart" and on == "pic16":
-            found.append(Failure(action.line, when, "uart", "", f"cannot send bytes to {TITLES[on]}"))
+            found.append((action, Failure(action.line, when, "uart", "", f"cannot send bytes to {TITLES[on]}")))
         elif action.kind == "set" and on != "c" and action.name[:1] not in ("X", "A"):
-            found.append(Failure(action.line, when, action.name, "",
-                                 f"cannot set {action.name} on {TITLES[on]}: only inputs and A/D readings come "
-                                 "from outside the MCU"))
+            found.append((action, Failure(action.line, when, action.name, "",
+                                          f"cannot set {action.name} on {TITLES[on]}: only inputs and A/D readings "
+                                          "come from outside the MCU")))
         elif action.kind == "set" and on != "c" and action.name not in program.pins:
-            found.append(Failure(action.line, when, action.name, "",
-                                 f"{action.name} has no pin on the part, so {TITLES[on]} cannot be given it"))
-    if on == "pic16":
-        found += [Failure(check.line, format_time(check.start_us, cycle_us), "uart", "",
-                          f"the UART output of {TITLES[on]} is not read") for check in scenario.checks
-                  if check.name == "uart"]
+            found.append((action, Failure(action.line, when, action.name, "",
+                                          f"{action.name} has no pin on the part, so {TITLES[on]} cannot be "
+                                          "given it")))
     return found
+
+
+def _cut(on: str, scenario: Scenario, unsupported: list[tuple[Action, Failure]],
+         cycle_us: int) -> tuple[list[Action], int | None, RunStopped | None]:
+    """The actions the firmware is given, and when an action it cannot be
+    given comes first, the scan it stops before and why."""
+    if not unsupported:
+        return scenario.actions, None, None
+    first = min((action for action, _ in unsupported), key=lambda a: (a.time_us, a.line))
+    stop_scan = -(-first.time_us // cycle_us)
+    given = [a for a in scenario.actions if -(-a.time_us // cycle_us) < stop_scan]
+    why = (f"the run on {TITLES[on]} stops before the scan at {format_time(stop_scan * cycle_us, cycle_us)} ms, "
+           f"where line {first.line} cannot be given to it")
+    return given, stop_scan, RunStopped(why)
 
 
 def record(on: str, program: Program, events: list[Event], scans: int, wanted: set[str]) -> Recording:
@@ -108,14 +122,14 @@ def run_on(on: str, scenario: Scenario, program: Program, program_path: str,
     if on != "c" and not program.settings.mcu:
         return f"{scenario.path}:{scenario.line}: error: {program_path} selects no part: {TITLES[on]} needs one", []
     unsupported = _unsupported(on, scenario, program, cycle)
-    if unsupported:
-        return None, [failure.format(scenario.path) for failure in unsupported]
-    events, scans = stimulus(scenario, cycle)
+    given, stop_scan, stop = _cut(on, scenario, unsupported, cycle)
+    events, scans = stimulus(scenario, cycle, given)
+    scans = scans if stop_scan is None else min(scans, stop_scan)
     wanted = {a.name for a in scenario.actions} | {c.name for c in scenario.checks} \
         | {c.expected for c in scenario.checks if isinstance(c.expected, str)}
     try:
-        recording = record(on, program, events, scans, wanted)
-        failures = run_scenario(copy.deepcopy(scenario), FirmwareSim(program, recording))
+        recording = record(on, program, events, scans, wanted) if scans else Recording(sorted(wanted), [])
+        failures = run_scenario(copy.deepcopy(scenario), FirmwareSim(program, recording, stop))
     except CompileError as problem:
         return "\n".join(d.format(program_path) for d in problem.diagnostics), []
     except (FirmwareError, c_run.CRunError, sa.HarnessError, RuntimeError) as problem:
@@ -124,8 +138,9 @@ def run_on(on: str, scenario: Scenario, program: Program, program_path: str,
     texts = []
     for failure in failures:
         text = failure.format(scenario.path)
-        if failure.line not in on_model:
+        if failure.checked and failure.line not in on_model:
             first, _, chart = text.partition("\n")
             text = first + f" (on {TITLES[on]}; the simulator passes this check)" + ("\n" + chart if chart else "")
-        texts.append(text)
-    return None, texts
+        texts.append((failure.line, text))
+    texts += [(failure.line, failure.format(scenario.path)) for _, failure in unsupported]
+    return None, [text for _, text in sorted(texts, key=lambda t: t[0])]

@@ -144,7 +144,8 @@ _WROTE = re.compile(r"^\s+Wrote: 0x([0-9A-Fa-f]+) to (\w+)\(")
 _READ_VALUE = re.compile(r"(\w+) = (0x[0-9A-Fa-f]+|\d+)\s*$")
 
 
-def _parse_log(text: str) -> list[tuple[int, str, int]]:
+def parse_log(text: str) -> list[tuple[int, str, int]]:
+    """(cycle, register, value) of every write a `log w` recorded."""
     writes: list[tuple[int, str, int]] = []
     cycle = 0
     for line in text.splitlines():
@@ -282,7 +283,7 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
 
     run = PicRun(processor=proc_name, freq_hz=int(freq_hz), end_cycle=end, output=out,
                  script=script)
-    writes = _parse_log(log_text)
+    writes = parse_log(log_text)
     run.writes = writes
     # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0)
     latch = {p: 0 for p in ports}

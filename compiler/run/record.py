@@ -20,16 +20,18 @@ import re
 import shutil
 import subprocess
 import tempfile
+from bisect import bisect_right
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from lang.model import Program
 from lang.sim import Simulator
+from lang.sim.scenario import RunStopped
 
 from . import c as c_run
 from . import simavr as sa
-from .gpsim import DRIVE_OHMS
+from .gpsim import DRIVE_OHMS, parse_log
 
 ADC_REFERENCE_MV = 5000  # the AVR harness's AREF and AVCC
 SAMPLE_AT, DRIVE_BEFORE, SEND_BEFORE = 0.9, 0.05, 0.75  # fractions of a cycle
@@ -230,7 +232,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
                  timeout: float = 300) -> Recording:
     """Run the image in gpsim under the stimulus; the values of `names` after
     each scan, read from the file registers (with the PC: one outside the
-    wait for the next cycle is a CycleOverrun). gpsim's UART is not read."""
+    wait for the next cycle is a CycleOverrun). On a part with a UART every
+    write to TXREG is a byte sent, at the cycle of the write (gpsim logs
+    them; its USART module gives nothing out)."""
     from ..pic16.part import Part
 
     settings = build.program.settings
@@ -257,6 +261,7 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
         timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
         timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
+    uart = Part.of(device).feature("uart")
     lines = [f"processor {Part.of(device).gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
     if modules:
         lines.append("module library libgpsim_modules")
@@ -264,13 +269,15 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
             port = "gpio" if pin_name.startswith("GP") else f"port{pin_name[1].lower()}"
             lines += [f"module load pullup {module}", f"{module}.resistance = {DRIVE_OHMS}", f"node n_{module}",
                       f"attach n_{module} {module}.pin {port}{pin_name[-1]}"]
+    if uart:
+        lines += ["log on uart.log", "log w txreg"]
     last = 0
     for cycle, _, _, command in timeline:
         if cycle > last:
             lines += [f"break c {cycle}", "run"]
             last = cycle
         lines.append(command)
-    lines += [f"echo {END_MARK}", "quit"]
+    lines += (["log off"] if uart else []) + [f"echo {END_MARK}", "quit"]
     with tempfile.TemporaryDirectory(prefix="textladder-pic-") as tmp:
         shutil.copyfile(hex_path, Path(tmp) / "fw.hex")
         (Path(tmp) / "script.stc").write_text("\n".join(lines) + "\n")
@@ -278,6 +285,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
             subprocess.run(["gpsim", "-i", "-I", "script.stc"], stdin=subprocess.DEVNULL, stdout=out,
                            stderr=subprocess.STDOUT, timeout=timeout, cwd=tmp, check=False)
         text = (Path(tmp) / "out.txt").read_text(errors="replace")
+        log = Path(tmp) / "uart.log"
+        sent = [(cycle, value & 0xFF) for cycle, register, value in
+                parse_log(log.read_text(errors="replace") if log.exists() else "") if register == "txreg"]
     if END_MARK not in text or "ERROR" in text:
         raise FirmwareError("gpsim did not run the script through:\n" + text[-3000:])
     values = [int(m.group(2), 16) for m in map(_VALUE.match, text.splitlines()) if m]
@@ -294,7 +304,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
     for scan in range(scans):
         data = dict(zip(addresses, values[scan * len(addresses):(scan + 1) * len(addresses)]))
         rows.append({n: symbol_value(s, data) for n, s in symbols.items()})
-    return Recording(list(names), rows, b"", [0] * scans)
+    samples = [at((scan + SAMPLE_AT) * cycle_ms) for scan in range(scans)]
+    cycles = [cycle for cycle, _ in sent]
+    return Recording(list(names), rows, bytes(b for _, b in sent), [bisect_right(cycles, s) for s in samples])
 
 
 # --- a scenario's checks on a recording ------------------------------------------------------------
@@ -303,18 +315,21 @@ class FirmwareSim(Simulator):
     """The simulator, run as usual, whose values are the firmware's: the
     scenario runner (lang.sim.scenario) reads a recording made under the
     same stimulus through it. Only the names the firmware holds are
-    signals; the UART output is the firmware's."""
+    signals; the UART output is the firmware's. A scan past the recording
+    raises `stop` (the reason the recording ends there), or says that the
+    recording ended."""
 
-    def __init__(self, program: Program, recording: Recording):
+    def __init__(self, program: Program, recording: Recording, stop: RunStopped | None = None):
         super().__init__(program)
         self.recording = recording
+        self.stop = stop
         self._row = -1
 
     def step(self, n: int = 1) -> None:
+        if self._row + n >= len(self.recording.rows):
+            raise self.stop or RunStopped(f"the firmware's recording ends after {len(self.recording.rows)} scans")
         super().step(n)
         self._row += n
-        if self._row >= len(self.recording.rows):
-            raise FirmwareError(f"the firmware's recording ends after {len(self.recording.rows)} scans")
 
     def variables(self) -> dict[str, int]:
         return {n: v for n, v in super().variables().items() if n in self.recording.names}

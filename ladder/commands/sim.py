@@ -2,6 +2,9 @@
 
 One line per change of a watched signal, `TIME NAME VALUE` (TIME in ms), by
 time then name; a signal that is not 0 after the first scan prints at time 0.
+The UART (`--watch uart`) prints one line a message (lang/sim/uart.py),
+`TIME uart "text"` at the time of the scan that sent its first byte, once
+the message is complete: the lines after that time wait for it.
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ def register(subparsers) -> None:
                         help="set an input, variable or ADC reading, from the first scan at or after TIME "
                              "(default 0); repeatable")
     parser.add_argument("--watch", action="append", default=[], metavar="NAME,...",
-                        help="signals to print (default: every X, Y and R name)")
+                        help="signals to print, `uart` for what the UART sends (default: every X, Y and R "
+                             "name, and the UART when the program sends)")
     parser.add_argument("--vcd", metavar="OUT.vcd", help="also write the watched signals as a VCD file")
     parser.add_argument("--plot", action="store_true", help="also print a text timing diagram")
     parser.add_argument("--encoding", help="encoding of LDmicro files (default cp1252)")
@@ -55,7 +59,7 @@ def run(args) -> int:
     from lang.loader import load_path
     from lang.sim import SimulationError, Simulator
     from lang.sim.scenario import parse_time
-    from lang.sim.trace import Trace, diagram
+    from lang.sim.trace import UART, Trace, diagram
     from lang.sim.vcd import write_vcd
 
     try:
@@ -84,16 +88,18 @@ def run(args) -> int:
             print(d.format(args.file), file=sys.stderr)
         return EXIT_ERROR
 
-    watched = [n.strip() for group in args.watch for n in group.split(",") if n.strip()]
+    named = [n.strip() for group in args.watch for n in group.split(",") if n.strip()]
+    uart = UART in named if named else sim.compiled.sends_uart
+    watched = [n for n in named if n != UART]
     known = sim.variables()
     unknown = [n for n in watched + [s[1] for s in settings] if n not in known]
     if unknown:
         print(f"ladder sim: error: {args.file} has no signal named {', '.join(sorted(set(unknown)))}",
               file=sys.stderr)
         return EXIT_USAGE
-    if not watched:
+    if not named:
         watched = sorted(n for n in sim.bits() if n[:1] in "XYR")
-    trace = Trace.watching(sim, watched)
+    trace = Trace.watching(sim, watched, uart)
     scans = args.cycles if args.cycles is not None else -(-duration // sim.cycle_us)
     status = _simulate(sim, trace, settings, scans, args.file)
     if args.plot and scans:
@@ -110,7 +116,7 @@ def _simulate(sim, trace, settings, scans: int, path: str) -> int:
     from lang.sim import SimulationError
 
     pending = 0
-    out = sys.stdout
+    lines = _Lines(trace)
     for scan in range(scans):
         now = scan * sim.cycle_us
         while pending < len(settings) and settings[pending][0] <= now:
@@ -118,6 +124,7 @@ def _simulate(sim, trace, settings, scans: int, path: str) -> int:
             try:
                 sim.set(name, value)
             except ValueError as bad:
+                lines.flush()
                 print(f"ladder sim: error: --set {name}: {bad}", file=sys.stderr)
                 return EXIT_USAGE
             pending += 1
@@ -125,17 +132,52 @@ def _simulate(sim, trace, settings, scans: int, path: str) -> int:
             sim.step()
         except SimulationError as problem:
             trace.record(sim)
+            lines.flush()
             for d in problem.diagnostics:
                 print(d.format(path), file=sys.stderr)
             return EXIT_ERROR
-        for line in _lines(trace, trace.record(sim), now):
-            out.write(line + "\n")
+        lines.scan(now, trace.record(sim))
+    lines.flush()
     return EXIT_OK
 
 
-def _lines(trace, changed, now: int) -> list[str]:
-    from lang.sim.trace import format_time
+class _Lines:
+    """The lines printed, in time order: a UART message prints at the time
+    of its first byte once complete, so the lines after it wait for it."""
 
-    stamp = format_time(now, trace.cycle_us)
-    return [f"{stamp} {name} {value}" for name, value in sorted(changed)]
+    def __init__(self, trace):
+        from lang.sim.uart import Messages
 
+        self.trace = trace
+        self.messages = Messages(trace.byte_time_us, trace.cycle_us)
+        self.seen = 0  # the trace's UART bytes grouped so far
+        self.held: list[tuple[int, str, str]] = []  # (time, name, value)
+
+    def scan(self, now: int, changed: list[tuple[str, int]]) -> None:
+        self.held += [(now, name, str(value)) for name, value in changed]
+        sent = self.trace.uart or []
+        done = [message for byte in sent[self.seen:] for message in self.messages.add(byte)]
+        self.seen = len(sent)
+        self._note(done + self.messages.idle(now + self.trace.cycle_us))
+        waiting = self.messages.open.scan_us if self.messages.open is not None else None
+        self._print(lambda time: waiting is None or time < waiting)
+
+    def flush(self) -> None:
+        self._note(self.messages.close())
+        self._print(lambda time: True)
+
+    def _note(self, messages) -> None:
+        from lang.sim.trace import UART
+        from lang.sim.uart import show_bytes
+
+        self.held += [(m.scan_us, UART, show_bytes(bytes(m.data))) for m in messages]
+
+    def _print(self, due) -> None:
+        from lang.sim.trace import format_time
+
+        ready = sorted(line for line in self.held if due(line[0]))
+        if not ready:
+            return
+        self.held = [line for line in self.held if not due(line[0])]
+        sys.stdout.write("".join(f"{format_time(t, self.trace.cycle_us)} {name} {value}\n"
+                                 for t, name, value in ready))

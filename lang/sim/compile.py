@@ -58,6 +58,7 @@ class Compiled:
     elements: list[tuple[int, int, Element]]  # element number -> (rung, index in rung, element)
     run: Callable
     run_traced: Callable
+    sends_uart: bool = False  # some instruction transmits on the UART
 
 
 class JumpTable:
@@ -351,4 +352,5 @@ def compile_program(program: Program, peripherals) -> Compiled:
     if cells is not None:
         _sync(gen, cells)
     run, run_traced = (writer.function() for writer in writers)
-    return Compiled(program, gen.slots, gen.index, gen.elements, run, run_traced)
+    sends = any(isinstance(op, ir.UartSend) for op in _walk(code.scan))
+    return Compiled(program, gen.slots, gen.index, gen.elements, run, run_traced, sends)

@@ -7,6 +7,8 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
+from .uart import SentByte
+
 ADC_MAX = 1023  # LDmicro's converters are 10 bits
 
 
@@ -17,7 +19,7 @@ class Uart:
 
     baud: int
     received: deque = field(default_factory=deque)
-    sent: list = field(default_factory=list)  # (time_us, byte)
+    sent: list[SentByte] = field(default_factory=list)
     busy_until_us: float = 0.0
 
     @property
@@ -31,12 +33,13 @@ class Uart:
         """Start sending. A byte written while the transmitter is busy is
         lost, as the AVR ignores a write to UDR when UDRE is 0; a `wait`
         send is queued behind the byte in progress (the MCU busy-waits)."""
-        if now_us < self.busy_until_us:
+        start = now_us
+        if start < self.busy_until_us:
             if not wait:
                 return
-            now_us = self.busy_until_us
-        self.sent.append((now_us, byte & 0xFF))
-        self.busy_until_us = now_us + self.byte_time_us
+            start = self.busy_until_us
+        self.sent.append(SentByte(int(now_us), start, byte & 0xFF))
+        self.busy_until_us = start + self.byte_time_us
 
     def available(self) -> bool:
         return bool(self.received)
@@ -45,7 +48,7 @@ class Uart:
         return self.received.popleft()
 
     def text(self) -> bytes:
-        return bytes(b for _, b in self.sent)
+        return bytes(sent.byte for sent in self.sent)
 
 
 @dataclass

@@ -186,7 +186,7 @@ class Simulator:
 
     def uart_sent(self) -> list[tuple[float, int]]:
         """(time in ms the byte started, byte) for every transmitted byte."""
-        return [(t / 1000, b) for t, b in self.peripherals.uart.sent]
+        return [(sent.start_us / 1000, sent.byte) for sent in self.peripherals.uart.sent]
 
     def pwm(self) -> dict[str, PwmOutput]:
         return dict(self.peripherals.pwm)

@@ -11,7 +11,10 @@ program over simulated time and checks what it does.
     at 3 s expect uart contains "OK"
 
 `at T` means the first scan at or after T: settings apply before it and
-expectations are checked after it.
+expectations are checked after it. Every expectation is reported: one that
+fails does not stop the others, and when the run cannot go on (a fault, or
+a firmware that cannot be given what comes next) each expectation it leaves
+undecided is listed as not checked.
 """
 
 from __future__ import annotations
@@ -25,17 +28,28 @@ from ..values import is_literal, literal_value
 from .errors import SimulationError
 from .runtime import Simulator
 from .trace import Trace, diagram, format_time
+from .uart import ESCAPES, show_bytes
 
 _TIME = re.compile(r"\s*(\d+(?:\.\d*)?|\.\d+)\s*(us|ms|s)?\s*$")
 _UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, None: 1000}
 _CONDITION = re.compile(r"(?P<name>[A-Za-z_$#][\w$#.\[\]]*)\s*(?:(?P<op>==|=|!=|<=|>=|<|>)\s*(?P<value>\S+)"
                         r"|\s+in\s+(?P<low>\S+?)\s*\.\.\s*(?P<high>\S+))\s*$")
-_ESCAPES = {"n": "\n", "r": "\r", "t": "\t", "\\": "\\", '"': '"', "0": "\0", "e": "\x1b"}
 
 
 class ScenarioError(Exception):
     def __init__(self, path: str, line: int, message: str):
         super().__init__(f"{path}:{line}: error: {message}")
+
+
+class RunStopped(Exception):
+    """Raised by a simulator's `step` when the run cannot go on from that
+    scan: `why` completes "not checked: ..." for each expectation left
+    undecided; `failure` is the stop's own report, if it needs one."""
+
+    def __init__(self, why: str, failure: Failure | None = None):
+        super().__init__(why)
+        self.why = why
+        self.failure = failure
 
 
 def parse_time(text: str) -> int:
@@ -67,23 +81,14 @@ def parse_string(text: str) -> bytes:
                 out.append(int(body[i + 2:i + 4], 16))
                 i += 4
                 continue
-            if nxt not in _ESCAPES:
+            if nxt not in ESCAPES:
                 raise ValueError(f"bad escape \\{nxt} in {text}")
-            out += _ESCAPES[nxt].encode()
+            out += ESCAPES[nxt].encode()
             i += 2
         else:
             out += ch.encode("latin-1", errors="replace")
             i += 1
     return bytes(out)
-
-
-def show_bytes(data: bytes) -> str:
-    """Bytes as a scenario file writes them (`"OK\\r\\n"`), or `nothing`."""
-    if not data:
-        return "nothing"
-    named = {ord(text): f"\\{key}" for key, text in _ESCAPES.items() if len(text) == 1 and key not in "\\\""}
-    named.update({ord("\\"): "\\\\", ord('"'): '\\"'})
-    return '"' + "".join(named.get(b) or (chr(b) if 32 <= b < 127 else f"\\x{b:02X}") for b in data) + '"'
 
 
 @dataclass
@@ -150,6 +155,7 @@ class Failure:
     expected: str
     actual: str
     chart: str = ""
+    checked: bool = True  # False for an expectation a stopped run left undecided
 
     def format(self, path: str) -> str:
         outcome = f"expected {self.expected}, got {self.actual}" if self.expected else self.actual
@@ -280,8 +286,14 @@ def run_scenario(scenario: Scenario, sim: Simulator) -> list[Failure]:
         try:
             sim.step()
         except SimulationError as problem:
-            failures.append(Failure(scenario.line, format_time(now, cycle), "the simulation stopped", "",
-                                    "; ".join(f"{d.severity} {d.code} {d.message}" for d in problem.diagnostics)))
+            when = format_time(now, cycle)
+            stop = RunStopped(f"the simulation stopped at {when} ms",
+                              Failure(scenario.line, when, "the simulation stopped", "",
+                                      "; ".join(f"{d.severity} {d.code} {d.message}" for d in problem.diagnostics)))
+            failures += _stopped(scenario, stop, now, cycle)
+            break
+        except RunStopped as stop:
+            failures += _stopped(scenario, stop, now, cycle)
             break
         trace.record(sim)
         for check in scenario.checks:
@@ -292,6 +304,28 @@ def run_scenario(scenario: Scenario, sim: Simulator) -> list[Failure]:
                                     + f" at some time from {format_time(check.start_us, cycle)} ms",
                                     "never", _chart(trace, check, names, check.end_us)))
     return sorted(failures, key=lambda f: f.line)
+
+
+def _stopped(scenario: Scenario, stop: RunStopped, now: int, cycle: int) -> list[Failure]:
+    """The stop's report and every expectation it leaves undecided (marked
+    failed): one whose time or time range reaches the scan at `now`, which
+    did not run or ran only in part, and that has not already failed (or,
+    for a `sometime`, held)."""
+    found = [stop.failure] if stop.failure else []
+    for check in scenario.checks:
+        settled = check.failed or check.seen and check.mode != "always" or _last_due(check, cycle) < now
+        if not settled:
+            check.failed = True
+            found.append(Failure(check.line, format_time(max(check.start_us, now), cycle), check.name, "",
+                                 f"not checked ({check.describe()}): {stop.why}", checked=False))
+    return found
+
+
+def _last_due(check: Check, cycle: int) -> int:
+    """The time of the last scan after which `check` is evaluated."""
+    if check.mode == "at":
+        return -(-check.start_us // cycle) * cycle
+    return check.end_us // cycle * cycle
 
 
 def _signals(scenario: Scenario, sim: Simulator) -> list[str]:

@@ -1,11 +1,15 @@
 """Recording signals scan by scan, and showing them: change lines and a
-text timing diagram readable in a terminal."""
+text timing diagram readable in a terminal. The UART's output is recorded
+byte by byte, apart from the signals, when it is watched."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 from .runtime import Simulator
+from .uart import SentByte, messages, show_bytes
+
+UART = "uart"  # the name that watches the UART's output (as in a scenario's `expect uart`)
 
 
 def format_time(time_us: int, cycle_us: int) -> str:
@@ -29,17 +33,23 @@ class Trace:
     changes: dict[str, list[tuple[int, int]]] = field(default_factory=dict)
     end_us: int = 0  # the time after the last recorded scan
     last: dict[str, int] = field(default_factory=dict)
+    uart: list[SentByte] | None = None  # every byte sent, when the UART is watched
+    byte_time_us: float = 0.0  # a byte's frame at the program's baud rate
 
     @classmethod
-    def watching(cls, sim: Simulator, names: list[str]) -> Trace:
+    def watching(cls, sim: Simulator, names: list[str], uart: bool = False) -> Trace:
         slots = sim.compiled.slots
         index = sim.compiled.index
         widths = {n: 1 if slots[index[n]].kind == "bit" else 8 * slots[index[n]].size for n in names}
-        return cls(sim.cycle_us, list(names), widths, {n: [] for n in names})
+        return cls(sim.cycle_us, list(names), widths, {n: [] for n in names}, uart=[] if uart else None,
+                   byte_time_us=sim.peripherals.uart.byte_time_us)
 
     def record(self, sim: Simulator) -> list[tuple[str, int]]:
-        """After a scan: note and return the watched signals that changed."""
+        """After a scan: note and return the watched signals that changed
+        (and note the bytes it sent, when the UART is watched)."""
         time_us = (sim.scan_count - 1) * sim.cycle_us
+        if self.uart is not None:
+            self.uart += sim.peripherals.uart.sent[len(self.uart):]
         changed = []
         for name in self.names:
             value = sim.value(name)
@@ -67,14 +77,16 @@ class Trace:
 def diagram(trace: Trace, names: list[str] | None = None, start_us: int = 0,
             end_us: int | None = None, width: int = 60) -> str:
     """A timing diagram: bits as `_` (0) and `#` (1), `|` where a bit changes
-    inside one column; integers as their values where they change."""
+    inside one column; integers as their values where they change; the UART,
+    when the trace has it, as the messages it sent, from the column of each
+    one's first byte (cut short where the next one starts)."""
     names = names if names is not None else trace.names
     end_us = trace.end_us if end_us is None else end_us
     cycle = trace.cycle_us
     scans = max(1, (end_us - start_us + cycle - 1) // cycle)
     per_column = -(-scans // width)
     columns = -(-scans // per_column)
-    label = max([len(n) for n in names] + [9])
+    label = max([len(n) for n in names] + [len(UART) if trace.uart is not None else 0, 9])
     spans = [(start_us + c * per_column * cycle, start_us + (c + 1) * per_column * cycle) for c in range(columns)]
     rows = [_axis(trace, spans, label)]
     for name in names:
@@ -82,6 +94,8 @@ def diagram(trace: Trace, names: list[str] | None = None, start_us: int = 0,
             rows.append(name.ljust(label) + " " + "".join(_bit_cell(trace, name, a, b) for a, b in spans))
         else:
             rows.append(name.ljust(label) + " " + _int_row(trace, name, spans))
+    if trace.uart is not None:
+        rows.append(UART.ljust(label) + " " + _uart_row(trace, spans))
     return "\n".join(row.rstrip() for row in rows)
 
 
@@ -99,16 +113,31 @@ def _bit_cell(trace: Trace, name: str, start: int, end: int) -> str:
 
 
 def _int_row(trace: Trace, name: str, spans) -> str:
-    cells = [" "] * len(spans)
+    texts = []
     previous = None
     for c, (_start, end) in enumerate(spans):
         value = trace.value_at(name, end - 1)
         if value != previous or c == 0:
-            text = f"|{value}" if c else str(value)
-            for i, ch in enumerate(text):
-                if c + i < len(cells):
-                    cells[c + i] = ch
+            texts.append((c, f"|{value}" if c else str(value)))
             previous = value
+    return _placed(texts, len(spans))
+
+
+def _uart_row(trace: Trace, spans) -> str:
+    by_column: dict[int, bytearray] = {}
+    for message in messages(trace.uart or [], trace.byte_time_us, trace.cycle_us):
+        column = next((c for c, (start, end) in enumerate(spans) if start <= message.scan_us < end), None)
+        if column is not None:
+            by_column.setdefault(column, bytearray()).extend(message.data)
+    return _placed([(c, show_bytes(bytes(data))) for c, data in sorted(by_column.items())], len(spans))
+
+
+def _placed(texts: list[tuple[int, str]], columns: int) -> str:
+    """Each text from its column on, the next one writing over its end."""
+    cells = [" "] * columns
+    for column, text in texts:
+        for i, ch in enumerate(text[:columns - column]):
+            cells[column + i] = ch
     return "".join(cells)
 
 

@@ -1,5 +1,5 @@
 // What a running simulation shows: energized elements painted red, the status-bar item, a lens
-// per input to toggle it, a toggle link in the hover, and the watch view.
+// per input to toggle it, a toggle link in the hover, and the watch view (with what the UART sent).
 import * as vscode from 'vscode';
 import {
   SimulationState,
@@ -260,9 +260,21 @@ const GROUPS: [string, string, RegExp][] = [
   ['other', 'Variables', /./],
 ];
 
+/** What the UART sent: the server's byte count and its last messages, each as `ladder sim --watch uart` prints it. */
+export interface UartState {
+  sent: number;
+  messages: { timeMs: number; text: string }[];
+}
+
+export function uartOf(state: SimulationState): UartState {
+  return (state as SimulationState & { uart?: UartState }).uart ?? { sent: 0, messages: [] };
+}
+
+const UART_GROUP = 'uart';
+
 export class WatchItem extends vscode.TreeItem {
   constructor(
-    readonly kind: 'group' | 'value',
+    readonly kind: 'group' | 'value' | 'message',
     readonly key: string,
     label: string,
     readonly uri: string,
@@ -270,6 +282,9 @@ export class WatchItem extends vscode.TreeItem {
   ) {
     super(label, kind === 'group' ? vscode.TreeItemCollapsibleState.Expanded : vscode.TreeItemCollapsibleState.None);
     this.id = `${uri}#${kind}:${key}`;
+    if (kind === 'message') {
+      this.iconPath = new vscode.ThemeIcon('output');
+    }
     if (kind === 'value') {
       this.description = String(value);
       const bit = isInput(key);
@@ -329,13 +344,30 @@ export class WatchView implements vscode.TreeDataProvider<WatchItem>, vscode.Dis
     }
     const names = Object.keys(state.values).sort((a, b) => a.localeCompare(b));
     const groupOf = (name: string) => GROUPS.find(([, , re]) => re.test(name))![0];
+    const uart = uartOf(state);
     if (!item) {
-      return GROUPS.filter(([key]) => names.some((n) => groupOf(n) === key)).map(
+      const groups = GROUPS.filter(([key]) => names.some((n) => groupOf(n) === key)).map(
         ([key, label]) => new WatchItem('group', key, label, state.uri),
       );
+      if (uart.sent > 0) {
+        const bytes = uart.sent === 1 ? '1 byte' : `${uart.sent} bytes`;
+        groups.push(new WatchItem('group', UART_GROUP, `UART sent (${bytes})`, state.uri));
+      }
+      return groups;
     }
     if (item.kind !== 'group') {
       return [];
+    }
+    if (item.key === UART_GROUP) {
+      // the latest message first, where the eye looks; its time as the description
+      return uart.messages
+        .map((m, i) => {
+          const message = new WatchItem('message', `${m.timeMs}#${i}`, m.text, state.uri);
+          message.description = formatTime(m.timeMs);
+          message.tooltip = `${m.text}, its first byte sent at ${formatTime(m.timeMs)}`;
+          return message;
+        })
+        .reverse();
     }
     return names
       .filter((n) => groupOf(n) === item.key)
