@@ -1,7 +1,9 @@
-"""A real Neovim (Debian's 0.7.2) as the LSP client of `ladder lsp`, with the plugin in
-editors/neovim: filetype rules, diagnostics, hover, a fix that clears the diagnostic, formatting,
-and the simulation shown as extmarks (tests/e2e/nvim_lsp.lua drives it). The by-hand set-ups of
-docs/editors.md run in the Neovim each is for (0.7, and the venv's 0.12), a simulation included.
+"""A real Neovim (Debian's 0.7.2, and the venv's 0.12) as the LSP client of `ladder lsp`, with
+the plugin in editors/neovim: filetype rules, diagnostics, hover (by request and on K),
+completion through 'omnifunc', a fix that clears the diagnostic, formatting, `:checkhealth
+ladder`, and the simulation shown as extmarks (tests/e2e/nvim_lsp.lua drives it). The by-hand
+set-ups of docs/editors.md run in the Neovim each is for (0.7, and 0.12), a simulation included;
+the plugin manager specs load the plugin from the repository's subfolder.
 
 Slow: runs in the editor step of .ci/run (`pytest -m slow tests/test_editor_*.py`).
 """
@@ -34,11 +36,12 @@ NEOVIMS = {
 }
 
 
-@pytest.fixture(scope="module")
-def nvim_run(tmp_path_factory):
-    """Runs the whole Neovim session once, in Debian's Neovim 0.7 (not the venv's 0.12, which
-    a PATH with the venv first would find); the tests below read its steps."""
-    nvim, missing = NEOVIMS["By hand, Neovim 0.7 to 0.10"]
+@pytest.fixture(scope="module", params=["0.7", "0.12"])
+def nvim_run(request, tmp_path_factory):
+    """Runs the whole Neovim session once in each Neovim: Debian's 0.7 (by its path, not the
+    venv's 0.12, which a PATH with the venv first would find) and the venv's 0.12; the tests
+    below read its steps."""
+    nvim, missing = NEOVIMS["By hand, Neovim 0.7 to 0.10" if request.param == "0.7" else "By hand, Neovim 0.11+"]
     env.require(Path(nvim).exists(), missing)
     env.require_server()
     tmp = tmp_path_factory.mktemp("nvim")
@@ -59,6 +62,7 @@ def nvim_run(tmp_path_factory):
     (tmp / "export.txt").write_text(env.LAMP_BAD)
     (tmp / "notes.txt").write_text("LDmicro is a ladder logic compiler.\n")
     (tmp / "lamp2.ladder").write_text(env.lamp_fixed())
+    (tmp / "own_k.ladder").write_text(env.lamp_fixed())
     out = tmp / "result.json"
     config = {
         "rtp": str(env.NEOVIM_PLUGIN),
@@ -66,8 +70,10 @@ def nvim_run(tmp_path_factory):
         "out": str(out),
         "bad": str(bad),
         "hover_name": "Xstart",
+        "complete_name": "Xstart",
         "fixed_lines": env.lamp_fixed().splitlines(),
         "detect": detect,
+        "own_k": str(tmp / "own_k.ladder"),
     }
     config["sim"] = str(sim)
     (tmp / "config.json").write_text(json.dumps(config))
@@ -91,9 +97,12 @@ def _step(run, name):
     return s["value"]
 
 
+def _version(run) -> tuple[int, int]:
+    return run["version"]["major"], run["version"]["minor"]
+
+
 def test_neovim_version(nvim_run):
-    v = nvim_run["version"]
-    assert (v["major"], v["minor"]) >= (0, 7)
+    assert _version(nvim_run) >= (0, 7)
 
 
 def test_filetype_rules(nvim_run):
@@ -116,6 +125,38 @@ def test_hover(nvim_run):
     env.require_feature("hover")
     text = _step(nvim_run, "hover")
     assert text and "Xstart" in text
+
+
+def test_k_shows_the_hover(nvim_run):
+    """K is mapped for the buffer once the server attached: by the plugin before 0.10, by Neovim
+    itself from 0.10 (the plugin does not map it a second time)."""
+    env.require_feature("hover")
+    value = _step(nvim_run, "hover_key")
+    assert value["buffer"] == 1
+    assert (value["desc"] == "ladder: hover") == (_version(nvim_run) < (0, 10)), value["desc"]
+    assert "`Xstart`: a digital input" in value["text"] and "pin 4" in value["text"]
+
+
+def test_omnifunc_completes_names(nvim_run):
+    value = _step(nvim_run, "omnifunc")
+    assert value["omnifunc"] == "v:lua.vim.lsp.omnifunc"
+    assert "Xstart" in value["words"], value["words"]
+
+
+def test_a_users_own_k_stays(nvim_run):
+    assert _step(nvim_run, "own_k") == {"rhs": '<Cmd>echo "mine"<CR>', "buffer": 0}
+
+
+def test_checkhealth_names_server_version_and_python(nvim_run):
+    report = _step(nvim_run, "checkhealth")
+    command = " ".join([env.SERVER_PYTHON, "-m", "ladder", "lsp"])
+    version = subprocess.run([env.SERVER_PYTHON, "-m", "ladder", "--version"], capture_output=True, text=True,
+                             check=True).stdout.strip()
+    assert command in report, report
+    assert f"version: {version}" in report, report
+    python = subprocess.run([env.SERVER_PYTHON, "--version"], capture_output=True, text=True, check=True).stdout
+    assert f"Python: {env.SERVER_PYTHON} ({python.strip()})" in report, report
+    assert "ERROR" not in report, report
 
 
 def test_fix_clears_the_diagnostic(nvim_run):

@@ -1,6 +1,7 @@
 -- Drives a real Neovim (0.7+) as an LSP client of `ladder lsp`, for tests/test_editor_neovim.py.
 --   nvim --headless -u NONE -i NONE -c "luafile nvim_lsp.lua"   with LADDER_NVIM_CONFIG=config.json
--- config: { rtp, cmd, out, bad, fixed_lines, detect = {path = expected filetype}, sim (optional) }
+-- config: { rtp, cmd, out, bad, hover_name, fixed_lines, complete_name, detect = {path = expected filetype},
+--          sim (optional), own_k (optional: a file opened after the user maps K themselves) }
 -- Writes a JSON object of results per step to config.out, then quits. Each step records its
 -- result or its error, so that one missing server feature does not hide the others.
 local config = vim.fn.json_decode(table.concat(vim.fn.readfile(os.getenv('LADDER_NVIM_CONFIG')), '\n'))
@@ -140,7 +141,58 @@ step('format', function()
   return { changed = not vim.deep_equal(before, after), lines = after }
 end)
 
--- 6. the simulation: energized elements as extmarks, values as virtual text
+local function floating_text()
+  for _, win in ipairs(vim.api.nvim_list_wins()) do
+    if vim.api.nvim_win_get_config(win).relative ~= '' then
+      return table.concat(vim.api.nvim_buf_get_lines(vim.api.nvim_win_get_buf(win), 0, -1, false), '\n'), win
+    end
+  end
+  return nil
+end
+
+-- 6. what the buffer got when the server attached: K shows the hover (the plugin's mapping before
+-- 0.10, Neovim's own after), <C-x><C-o> completes names ('omnifunc')
+step('hover_key', function()
+  local map = vim.fn.maparg('K', 'n', false, true)
+  local line, col = find(bufnr, config.hover_name)
+  vim.api.nvim_win_set_cursor(0, { line + 1, col + 1 })
+  vim.cmd('normal K')
+  wait(10000, 'the hover window', function()
+    return floating_text() ~= nil
+  end)
+  local text, win = floating_text()
+  vim.api.nvim_win_close(win, true)
+  return { desc = map.desc or map.rhs, buffer = map.buffer, text = text }
+end)
+
+step('omnifunc', function()
+  local line, col = find(bufnr, config.complete_name)
+  vim.api.nvim_win_set_cursor(0, { line + 1, col + 1 })
+  local words, deadline = nil, vim.loop.now() + 10000
+  -- the items arrive while Insert mode waits (feedkeys 'x!'); a timer reads them and leaves
+  vim.fn.timer_start(50, function(timer)
+    local info = vim.fn.complete_info({ 'items' })
+    if #info.items > 0 or vim.loop.now() > deadline then
+      vim.fn.timer_stop(timer)
+      words = {}
+      for _, item in ipairs(info.items) do
+        table.insert(words, item.word)
+      end
+      vim.api.nvim_feedkeys(vim.api.nvim_replace_termcodes('<C-e><Esc>', true, false, true), 'n', false)
+    end
+  end, { ['repeat'] = -1 })
+  vim.api.nvim_feedkeys(vim.api.nvim_replace_termcodes('i<C-x><C-o>', true, false, true), 'x!', false)
+  return { omnifunc = vim.bo[bufnr].omnifunc, words = words }
+end)
+
+step('checkhealth', function()
+  vim.cmd('checkhealth ladder')
+  local lines = vim.api.nvim_buf_get_lines(0, 0, -1, false)
+  vim.cmd('tabclose')
+  return table.concat(lines, '\n')
+end)
+
+-- 7. the simulation: energized elements as extmarks, values as virtual text
 if config.sim then
   local sbuf
   step('sim_start', function()
@@ -186,6 +238,21 @@ if config.sim then
         and #vim.api.nvim_buf_get_extmarks(sbuf, ladder.ns, 0, -1, {}) == 0
     end)
     return true
+  end)
+end
+
+-- 8. a user who maps K themselves keeps their mapping
+if config.own_k then
+  step('own_k', function()
+    vim.keymap.set('n', 'K', '<Cmd>echo "mine"<CR>')
+    vim.cmd('edit ' .. vim.fn.fnameescape(config.own_k))
+    local buf = vim.api.nvim_get_current_buf()
+    wait(20000, 'the client to attach', function()
+      return #vim.lsp.buf_get_clients(buf) > 0
+    end)
+    vim.wait(300) -- let a later on_attach (0.11+ attaches after the open) have its go
+    local map = vim.fn.maparg('K', 'n', false, true)
+    return { rhs = map.rhs, buffer = map.buffer }
   end)
 end
 

@@ -8,10 +8,12 @@
 --     settings = {},        -- sent as the `ladder` settings section (compileOnSave, encoding, ...)
 --     autostart = true,     -- start the client for ladder/ldmicro buffers
 --     virtual_text = true,  -- show values and the scan as virtual text
+--     hover_key = 'K',      -- hover on this key where Neovim maps none (before 0.10); false: none
 --   })
 --
 -- Pieces for your own client set-up: require('ladder').handlers (the `ladder/simulationState`
--- handler), .create_commands(), .filetype_rule(), .server_cmd(opts).
+-- handler), .on_attach (hover key and omnifunc), .create_commands(), .filetype_rule(),
+-- .server_cmd(opts). `:checkhealth ladder` checks the server (lua/ladder/health.lua).
 local M = {}
 
 M.ns = vim.api.nvim_create_namespace('ladder_simulation')
@@ -22,6 +24,7 @@ M.config = {
   settings = {},
   autostart = true,
   virtual_text = true,
+  hover_key = 'K',
   root_markers = { '.git' },
 }
 
@@ -121,6 +124,25 @@ local function request(client, method, params, handler, bufnr)
   return client.request(method, params, handler, bufnr)
 end
 
+--- What a buffer gets once the server is attached to it, where Neovim gives nothing itself:
+--- completion with <C-x><C-o> (Neovim sets 'omnifunc' from 0.8) and hover on `hover_key` (Neovim
+--- maps K from 0.10). A user's own 'omnifunc' or mapping of the key stays as it is.
+function M.on_attach(_, bufnr)
+  if vim.fn.has('nvim-0.8') == 0 and vim.bo[bufnr].omnifunc == '' then
+    vim.bo[bufnr].omnifunc = 'v:lua.vim.lsp.omnifunc'
+  end
+  local key = M.config.hover_key
+  if not key or key == '' or (key == 'K' and vim.fn.has('nvim-0.10') == 1) then
+    return
+  end
+  local taken = vim.api.nvim_buf_call(bufnr, function()
+    return vim.fn.maparg(key, 'n') ~= ''
+  end)
+  if not taken then
+    vim.keymap.set('n', key, vim.lsp.buf.hover, { buffer = bufnr, desc = 'ladder: hover' })
+  end
+end
+
 --- Starts (or reuses) the client for a buffer's project and attaches the buffer: the
 --- `vim.lsp.start_client` set-up of Neovim 0.7 to 0.10.
 function M.start(bufnr)
@@ -135,6 +157,7 @@ function M.start(bufnr)
       root_dir = root,
       handlers = M.handlers,
       settings = { ladder = M.config.settings or {} },
+      on_attach = M.on_attach,
       on_exit = function()
         clients_by_root[root] = nil
         vim.schedule(M.clear_all)
@@ -500,6 +523,7 @@ function M.setup(opts)
       root_markers = M.config.root_markers,
       handlers = M.handlers,
       settings = { ladder = M.config.settings or {} },
+      on_attach = M.on_attach,
     })
     vim.lsp.enable('ladder')
     return
