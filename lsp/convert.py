@@ -51,6 +51,9 @@ def convert(ls, uri: str, target: object) -> dict:
         out = source.with_suffix(".ld")
         long_lines: list = []
         text = write_ld(program, diagnostics=long_lines)
+        refused = [d.message for d in long_lines if d.severity == "error"]
+        if refused:  # a pin the .ld cannot hold: no file LDmicro would refuse
+            raise UserError("; ".join(refused))
         try:
             data = encode_text(text.replace("\n", "\r\n"), ls.settings.encoding)
         except UnicodeEncodeError as problem:
