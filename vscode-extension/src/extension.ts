@@ -7,7 +7,8 @@ import {
   ServerOptions,
   State,
 } from 'vscode-languageclient/node';
-import { describe, executable, serverCommand } from './server';
+import { PYTHON_DOWNLOAD } from './python';
+import { describe, executable, isNoServer, serverCommand } from './server';
 import {
   LADDER_LANGUAGES,
   SimulationState,
@@ -24,6 +25,8 @@ let client: LanguageClient | undefined;
 let store: SimulationStore;
 let statusBar: SimulationStatusBar;
 let output: vscode.OutputChannel;
+/** where bundled/ is: the server the extension carries */
+let extensionPath: string;
 
 const SELECTOR: vscode.DocumentSelector = LADDER_LANGUAGES.flatMap((language) => [
   { scheme: 'file', language },
@@ -31,6 +34,7 @@ const SELECTOR: vscode.DocumentSelector = LADDER_LANGUAGES.flatMap((language) =>
 ]);
 
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
+  extensionPath = context.extensionPath;
   output = vscode.window.createOutputChannel('Ladder');
   store = new SimulationStore();
   statusBar = new SimulationStatusBar(store);
@@ -60,7 +64,8 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
 
   context.subscriptions.push(
     vscode.workspace.onDidChangeConfiguration(async (e) => {
-      if (e.affectsConfiguration('ladder.server') && client) {
+      // also after a start that found no Python: the new setting may name one
+      if (e.affectsConfiguration('ladder.server') && starting) {
         output.appendLine('server settings changed: restarting the language server');
         await restartClient();
       }
@@ -123,8 +128,13 @@ function ensureClient(): Promise<void> {
 }
 
 async function startClient(): Promise<void> {
-  const cmd = serverCommand(vscode.workspace.getConfiguration('ladder'));
-  output.appendLine(`starting the language server: ${describe(cmd)} (from ${cmd.source})`);
+  const cmd = await serverCommand(vscode.workspace.getConfiguration('ladder'), extensionPath, (line) => output.appendLine(line));
+  if (isNoServer(cmd)) {
+    output.appendLine(`no language server: ${cmd.message}`);
+    await reportServerProblem(cmd.message, cmd.message, cmd.download);
+    return;
+  }
+  output.appendLine(`starting the language server: ${describe(cmd)} (${cmd.source})`);
   const exe = executable(cmd);
   const serverOptions: ServerOptions = { run: exe, debug: exe };
   const clientOptions: LanguageClientOptions = {
@@ -157,21 +167,29 @@ async function startClient(): Promise<void> {
   } catch (err) {
     const message = err instanceof Error ? err.message : String(err);
     const hint =
-      cmd.source === 'default'
-        ? 'Install textladder (pip install textladder) so that `ladder` is on PATH, or set "ladder.server.pythonPath".'
-        : `Check the setting "${cmd.source}".`;
-    statusBar.setServerProblem(`The ladder language server did not start (${describe(cmd)}): ${message}`);
+      cmd.source === 'ladder.server.command'
+        ? 'Check the setting "ladder.server.command".'
+        : 'See the "Ladder" output; the settings "ladder.server.pythonPath" and "ladder.server.command" choose another server.';
     output.appendLine(`could not start ${describe(cmd)}: ${message}`);
-    const choice = await vscode.window.showErrorMessage(
-      `Ladder: could not start the language server "${describe(cmd)}": ${message}. ${hint}`,
-      'Open Settings',
-      'Show Log',
+    await reportServerProblem(
+      `The ladder language server did not start (${describe(cmd)}): ${message}`,
+      `could not start the language server "${describe(cmd)}": ${message}. ${hint}`,
+      false,
     );
-    if (choice === 'Open Settings') {
-      void vscode.commands.executeCommand('workbench.action.openSettings', 'ladder.server');
-    } else if (choice === 'Show Log') {
-      output.show();
-    }
+  }
+}
+
+/** The status bar keeps the problem; the notification offers what fixes it. */
+async function reportServerProblem(status: string, message: string, download: boolean): Promise<void> {
+  statusBar.setServerProblem(status);
+  const actions = [...(download ? ['Download Python'] : []), 'Open Settings', 'Show Log'];
+  const choice = await vscode.window.showErrorMessage(`Ladder: ${message}`, ...actions);
+  if (choice === 'Download Python') {
+    void vscode.env.openExternal(vscode.Uri.parse(PYTHON_DOWNLOAD));
+  } else if (choice === 'Open Settings') {
+    void vscode.commands.executeCommand('workbench.action.openSettings', 'ladder.server');
+  } else if (choice === 'Show Log') {
+    output.show();
   }
 }
 
