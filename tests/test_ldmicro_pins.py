@@ -1,0 +1,81 @@
+"""LDmicro 5.4.1.1 compiles the `.ld` files we write for programs whose pins
+the text form gives by port bit (PB5, RD0, RC2): the writer puts the package
+pin numbers of the part in the IO LIST, as LDmicro needs (it read `Yled at
+PB5` as pin 0 and refused, "Must assign pins for all I/O"). Pins with
+alternate functions (INT0, MOSI, ADC0, OC1B, CCP2) and a PWM output on each
+part. LDmicro's own image of an AVR program then drives the output in simavr
+when the input is driven: the numbers name the pins the text meant.
+
+LDmicro is found at /opt/ldmicro/ldmicro (or LDMICRO=); these tests run in
+the LDmicro step of .ci/run (marker `ldmicro`)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+from builders import coil, contact, el, program
+
+from compiler.run import simavr
+from lang.ldfile import write_ld
+from lang.textform.reader import read_text
+from lang.textform.writer import render_program
+
+pytestmark = pytest.mark.ldmicro
+
+LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
+
+# part: (Xa, Xb, Yled, Yb, the PWM output P); LDmicro's PIC16 PWM needs Timer0 for the cycle
+PARTS = {
+    "Atmel AVR ATmega328 28-PDIP": {"Xa": "PD2", "Xb": "PD4", "Yled": "PB5", "Yb": "PC0", "P": "PD6"},
+    "Atmel AVR ATmega16 40-PDIP": {"Xa": "PD2", "Xb": "PA0", "Yled": "PB5", "Yb": "PD4", "P": "PD7"},
+    "Microchip PIC16F877 40-PDIP": {"Xa": "RB0", "Xb": "RA0", "Yled": "RD0", "Yb": "RC1", "P": "RC2"},
+    "Microchip PIC16F628 18-PDIP or 18-SOIC": {"Xa": "RB0", "Xb": "RA0", "Yled": "RB5", "Yb": "RA2", "P": "RB3"},
+}
+
+
+@pytest.fixture(scope="module")
+def ldmicro():
+    if not LDMICRO.exists():
+        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
+    return LDMICRO
+
+
+def _written(mcu: str, pins: dict[str, str], folder: Path) -> Path:
+    """The program as a user writes it in the text form, converted to .ld."""
+    avr = "AVR" in mcu
+    prog = program([contact("Xa"), coil("Yled")], [contact("Xb"), coil("Yb")],
+                   [contact("Xa"), el("SET_PWM", duty="50", freq=1000, name="P")],
+                   mcu=mcu, pins=pins, crystal_hz=16_000_000 if avr else 4_000_000, cycle_timer=1 if avr else 0)
+    text_program, problems = read_text(render_program(prog))
+    assert not problems, problems
+    refused: list = []
+    ld_text = write_ld(text_program, diagnostics=refused)
+    assert not refused, refused
+    path = folder / "pins.ld"
+    path.write_bytes(ld_text.replace("\n", "\r\n").encode("cp1252"))
+    return path
+
+
+@pytest.mark.parametrize("mcu", sorted(PARTS))
+def test_ldmicro_compiles_pins_given_by_port_bit(mcu, ldmicro, tmp_path):
+    source = _written(mcu, PARTS[mcu], tmp_path)
+    image = tmp_path / "pins.hex"
+    done = subprocess.run([str(ldmicro), "compile", str(source), str(image)], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0 and "Compiled okay" in done.stdout, done.stdout + done.stderr
+    assert image.stat().st_size > 0 and image.read_text().startswith(":")
+
+
+@pytest.mark.skipif(not simavr.available(), reason="simavr's harness cannot be built here")
+def test_ldmicros_image_drives_the_pin_the_text_named(ldmicro, tmp_path):
+    mcu = "Atmel AVR ATmega328 28-PDIP"
+    source = _written(mcu, PARTS[mcu], tmp_path)
+    image = tmp_path / "pins.hex"
+    subprocess.run([str(ldmicro), "compile", str(source), str(image)], check=True, capture_output=True, timeout=300)
+    run = simavr.simulate_avr(image, "atmega328p", 16_000_000, 200,
+                              inputs=[(0, "PD2", 0), (0, "PD4", 0), (100, "PD2", 1)], watch=["PB5"])
+    levels = [level for _, level in run.pin_edges_ms("PB5")]
+    assert levels and levels[-1] == 1 and run.level_at("PB5", 90) == 0
