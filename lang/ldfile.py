@@ -29,6 +29,9 @@ docs/):
 * The writer keeps CONTACTS `set1` as the model has it (LDmicro forces 0 for
   names that do not start with X), and writes every assigned pin to the IO
   LIST in both dialects (LDmicro's 0.1 writer keeps only X, Y and A names).
+* A pin the text form gives by port bit (`PB5`) is written as its package
+  pin number, the only form LDmicro reads there; one with no pin table to
+  look it up in is an error (LD013, LD402) and the caller writes nothing.
 * Lenient where LDmicro fails to load but the meaning is plain: trailing
   fields that have a default in the instruction table may be left out of any
   element line (`CONTACTS Xa`, `UART_SEND v 2`, a BUS without its bit list);
