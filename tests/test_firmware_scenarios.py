@@ -86,6 +86,32 @@ def test_what_a_firmware_cannot_be_given_is_a_located_failure(capsys, tmp_path):
     assert status == 1
     assert "relay.scn:3: at 0 ms: Ton: cannot set Ton on the PIC16 image in gpsim: only inputs and A/D readings" \
         in out
+    assert "relay.scn:4: at 10 ms: Yton: not checked (Yton = 0): the run on the PIC16 image in gpsim stops before " \
+           "the scan at 0 ms, where line 3 cannot be given to it" in out
+
+
+@needs_gpsim
+@pytest.mark.slow
+def test_expectations_before_what_a_firmware_cannot_be_given_are_checked(capsys, tmp_path):
+    scenario = tmp_path / "late.scn"
+    scenario.write_text(f"program {SCENARIOS.parent / 'pic16_programs' / 'p16f877_timers.ld'}\n"
+                        "scenario a timer set late\n"
+                        "at 0 set Xa = 0, Xb = 0, Xres = 0\n"
+                        "at 100 ms set Xa = 1\n"
+                        "from 100 ms to 140 ms expect Yton = 1\n"
+                        "at 120 ms set Ton = 3\n"
+                        "at 110 ms expect Yton = 0\n"
+                        "at 200 ms expect Yton = 1\n")
+    status, out, _ = run(capsys, "test", "--on", "pic16", str(scenario))
+    assert status == 1
+    lines = [line.strip()[len(str(scenario)) + 1:] for line in out.splitlines()
+             if line.strip().startswith(f"{scenario}:")]
+    assert lines == [
+        "5: at 100 ms: Yton: expected Yton = 1, got 0",
+        "6: at 120 ms: Ton: cannot set Ton on the PIC16 image in gpsim: only inputs and A/D readings come from "
+        "outside the MCU",
+        "8: at 200 ms: Yton: not checked (Yton = 1): the run on the PIC16 image in gpsim stops before the scan "
+        "at 120 ms, where line 6 cannot be given to it"], out
 
 
 def test_a_missing_simulator_names_its_debian_package(capsys, monkeypatch, tmp_path):

@@ -6,11 +6,13 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from corpus import CORPUS
 from lsprotocol import types
 from test_lsp_support import Doc, example_text, hover_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 client = lsp_fixture()
+HELLO = CORPUS / "ldmicro" / "sample" / "hello.ld"  # sends "Hello, world:     N\r\n" every second
 
 
 async def command(client, name: str, *arguments):
@@ -157,6 +159,23 @@ async def test_editing_during_a_simulation_keeps_the_state(client):
     state = client.sim_states[-1]
     assert state["running"] is True and "errors" in (state["error"] or "")
     await command(client, "ladder.sim.stop", doc.uri)
+
+
+async def test_the_state_carries_what_the_uart_sent(client):
+    doc = Doc(client, new_uri(suffix=".ld"), HELLO.read_text(encoding="ascii"), language="ldmicro")
+    await doc.diagnostics()
+    state = await command(client, "ladder.sim.start", doc.uri)
+    assert state["uart"] == {"sent": 1, "messages": [{"timeMs": 0.0, "text": '"H"'}]}
+    state = await command(client, "ladder.sim.runFor", doc.uri, 1100)
+    # the messages as `ladder sim --watch uart` prints them, the one under way last
+    assert state["uart"]["sent"] == 22 + 10
+    assert state["uart"]["messages"] == [{"timeMs": 0.0, "text": '"Hello, world:      1\\r\\n"'},
+                                         {"timeMs": 1010.0, "text": '"Hello, wor"'}]
+    state = await command(client, "ladder.sim.reset", doc.uri)
+    assert state["uart"] == {"sent": 0, "messages": []}
+    before = len(client.sim_states)
+    await command(client, "ladder.sim.stop", doc.uri)
+    assert (await last_state(client, doc.uri, before))["uart"] == {"sent": 0, "messages": []}
 
 
 async def test_commands_need_a_running_simulation_and_a_good_program(client):

@@ -119,8 +119,9 @@ def _print_case(path: str, case: dict) -> None:
 
 
 def _junit(suites: list[dict]) -> bytes:
-    """JUnit XML: one test case per scenario, with one <error> or one
-    <failure> holding every failed expectation (CI readers count one each)."""
+    """JUnit XML: one test case per scenario, with an <error> when the run
+    could not be made and one <failure> holding every failed expectation,
+    each with its line (CI readers count one failure a test case)."""
     root = ElementTree.Element("testsuites")
     for suite in suites:
         failures = sum(1 for c in suite["cases"] if c["failures"])
@@ -132,7 +133,7 @@ def _junit(suites: list[dict]) -> bytes:
                                           time=f"{case.get('seconds', 0.0):.3f}")
             if case["error"]:
                 ElementTree.SubElement(item, "error", message=case["error"].splitlines()[0]).text = case["error"]
-            elif case["failures"]:
+            if case["failures"]:
                 count = len(case["failures"])
                 message = case["failures"][0].splitlines()[0] + (f" (and {count - 1} more)" if count > 1 else "")
                 ElementTree.SubElement(item, "failure", message=message).text = "\n\n".join(case["failures"])
