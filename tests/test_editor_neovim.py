@@ -184,10 +184,13 @@ def test_simulation_virtual_text(nvim_run):
     assert _step(nvim_run, "sim_stop") is True
 
 
-def _docs_block(title: str) -> str:
+
+
+def _docs_blocks(title: str) -> list[str]:
+    """The ```lua blocks of a section of docs/editors.md."""
     text = (env.REPO / "docs" / "editors.md").read_text()
-    section = text.split(f"### {title}", 1)[1]
-    return section.split("```lua\n", 1)[1].split("```", 1)[0]
+    section = text.split(f"### {title}", 1)[1].split("\n### ", 1)[0]
+    return [block.split("```", 1)[0] for block in section.split("```lua\n")[1:]]
 
 
 @pytest.mark.parametrize("title", list(NEOVIMS))
@@ -200,7 +203,7 @@ def test_documented_setup(tmp_path, title):
     env.require(Path(nvim).exists(), missing)
     env.require_server()
     env.require_feature("diagnostics")
-    setup = _docs_block(title)
+    setup = _docs_blocks(title)[0]
     assert "{ 'ladder', 'lsp' }" in setup
     cmd = "{ " + ", ".join(json.dumps(p) for p in [env.SERVER_PYTHON, "-m", "ladder", "lsp"]) + " }"
     (tmp_path / "init.lua").write_text(
@@ -223,6 +226,8 @@ vim.wait(20000, function() return #vim.diagnostic.get(buf) > 0 end, 50)
 r.diagnostics = {{}}
 for _, d in ipairs(vim.diagnostic.get(buf)) do table.insert(r.diagnostics, {{ lnum = d.lnum, code = d.code }}) end
 r.commands = vim.fn.exists(':LadderSimStart')
+r.omnifunc = vim.bo[buf].omnifunc
+r.k_buffer = vim.fn.maparg('K', 'n', false, true).buffer
 local first = vim.diagnostic.get(buf)[1]
 r.hover = ''
 if first then
@@ -285,9 +290,58 @@ vim.cmd('qa!')
     assert (r["program"], r["linker"], r["lamp"]) == ("ldmicro", "ld", "ladder")
     assert {"lnum": env.BAD_LINE, "code": "LD102"} in r["diagnostics"]
     assert r["commands"] == 2
+    assert r["omnifunc"] == "v:lua.vim.lsp.omnifunc" and r["k_buffer"] == 1, r
     assert "input" in r["hover"].lower(), r["hover"]
     assert r.get("sim_error") is None, f"{r['sim_error']}\n{proc.stderr}"
     assert "▶ sim" in r["virt_text"] and "Xstart=1" in r["virt_text"] and "Ylamp=1" in r["virt_text"], \
         f"{r['virt_text']!r}\n{proc.stderr}"
     if "inlay_hints" in r:
         assert "Xstart=1" in r["inlay_hints"] and "Ylamp=1" in r["inlay_hints"], r["inlay_hints"]
+
+
+# the spec of docs/editors.md, and what the manager does with it before Neovim opens a file
+MANAGERS = {
+    "lazy.nvim": ("By hand, Neovim 0.11+", 0, "local spec = (function()\n{block}\nend)()\n"
+                  "spec.config({{ dir = {repo}, name = spec.name }})\n"),
+    "packer.nvim": ("By hand, Neovim 0.7 to 0.10", 1, "local spec\nlocal packer = {{ startup = function(fn) "
+                    "fn(function(s) spec = s end) end }}\npackage.loaded.packer = packer\n{block}\n"
+                    "vim.opt.runtimepath:append({repo} .. '/' .. spec.rtp)\nspec.config()\n"),
+}
+
+
+@pytest.mark.parametrize("manager", list(MANAGERS))
+def test_plugin_manager_spec(tmp_path, manager):
+    """The lazy.nvim spec (its `config` adds the repository's editors/neovim to the runtimepath,
+    lazy.nvim being 0.8+: run in 0.12) and the packer spec (its `rtp` key: run in 0.7), as
+    docs/editors.md writes them, with the manager's part stood in for: the plugin loads, its
+    client attaches to a .ladder file, and `:checkhealth ladder` finds the plugin's check."""
+    title, index, install = MANAGERS[manager]
+    nvim, missing = NEOVIMS[title]
+    env.require(Path(nvim).exists(), missing)
+    env.require_server()
+    block = _docs_blocks("With a plugin manager")[index]
+    assert "'~/.venvs/textladder/bin/python'" in block
+    block = block.replace("'~/.venvs/textladder/bin/python'", json.dumps(env.SERVER_PYTHON))
+    (tmp_path / "lamp.ladder").write_text(env.lamp_fixed())
+    out = tmp_path / "out.json"
+    (tmp_path / "drive.lua").write_text(install.format(block=block, repo=json.dumps(str(env.REPO))) + f"""
+vim.cmd('filetype on')
+vim.cmd('edit {tmp_path / 'lamp.ladder'}')
+local buf = vim.api.nvim_get_current_buf()
+local r = {{ filetype = vim.bo.filetype }}
+r.attached = vim.wait(20000, function()
+  return #(vim.lsp.get_clients and vim.lsp.get_clients({{ bufnr = buf }}) or vim.lsp.buf_get_clients(buf)) > 0
+end, 50)
+vim.cmd('checkhealth ladder')
+r.health = table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\\n')
+vim.fn.writefile({{ vim.fn.json_encode(r) }}, '{out}')
+vim.cmd('qa!')
+""")
+    run_env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "XDG_STATE_HOME": str(tmp_path / "state"),
+               "XDG_DATA_HOME": str(tmp_path / "data"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
+    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
+                          capture_output=True, text=True, timeout=120, env=run_env, cwd=tmp_path)
+    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    r = json.loads(out.read_text())
+    assert r["filetype"] == "ladder" and r["attached"], r
+    assert "ladder: the language server" in r["health"] and "version: ladder " in r["health"], r["health"]
