@@ -16,9 +16,10 @@ import importlib
 from dataclasses import replace
 
 from lang.checks import check_program
+from lang.codes import code
 from lang.config import NONE, Severities
 from lang.devices import Device, find_device
-from lang.diagnostics import ERROR, Diagnostic
+from lang.diagnostics import ERROR, Diagnostic, error
 from lang.model import Program
 from lang.semantics.errors import LoweringError
 from lang.semantics.lower import lower_program
@@ -28,11 +29,13 @@ from lang.textform.writer import render_rung
 
 from .budget import overrun_warning, scan_budget
 from .c import CSources, Unit, generate
-from .c.arduino import BOARDS, Sketch, SketchPin, ino
+from .c.arduino import BOARDS, Board, Sketch, SketchPin, ino
 from .errors import MOVED_PIN, NO_TARGET, NOT_COMPILED, CompileError, fail, lowering_failed, note
 from .image import Build
 from .optimise import optimise
 from .target import BACKENDS, first_use, machine_for
+
+OTHER_CHIP = code("LD715")
 
 # Each registers its back end on import; the lead adds "compiler.pic16".
 _BACKEND_MODULES = ("compiler.avr", "compiler.pic16")
@@ -99,31 +102,76 @@ def build_c(program: Program, stem: str, source: str, severities: Severities = N
     return generate(code, unit)
 
 
-def build_arduino(program: Program, stem: str, source: str, board: str,
-                  severities: Severities = NONE) -> tuple[CSources, str]:
-    """The program's C and the sketch file that runs it on an Arduino board
-    (`ladder build --emit arduino`); CompileError as for `build`, also for
-    a name with no pin, or a pin that is not on the board's headers or
-    cannot do what the name needs (A/D, PWM)."""
+def build_arduino(program: Program, stem: str, source: str, board: str, severities: Severities = NONE,
+                  keep_port_bits: bool = False) -> tuple[CSources, str, list[Diagnostic]]:
+    """The program's C, the sketch file that runs it on an Arduino board
+    (`ladder build --emit arduino`) and the build's warnings; CompileError as
+    for `build`, also for a name with no pin, a pin that is not on the
+    board's headers or cannot do what the name needs (A/D, PWM), or a pin of
+    a program drawn for another chip than the board's (LD715: a warning for
+    a port bit with `keep_port_bits`)."""
     sources = build_c(program, stem, source, severities)
     found = BOARDS[board]
-    pins, problems = [], []
+    pins, problems, moved = [], [], []
     hooks = " ".join(sources.hooks)
     wanted = [(n, kind) for n, (kind, _) in sources.symbols.items() if kind in ("input", "output")]
     wanted += [(n, "adc") for n in sources.symbols if f"Read_Ub_{n}(" in hooks and n[:1] == "A"]
     wanted += [(n, "pwm") for n in sources.symbols if f"Write_Ub_{n}(" in hooks and n[:1] == "P"]
     for name, kind in sorted(wanted):
+        other_chip = _other_chip(program, found, name, keep_port_bits)
+        if other_chip is not None and other_chip.severity == ERROR:
+            problems.append(other_chip)
+            continue
+        moved += [other_chip] if other_chip is not None else []
         try:
             pins.append(_board_pin(program, found, name, kind))
         except CompileError as problem:
             problems += problem.diagnostics
+    moved = severities.apply(moved, building=True)
+    problems += [d for d in moved if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
     sketch = Sketch(found, tuple(pins), program.settings.cycle_us, program.settings.baud)
-    return sources, ino(stem, source, sources, sketch)
+    return sources, ino(stem, source, sources, sketch), moved
 
 
-def _board_pin(program: Program, board, name: str, kind: str) -> SketchPin:
+def _other_chip(program: Program, board: Board, name: str, keep_port_bits: bool) -> Diagnostic | None:
+    """LD715 for a pin of a program drawn for another chip than the board's:
+    a package pin number of that chip means nothing on the board's; a port
+    bit exists on both but is another header pin (PD2: D2 on the Uno, D19 on
+    the Mega), so the wiring drawn does not carry over unless the user says
+    to keep the port bits."""
+    own = find_device(program.settings.mcu) if program.settings.mcu else None
+    assignment = program.pins.get(name)
+    if own is None or own.part == board.part or assignment is None or not assignment.assigned:
+        return None
+    chip = find_device(board.part)
+    assert chip is not None  # boards.json names parts by their device files
+    homes = [b for b in BOARDS.values() if b.part == own.part]
+    fits = f"build with --board {' or '.join(b.key for b in homes)}" if homes else ""
+    if isinstance(assignment.pin, int):
+        pin = own.pin(assignment.pin)
+        ways = [fits] if fits else []
+        if pin is not None and pin.is_io:
+            ways.append(f"give it by port bit ({pin.name}) and build with --keep-port-bits")
+        return error(OTHER_CHIP, f"'{name}' is at pin {assignment.pin} of the {own.title} ({own.package}), a package "
+                                 f"pin number, which means nothing on the {board.title}'s {chip.title}: "
+                                 f"{', or '.join(ways) or 'give it a pin of the board'}", assignment.span)
+    text = assignment.pin.upper()
+    number = board.number(text)
+    if own.pin(text) is None or number is None:
+        return None  # not a port bit of the program's chip (a header name), or not on the board: _board_pin says
+    home_number = homes[0].number(text) if homes else None
+    before = f"{homes[0].label(home_number)} on the {homes[0].title}" if home_number is not None else ""
+    if keep_port_bits:
+        return note(OTHER_CHIP, f"'{name}': {text} → {board.label(number)} on the {board.title}"
+                                f"{f' (was {before})' if before else ''}", assignment)
+    return error(OTHER_CHIP, f"'{name}' is at {text}, a port bit of the {own.title}: {board.label(number)} on the "
+                             f"{board.title}{f', {before}' if before else ''}; {fits + ', or ' if fits else ''}"
+                             f"add --keep-port-bits to use {board.label(number)}", assignment.span)
+
+
+def _board_pin(program: Program, board: Board, name: str, kind: str) -> SketchPin:
     where = first_use(program, name)
     assignment = program.pins.get(name)
     if assignment is None or assignment.pin in (0, "", None):

@@ -58,18 +58,70 @@ def test_the_sketch_folder_has_the_ino_and_the_c(capsys, tmp_path):
 
 def test_pins_may_be_arduino_names_port_bits_or_package_pins(capsys, tmp_path):
     program = ROOT / "examples" / "conveyor.ladder"  # package pins 4, 5, 18, 19 of the ATmega328P
-    ino = (_sketch(capsys, program, tmp_path, "mega") / "conveyor.ino").read_text()
-    assert "PIN_Xstart = 19; // D19 (PD2)" in ino and "PIN_Ymotor = 11; // D11 (PB5)" in ino
-    # with no part selected, pins may be the board's own names
+    for board in ("uno", "nano"):  # the board's own chip: its package pins
+        (tmp_path / board).mkdir()
+        ino = (_sketch(capsys, program, tmp_path / board, board) / "conveyor.ino").read_text()
+        assert "PIN_Xstart = 2; // D2 (PD2)" in ino and "PIN_Ymotor = 13; // D13 (PB5)" in ino
+    # with no part selected, pins may be the board's own names, or port bits of the board's chip
     loaded, _ = load_path(program)
     loaded = dataclasses.replace(loaded, settings=dataclasses.replace(loaded.settings, mcu=""))
-    for name, pin in {"Xstart": "D7", "Xstop": "A1", "Yhorn": "D12", "Ymotor": "D13"}.items():
+    for name, pin in {"Xstart": "D7", "Xstop": "A1", "Yhorn": "D12", "Ymotor": "PB7"}.items():
         loaded.pins[name] = PinAssignment(name, pin)
     (tmp_path / "named").mkdir()
     (tmp_path / "named" / "conveyor.ladder").write_text(render_program(loaded))
-    ino = (_sketch(capsys, tmp_path / "named" / "conveyor.ladder", tmp_path / "named", "uno") /
+    ino = (_sketch(capsys, tmp_path / "named" / "conveyor.ladder", tmp_path / "named", "mega") /
            "conveyor.ino").read_text()
-    assert "PIN_Xstart = 7; // D7 (PD7)" in ino and "PIN_Xstop = 15; // A1 (PC1)" in ino
+    assert "PIN_Xstart = 7; // D7 (PH4)" in ino and "PIN_Xstop = 55; // A1 (PF1)" in ino
+    assert "PIN_Ymotor = 13; // D13 (PB7)" in ino
+    assert capsys.readouterr().err == ""
+
+
+def _for_the_mega(capsys, tmp_path, text: str, *options) -> tuple[int, str, str]:
+    source = tmp_path / "prog.ladder"
+    source.write_text(text)
+    return run(capsys, "build", str(source), "--emit", "arduino", "--board", "mega", *options)
+
+
+def test_package_pins_of_another_chip_are_refused_naming_the_boards_that_fit(capsys, tmp_path):
+    text = (ROOT / "examples" / "conveyor.ladder").read_text()
+    for options in ((), ("--keep-port-bits",)):
+        status, out, _ = _for_the_mega(capsys, tmp_path, text, *options)
+        assert status == 1 and not (tmp_path / "prog").exists()
+        assert re.search(r"prog\.ladder:\d+:3: error LD715 'Xstart' is at pin 4 of the ATmega328P \(28-PDIP\), a "
+                         r"package pin number, which means nothing on the Arduino Mega 2560's ATmega2560: build "
+                         r"with --board uno or nano, or give it by port bit \(PD2\) and build with --keep-port-bits",
+                         out)
+        assert out.count("error LD715") == 4
+
+
+def test_port_bits_of_another_chip_are_refused_unless_kept_each_move_shown(capsys, tmp_path):
+    text = (ROOT / "examples" / "traffic-uno.ladder").read_text()
+    status, out, _ = _for_the_mega(capsys, tmp_path, text)
+    assert status == 1 and not (tmp_path / "prog").exists()
+    assert "error LD715 'Xbutton1' is at PD2, a port bit of the ATmega328P: D19 on the Arduino Mega 2560, D2 on " \
+           "the Arduino Uno; build with --board uno or nano, or add --keep-port-bits to use D19" in out
+    assert out.count("error LD715") == 6
+    status, out, err = _for_the_mega(capsys, tmp_path, text, "--keep-port-bits")
+    assert status == 0
+    assert "warning LD715 'Xbutton1': PD2 → D19 on the Arduino Mega 2560 (was D2 on the Arduino Uno)" in err
+    assert "warning LD715 'Ywait': PB5 → D11 on the Arduino Mega 2560 (was D13 on the Arduino Uno)" in err
+    assert "PIN_Xbutton1 = 19; // D19 (PD2)" in (tmp_path / "prog" / "prog.ino").read_text()
+
+
+def test_a_chip_no_board_carries_has_no_board_to_suggest(capsys, tmp_path):
+    text = (ROOT / "examples" / "traffic-uno.ladder").read_text().replace(
+        "for 'Atmel AVR ATmega328 28-PDIP'", "for 'Atmel AVR ATmega16 40-PDIP'")
+    status, out, _ = _for_the_mega(capsys, tmp_path, text)
+    assert status == 1
+    assert "error LD715 'Xbutton1' is at PD2, a port bit of the ATmega16: D19 on the Arduino Mega 2560; add " \
+           "--keep-port-bits to use D19" in out
+    status, _, err = _for_the_mega(capsys, tmp_path, text, "--keep-port-bits")
+    assert status == 0 and "'Xbutton1': PD2 → D19 on the Arduino Mega 2560\n" in err
+
+
+def test_keep_port_bits_goes_with_a_board(capsys, tmp_path):
+    status, _, err = run(capsys, "build", str(ROOT / "examples" / "conveyor.ladder"), "--keep-port-bits")
+    assert status == 2 and "--keep-port-bits goes with --board" in err
 
 
 def test_a_pin_the_board_lacks_is_a_located_error(capsys, tmp_path):

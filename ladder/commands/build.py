@@ -47,6 +47,10 @@ def register(subparsers) -> None:
                              "(FILE.c and FILE.h, with a ladder.h when the folder has none), or an Arduino "
                              "sketch (the folder FILE/ with FILE.ino and the C; needs --board)")
     parser.add_argument("--board", choices=sorted(BOARDS), help="the Arduino board of --emit arduino")
+    parser.add_argument("--keep-port-bits", action="store_true",
+                        help="with --board, build a program drawn for another chip than the board's keeping each "
+                             "pin's port bit (PD2 stays PD2: D2 on the Uno, D19 on the Mega); each moved pin is "
+                             "shown as a warning")
     parser.add_argument("--target", metavar="PART",
                         help="compile for this part instead of the program's (LDmicro name or short name, "
                              "e.g. atmega328p); pins given by port name carry over, package pin numbers "
@@ -65,6 +69,9 @@ def run(args) -> int:
     if (args.emit == "arduino") != (args.board is not None):
         print("ladder build: error: --board goes with --emit arduino, and --emit arduino needs it "
               f"({', '.join(sorted(BOARDS))})", file=sys.stderr)
+        return EXIT_USAGE
+    if args.keep_port_bits and args.board is None:
+        print("ladder build: error: --keep-port-bits goes with --board", file=sys.stderr)
         return EXIT_USAGE
     if args.target is not None:
         device = find_device(args.target)
@@ -125,13 +132,14 @@ def _emit_c(args, program) -> int:
         output = Path(args.output) if args.output else source.with_suffix(".c")
     if args.emit == "arduino":
         built = _compiled(args.file, lambda: compiler.build_arduino(program, output.stem, source.name, args.board,
-                                                                    config.find(source)))
+                                                                    config.find(source), args.keep_port_bits))
     else:
         built = _compiled(args.file, lambda: (compiler.build_c(program, output.stem, source.name,
-                                                               config.find(source)), None))
+                                                               config.find(source)), None, []))
     if isinstance(built, int):
         return built
-    sources, sketch = built
+    sources, sketch, warnings = built
+    report(args.file, warnings, stream=sys.stderr)
     header, ladder_h = output.with_suffix(".h"), output.with_name("ladder.h")
     files = [(output, sources.c), (header, sources.h)]
     if sketch is not None:
