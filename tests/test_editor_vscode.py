@@ -1,6 +1,10 @@
 """The VS Code extension in a real VS Code: code-server 4.100.3 (VS Code 1.100.3) driven by
 Chromium through playwright-core (tests/e2e/vscode_e2e.js).
 
+The extension runs the language server it carries (bundled/), with the Python it finds: the
+session below gives code-server a PATH on which the only Python is a fresh, bare virtual
+environment's, without textladder, and no `ladder`.
+
 Slow: runs in the editor step of .ci/run (`pytest -m slow tests/test_editor_*.py`), which installs
 the npm packages first. Leaves screenshots in build/editor-e2e/ (LADDER_E2E_OUT).
 """
@@ -8,9 +12,12 @@ the npm packages first. Leaves screenshots in build/editor-e2e/ (LADDER_E2E_OUT)
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
+import tomllib
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -22,14 +29,21 @@ pytestmark = pytest.mark.slow
 
 
 def _npm(*args: str, cwd: Path, timeout: int = 300) -> subprocess.CompletedProcess:
-    return subprocess.run(["npm", *args], cwd=cwd, capture_output=True, text=True, timeout=timeout)
+    # `npm run bundle` runs python3 with pip: this test's Python comes first on PATH
+    path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    return subprocess.run(["npm", *args], cwd=cwd, capture_output=True, text=True, timeout=timeout,
+                          env={**os.environ, "PATH": path})
+
+
+def _require_extension_packages() -> None:
+    env.require(env.which("npm") is not None, "npm is not installed")
+    env.require((env.EXTENSION / "node_modules" / ".bin" / "vsce").exists(),
+                "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
 
 
 @pytest.fixture(scope="module")
 def vsix(tmp_path_factory) -> Path:
-    env.require(env.which("npm") is not None, "npm is not installed")
-    env.require((env.EXTENSION / "node_modules" / ".bin" / "vsce").exists(),
-                "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
+    _require_extension_packages()
     out = _npm("run", "package", cwd=env.EXTENSION)
     assert out.returncode == 0, out.stdout + out.stderr
     path = env.EXTENSION / "textladder.vsix"
@@ -38,23 +52,30 @@ def vsix(tmp_path_factory) -> Path:
 
 
 def test_grammar_tests_pass():
-    """vscode-tmgrammar-test over vscode-extension/test/grammar (also `npm test`)."""
-    env.require((env.EXTENSION / "node_modules" / ".bin" / "vscode-tmgrammar-test").exists(),
-                "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
-    out = _npm("test", cwd=env.EXTENSION)
+    """vscode-tmgrammar-test over vscode-extension/test/grammar (also part of `npm test`)."""
+    _require_extension_packages()
+    out = _npm("run", "test:grammar", cwd=env.EXTENSION)
     assert out.returncode == 0, out.stdout + out.stderr
     assert "failed" not in out.stdout
     assert out.stdout.count("run successfuly") >= 3, out.stdout
 
 
-def test_vsix_contents(vsix):
-    import zipfile
+def test_python_lookup_unit_tests_pass():
+    """The Python lookup's unit tests (vscode-extension/test/unit, node's test runner; also part of `npm test`):
+    the Windows cases (py launcher, .exe, backslashes, spaces, the Store's alias) run on any machine."""
+    _require_extension_packages()
+    out = _npm("run", "test:unit", cwd=env.EXTENSION)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "# fail 0" in out.stdout and "# pass 12" in out.stdout, out.stdout
 
+
+def test_vsix_contents(vsix):
     with zipfile.ZipFile(vsix) as z:
         names = set(z.namelist())
         manifest = json.loads(z.read("extension/package.json"))
     assert {"extension/out/extension.js", "extension/syntaxes/ladder.tmLanguage.json",
-            "extension/syntaxes/ldmicro.tmLanguage.json", "extension/package.json"} <= names
+            "extension/syntaxes/ldmicro.tmLanguage.json", "extension/package.json",
+            "extension/bundled/tool/lsp_server.py"} <= names
     assert not any(n.startswith("extension/node_modules/") for n in names), "the bundle needs no node_modules"
     assert not any(n.startswith("extension/src/") for n in names)
     # the engine must stay at or below the VS Code of code-server 4.100.3
@@ -63,8 +84,51 @@ def test_vsix_contents(vsix):
     assert (major, minor) <= (1, 100)
 
 
+def test_vsix_carries_the_server(vsix):
+    """textladder (with its data files) and its pure-Python dependencies, without caches or tests."""
+    project = tomllib.loads((env.REPO / "pyproject.toml").read_text())["project"]
+    with zipfile.ZipFile(vsix) as z:
+        names = z.namelist()
+        python = json.loads(z.read("extension/bundled/tool/python.json"))
+    libs = {n.split("/")[3] for n in names if n.startswith("extension/bundled/libs/")}
+    assert {"lang", "compiler", "ide", "lsp", "ladder", "lark", "intelhex", "pygls", "lsprotocol", "cattrs",
+            "attrs"} <= libs
+    assert f"textladder-{project['version']}.dist-info" in libs
+    # the data files the wheel ships
+    assert any(n.startswith("extension/bundled/libs/lang/devices/") and n.endswith(".json") for n in names)
+    assert "extension/bundled/libs/compiler/c/boards.json" in names
+    assert not any("__pycache__" in n or n.endswith((".pyc", ".so", ".pyd")) for n in names)
+    assert not any("/tests/" in n or (n.endswith("/test.py") and "/ladder/commands/" not in n) for n in names)
+    assert not any(n.endswith(("/RECORD", "/INSTALLER", "/direct_url.json")) for n in names)
+    assert python["requiresPython"] == project["requires-python"]
+    assert vsix.stat().st_size < 2_000_000
+
+
 @pytest.fixture(scope="module")
-def code_server_run(vsix, tmp_path_factory):
+def bare_path(tmp_path_factory) -> str:
+    """A PATH whose only Python is a fresh virtual environment's, with nothing installed, and no `ladder`."""
+    root = tmp_path_factory.mktemp("bare")
+    venv = root / "venv"
+    made = subprocess.run([getattr(sys, "_base_executable", sys.executable), "-m", "venv", "--without-pip", str(venv)],
+                          capture_output=True, text=True, timeout=60)
+    assert made.returncode == 0, made.stderr
+    nodes = root / "node"  # code-server is a node script: node, and nothing else
+    nodes.mkdir()
+    node = env.which("node")
+    assert node is not None
+    (nodes / "node").symlink_to(node)
+    path = os.pathsep.join([str(venv / "bin"), str(nodes)])
+    python = shutil.which("python3", path=path)
+    assert python == str(venv / "bin" / "python3")
+    imported = subprocess.run([python, "-c", "import lang, pygls"], capture_output=True, text=True, cwd=root,
+                              env={"PATH": path})
+    assert imported.returncode != 0 and "ModuleNotFoundError" in imported.stderr
+    assert shutil.which("ladder", path=path) is None and shutil.which("python", path=path) is not None
+    return path
+
+
+@pytest.fixture(scope="module")
+def code_server_run(vsix, bare_path, tmp_path_factory):
     """One code-server session (tests/e2e/vscode_e2e.js); the tests below read its results."""
     env.require((env.E2E / "node_modules" / ".bin" / "code-server").exists(),
                 "tests/e2e/node_modules is missing (npm ci in tests/e2e/)")
@@ -86,10 +150,13 @@ def code_server_run(vsix, tmp_path_factory):
     (ws / "notes.txt").write_text("LDmicro is a ladder logic compiler.\n")
     shutil.rmtree(env.OUT, ignore_errors=True)  # no screenshot of an earlier run
     env.OUT.mkdir(parents=True, exist_ok=True)
-    cmd = ["node", str(env.E2E / "vscode_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws), "--bad", str(bad),
-           "--sim", str(sim), "--python", env.SERVER_PYTHON, "--out", str(env.OUT),
+    cmd = [env.which("node"), str(env.E2E / "vscode_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws),
+           "--bad", str(bad), "--sim", str(sim), "--out", str(env.OUT),
            "--detect", "program.ld,linker.ld,export.txt,notes.txt"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
+    # VSCODE_CLI: the environment comes from a shell already, so the server does not replace it with
+    # a login shell's (whose PATH, from /etc/profile, would bring back /usr/bin's Python)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240,
+                          env={**os.environ, "PATH": bare_path, "VSCODE_CLI": "1"})
     sys.stderr.write(proc.stderr)
     lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
     assert lines, f"no result from vscode_e2e.js (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
@@ -97,6 +164,16 @@ def code_server_run(vsix, tmp_path_factory):
     print(json.dumps(result.get("timings")))
     assert result["ok"], f"{result.get('error')}\nscreenshot: {result.get('screenshot')}\nlog: {proc.stderr[-3000:]}"
     return result
+
+
+def test_the_bundled_server_runs_with_the_python_on_path(code_server_run, bare_path):
+    """The "Ladder" output channel names the server started: the bundled one, by the bare venv's Python."""
+    logs = list((env.OUT / "code-server-logs").rglob("*Ladder.log"))
+    assert logs, "no log of the Ladder output channel"
+    text = "\n".join(log.read_text() for log in logs)
+    python = shutil.which("python3", path=bare_path)
+    assert f"starting the language server: {python} " in text, text
+    assert "bundled/tool/lsp_server.py (the bundled server, Python 3." in text and "from PATH)" in text, text
 
 
 def test_problems_panel(code_server_run):

@@ -5,8 +5,11 @@
 // an input toggled with its code lens, a scan run with F10, energized elements painted red, the
 // status bar and the watch view. Saves screenshots.
 //
-//   node vscode_e2e.js --vsix X.vsix --workspace DIR --bad FILE --sim FILE --python PY --out DIR
+//   node vscode_e2e.js --vsix X.vsix --workspace DIR --bad FILE --sim FILE --out DIR [--python PY]
 //                      [--detect a.ld,b.txt] [--no-sim] [--no-hover]   (to narrow a run down while debugging)
+//
+// Without --python the extension finds a Python itself (ladder.server.pythonPath unset), on the
+// PATH this script is started with, which code-server and its extension host inherit.
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
@@ -32,7 +35,7 @@ function parseArgs(argv) {
     }
     args[m[1]] = argv[++i];
   }
-  for (const k of ['vsix', 'workspace', 'bad', 'sim', 'python', 'out']) {
+  for (const k of ['vsix', 'workspace', 'bad', 'sim', 'out']) {
     if (!args[k]) throw new Error(`missing --${k}`);
   }
   return args;
@@ -118,7 +121,7 @@ async function main() {
         'editor.minimap.enabled': false,
         'window.commandCenter': false,
         'chat.commandCenter.enabled': false,
-        'ladder.server.pythonPath': args.python,
+        ...(args.python ? { 'ladder.server.pythonPath': args.python } : {}),
         'ladder.compileOnSave': false,
       },
       null,
