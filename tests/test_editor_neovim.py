@@ -345,3 +345,36 @@ vim.cmd('qa!')
     r = json.loads(out.read_text())
     assert r["filetype"] == "ladder" and r["attached"], r
     assert "ladder: the language server" in r["health"] and "version: ladder " in r["health"], r["health"]
+
+
+@pytest.mark.parametrize("title", list(NEOVIMS))
+def test_hover_key_option(tmp_path, title):
+    """`hover_key = 'gh'` maps gh to hover on any version; K is then left to Neovim (mapped from
+    0.10 on, not at all before)."""
+    nvim, missing = NEOVIMS[title]
+    env.require(Path(nvim).exists(), missing)
+    env.require_server()
+    (tmp_path / "lamp.ladder").write_text(env.lamp_fixed())
+    out = tmp_path / "out.json"
+    (tmp_path / "drive.lua").write_text(f"""
+vim.opt.runtimepath:prepend({json.dumps(str(env.NEOVIM_PLUGIN))})
+require('ladder').setup({{ cmd = {{ {', '.join(json.dumps(p) for p in [env.SERVER_PYTHON, '-m', 'ladder', 'lsp'])} }},
+  hover_key = 'gh' }})
+vim.cmd('edit {tmp_path / 'lamp.ladder'}')
+local buf = vim.api.nvim_get_current_buf()
+vim.wait(20000, function()
+  return #(vim.lsp.get_clients and vim.lsp.get_clients({{ bufnr = buf }}) or vim.lsp.buf_get_clients(buf)) > 0
+end, 50)
+vim.wait(300)
+local gh, k = vim.fn.maparg('gh', 'n', false, true), vim.fn.maparg('K', 'n', false, true)
+vim.fn.writefile({{ vim.fn.json_encode({{ gh = gh.desc or '', k = k.desc or '', v = vim.version().minor }}) }}, '{out}')
+vim.cmd('qa!')
+""")
+    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
+                          capture_output=True, text=True, timeout=60, cwd=tmp_path,
+                          env={**os.environ, "XDG_STATE_HOME": str(tmp_path / "state"),
+                               "XDG_DATA_HOME": str(tmp_path / "data")})
+    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    r = json.loads(out.read_text())
+    assert r["gh"] == "ladder: hover"
+    assert r["k"] == ("" if r["v"] < 10 else "vim.lsp.buf.hover()"), r
