@@ -45,6 +45,11 @@ def test_a_pause_longer_than_a_cycle_ends_a_message():
     assert [bytes(m.data) for m in messages(sent, BYTE_US, 10_000)] == [b"ab", b"c"]
 
 
+def test_a_stream_that_never_ends_a_line_shows_80_bytes_a_message():
+    sent = [SentByte(10_000 * i, 10_000 * i, ord("x")) for i in range(170)]
+    assert [len(m.data) for m in messages(sent, BYTE_US, 10_000)] == [80, 80, 10]
+
+
 def test_a_message_is_complete_once_no_byte_of_the_next_scan_can_join_it():
     grouping = Messages(BYTE_US, 10_000)
     assert grouping.add(SentByte(0, 0, ord("a"))) == []

@@ -4,10 +4,11 @@ plot and the editor's simulation view all show the same messages.
 
 A message is what a serial terminal would show as one burst: bytes the
 program sent back to back (each starting no later than one cycle after the
-frame before it ended), up to and including a line end (`\\n`). A program
-that sends one character every half second so shows one message a
-character; a FORMATTED_STRING, which sends a character a scan, shows its
-whole text.
+frame before it ended), up to and including a line end (`\\n`), and at most
+a terminal line's 80 bytes, so that a stream that never ends a line still
+shows as it goes. A program that sends one character every half second so
+shows one message a character; a FORMATTED_STRING, which sends a character
+a scan, shows its whole text.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from dataclasses import dataclass, field
 ESCAPES = {"n": "\n", "r": "\r", "t": "\t", "\\": "\\", '"': '"', "0": "\0", "e": "\x1b"}
 _SHOWN = {ord(text): f"\\{key}" for key, text in ESCAPES.items() if key not in "\\\""}
 _SHOWN.update({ord("\\"): "\\\\", ord('"'): '\\"'})
+MESSAGE_BYTES = 80  # the longest message
 
 
 def show_bytes(data: bytes) -> str:
@@ -60,7 +62,7 @@ class Messages:
             self.open = Message(sent.scan_us, 0.0)
         self.open.data.append(sent.byte)
         self.open.end_us = sent.start_us + self.byte_time_us
-        if sent.byte == ord("\n"):
+        if sent.byte == ord("\n") or len(self.open.data) == MESSAGE_BYTES:
             done.append(self.open)
             self.open = None
         return done
