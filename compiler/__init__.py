@@ -70,14 +70,17 @@ def build(program: Program, target: str | None = None, severities: Severities = 
     backend = BACKENDS[device.family]
     moved = _moved_pins(program, device)
     program = retarget(program, device)
-    problems = [d for d in check_program(program, True, severities) if d.severity == ERROR]
+    checked = check_program(program, True, severities)
+    problems = [d for d in checked if d.severity == ERROR]
     if problems:
         raise CompileError(problems)
+    # the build's own warnings that the checks report from the part's data (LD709, LD714)
+    noted = [d for d in checked if d.code[2] == "7"]
     code = optimise(_lower(program, device, backend.delay_loop_cycles))
     image = backend.compile(code, machine_for(program, device))
     budget = scan_budget(program, device, image)
     overrun = overrun_warning(program, budget)
-    warnings = severities.apply(moved + image.warnings + ([overrun] if overrun else []), building=True)
+    warnings = severities.apply(moved + noted + image.warnings + ([overrun] if overrun else []), building=True)
     if any(d.severity == ERROR for d in warnings):
         raise CompileError([d for d in warnings if d.severity == ERROR])
     return Build(program, device, image, warnings, budget)

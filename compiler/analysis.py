@@ -65,19 +65,6 @@ def target_size(target: ir.Target, stored: Callable[[ir.Var], int]) -> int:
     return 1 if isinstance(target, ir.Byte) else stored(target)
 
 
-def nearest_period(ticks: float, prescalers: dict[int, int], most: int) -> tuple[float, int, int] | None:
-    """(relative error, select bits, counts) of the prescaler whose whole
-    count (1..most) comes nearest `ticks`, the first of equals; None if none fits."""
-    best = None
-    for prescaler, select_bits in prescalers.items():
-        counts = round(ticks / prescaler)
-        if 1 <= counts <= most:
-            error = abs(counts * prescaler - ticks) / ticks
-            if best is None or error < best[0]:
-                best = (error, select_bits, counts)
-    return best
-
-
 def constant_bit(operand: ir.Var | ir.Byte, k: int, stored: Callable[[ir.Var], int]) -> tuple[int, int] | None:
     """(byte offset in the operand, bit) that bit number `k` of the operand
     reads: None below 0 (no bit: it reads 0), the sign bit past its width."""

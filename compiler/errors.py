@@ -2,8 +2,12 @@
 
 A program the back end cannot turn into a correct image fails with located
 errors: an instruction or operand form it does not implement, a pin or
-peripheral the part lacks, a cycle time, baud rate or PWM frequency the
-crystal cannot make, a program or its variables too large for the part.
+peripheral the part lacks, a baud rate the crystal cannot make,
+a program or its variables too large for the part. What the part's data alone
+decides (a cycle time its timer cannot make, LD706; a PWM output its timer
+cannot make, LD708; a PWM frequency approximated, LD709; a digital pin an A/D
+input makes analog, LD714) is a check rule (lang/checks), which `ladder
+check` runs and the build runs first.
 """
 
 from __future__ import annotations
@@ -17,12 +21,8 @@ NOT_COMPILED = code("LD702")
 FLASH_FULL = code("LD703")
 RAM_FULL = code("LD704")
 EEPROM_FULL = code("LD705")
-BAD_CYCLE = code("LD706")
 BAD_BAUD = code("LD707")
 BAUD_APPROXIMATED = code("LD713")
-ANALOG_PIN = code("LD714")
-BAD_PWM = code("LD708")
-PWM_FREQUENCY = code("LD709")
 MOVED_PIN = code("LD711")
 SCAN_OVERRUN = code("LD712")
 BAD_OPERAND = code("LD710")

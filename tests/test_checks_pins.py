@@ -113,12 +113,17 @@ def test_io_without_a_pin_when_a_part_is_selected():
     assert "output 'Yb'" in d.message and "ATmega328P" in d.message
 
 
-def test_no_pins_needed_without_a_part_and_classic_pwm():
+def test_no_pins_needed_without_a_part():
     none(_io(None, {}), "LD407")
-    classic = [contact("Xa"), el("SET_PWM", duty="50", freq=1000, name="P")]
-    none(program(classic, mcu=M328, pins={"Xa": 4}), "LD407")
     pin0 = _io(M328, {"Xa": 4, "Yb": 0})  # LDmicro writes pin 0 for "no pin"
     assert one(pin0, "LD407").message.startswith("output 'Yb'")
+
+
+def test_the_classic_pwm_name_needs_its_pin_as_ldmicro_and_the_build_say():
+    # LDmicro 5.4: "Must assign pins for all I/O. 'P' is not assigned."
+    classic = el("SET_PWM", duty="50", freq=1000, name="P")
+    d = one(program([contact("Xa"), classic], mcu=M328, pins={"Xa": 4}), "LD407")
+    assert d.message.startswith("PWM output 'P' has no pin") and d.span == span_of(classic, "name")
 
 
 # --- LD408 / LD409 parts -----------------------------------------------------------------------------------

@@ -13,7 +13,7 @@ from .asm import Assembler, Data, Label, compress_skips
 from .emit import Emitter
 from .memory import RegBit, allocate
 from .part import Part
-from .peripherals import UART_IDLE, baud_divisor, check_pwm
+from .peripherals import UART_IDLE, baud_divisor
 from .routines import write_routines
 from .runtime import write_runtime
 from .select import DELAY_LOOP_CYCLES, Context
@@ -32,7 +32,6 @@ class AvrBackend:
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)
         if uses_uart(code):
             cx.uart_double = baud_divisor(machine.crystal_hz, machine.baud)[1]
-        warnings = check_pwm(cx, code.scan, _pwm_elements(machine))
         cx.loops = loop_labels(code.scan)
         cx.e.jump("start")
         cx.e.label("start", loop=True)
@@ -54,18 +53,8 @@ class AvrBackend:
                   f" && avr-objcopy -O ihex prog.elf prog.hex\n")
         return Image(words=assembled.words, listing=header + assembled.listing, ram_bytes=layout.ram_used,
                      ram_size=part.avr["ram"]["size"], flash_size=part.flash, flash_unit="bytes",
-                     warnings=warnings, symbols=_symbols(layout), labels=assembled.symbols,
+                     warnings=[], symbols=_symbols(layout), labels=assembled.symbols,
                      loops=dict(cx.e.bounds))
-
-
-def _pwm_elements(machine: Machine) -> dict[str, object]:
-    """The first SET PWM of each PWM unit, to locate its diagnostics."""
-    found: dict[str, object] = {}
-    for element in machine.elements("SET_PWM"):
-        pin = machine.pins.get(str(element.args.get("name")))
-        if pin is not None and pin.name in machine.device.pwm:
-            found.setdefault(machine.device.pwm[pin.name], element)
-    return found
 
 
 def _symbols(layout) -> dict[str, Symbol]:

@@ -27,8 +27,6 @@ ADEN, ADSC = 7, 6  # ADCSRA
 MUX5 = 3  # ADCSRB (ATmega2560)
 EERE, EEWE, EEMWE = 0, 1, 2  # EECR (EEPE/EEMPE on the newer parts)
 
-CYCLE_PRESCALERS = {1: 1, 8: 2, 64: 3, 256: 4, 1024: 5}  # Timer1 clock select
-
 
 @dataclass(frozen=True)
 class Part:

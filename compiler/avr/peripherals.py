@@ -8,11 +8,10 @@ start-up), so a byte written while one is still shifting out is lost.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from lang.hardware import pwm_setting
 from lang.semantics import ir
 
-from ..errors import BAD_BAUD, BAD_PWM, PWM_FREQUENCY, fail, note
+from ..errors import BAD_BAUD, fail
 from ..image import LoopBound
 from . import bits, integers
 from .emit import LOADED, SCRATCH, A
@@ -42,7 +41,6 @@ ADC_CONVERSION_CLOCKS = 25 + 1
 # and up to one more until the transmitter's clock starts the frame
 UART_FRAME_BITS = 10 + 1
 BAUD_TOLERANCE = 0.02  # LDmicro's limit
-PWM_TOLERANCE = 0.05
 UART_IDLE = "~uart.idle"  # no byte sent yet: the transmitter is ready
 
 
@@ -88,50 +86,16 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
 
 # --- PWM --------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class PwmSetting:
-    select: int  # clock select bits
-    freq: float
-
-
-def pwm_setting(part: Part, unit: str, freq: int, crystal_hz: int, element=None) -> PwmSetting:
-    """Fast PWM counting 0..255: the prescaler whose frequency is nearest."""
-    cfg = part.pwm(unit)
-    if cfg is None or "ocr" not in cfg:
-        timer = cfg["timer"] if cfg else "?"
-        why = "Timer1 makes the scan cycle" if timer == 1 else f"Timer{timer} is a 16-bit timer, not compiled"
-        raise fail(BAD_PWM, f"PWM on {unit}: {why}; use an 8-bit timer's output", element)
-    if freq <= 0:
-        raise fail(BAD_PWM, f"PWM frequency {freq} Hz is not possible", element)
-    choices = [PwmSetting(select, crystal_hz / (int(prescaler) * 256)) for prescaler, select in cfg["prescalers"].items()]
-    return min(choices, key=lambda c: abs(c.freq - freq))
-
-
-def check_pwm(cx, ops: list[ir.Op], elements) -> list:
-    """Warnings for approximated frequencies; an error when two outputs of
-    one timer ask for different frequencies."""
-    found = []
-    timers: dict[int, PwmSetting] = {}
-    for op in ops:
-        if not isinstance(op, ir.SetPwm):
-            continue
-        setting = pwm_setting(cx.part, op.unit, op.freq, cx.crystal_hz, elements.get(op.unit))
-        timer = cx.part.pwm(op.unit)["timer"]
-        if timers.setdefault(timer, setting) != setting:
-            raise fail(BAD_PWM, f"the outputs of Timer{timer} ask for different PWM frequencies; "
-                                "they share the timer, so they need the same one", elements.get(op.unit))
-        if abs(setting.freq - op.freq) > PWM_TOLERANCE * op.freq:
-            found.append(note(PWM_FREQUENCY, f"PWM on {op.unit} runs at {setting.freq:.1f} Hz "
-                                             f"(asked {op.freq} Hz)", elements.get(op.unit)))
-    return found
-
+# Fast PWM counting 0..255 on an 8-bit timer, its prescaler the one whose
+# frequency is nearest: the checks (LD708, LD709) have said what the program
+# asks is possible.
 
 def set_pwm(cx, op: ir.SetPwm) -> None:
     """0 or less: the output disconnected and low; full or more: disconnected
     and high (the timer would still make a spike at either end)."""
     e, part = cx.e, cx.part
     cfg = part.pwm(op.unit)
-    setting = pwm_setting(part, op.unit, op.freq, cx.crystal_hz)
+    setting = pwm_setting(part.device, op.unit, cx.crystal_hz, op.freq)
     off, on, done = e.new_label(), e.new_label(), e.new_label()
     duty = A[:max(2, integers.size(cx, op.duty))]
     integers.load(cx, op.duty, duty)

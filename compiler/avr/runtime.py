@@ -14,31 +14,20 @@ The watchdog resets the MCU when a scan hangs (LOCK, a stuck jump loop).
 
 from __future__ import annotations
 
+from lang.hardware import cycle_setting
 from lang.semantics import ir
 
-from ..analysis import nearest_period, uses_uart
-from ..errors import BAD_CYCLE, fail
+from ..analysis import uses_uart
 from ..image import LoopBound
 from ..target import Machine
 from . import bits
 from .emit import ZERO
 from .memory import MemBit, RegBit
-from .part import CYCLE_PRESCALERS, WGM12
+from .part import WGM12
 from .peripherals import uart_init
 from .select import Context, select
 
-CYCLE_TOLERANCE = 0.001
 WATCHDOG_2S = 0b111  # WDP2:0
-
-
-def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
-    """(clock select, counts) for Timer1: the exact cycle when a prescaler
-    makes it, else the nearest within CYCLE_TOLERANCE."""
-    best = nearest_period(crystal_hz * cycle_us / 1_000_000, CYCLE_PRESCALERS, 65536)
-    if best is None or best[0] > CYCLE_TOLERANCE:
-        raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
-                              "crystal with Timer1 (16 bits, prescaler 1 to 1024)")
-    return best[1], best[2]
 
 
 def _write(cx: Context, register: str, value: int) -> None:
@@ -99,7 +88,9 @@ def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part = cx.e, cx.part
     pin = machine.duty_pin  # LDmicro's YPlcCycleDuty: high while the scan runs
     duty = MemBit(part.port("PORT", pin.port_bit[0]), pin.port_bit[1], False) if pin is not None else None
-    select_bits, counts = cycle_timer(cx.crystal_hz, machine.cycle_us)
+    setting = cycle_setting(part.device, cx.crystal_hz, machine.cycle_us, free=False)
+    assert setting is not None  # the checks refuse a cycle Timer1 cannot make (LD706)
+    select_bits, counts = setting
     _write(cx, "TCCR1A", 0)
     _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
     _write(cx, "OCR1AL", (counts - 1) & 0xFF)

@@ -10,7 +10,7 @@ from . import asm as a
 from .emit import Emitter, compress_skips
 from .memory import allocate
 from .part import Part
-from .peripherals import DELAY_LOOP_CYCLES, check_pwm
+from .peripherals import DELAY_LOOP_CYCLES
 from .routines import write_routines
 from .runtime import free_running, write_runtime
 from .select import Context, prepare
@@ -67,7 +67,7 @@ class Pic16Backend:
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
         cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
         prepare(cx, code)
-        warnings = check_pwm(cx, code.scan) + write_runtime(cx, code)
+        warnings = write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)
         _write_tables(cx)
         compress_skips(assembler.items)

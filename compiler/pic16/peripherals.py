@@ -9,11 +9,10 @@ the transmitter is busy is lost.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from lang.hardware import analog_group, pwm_setting
 from lang.semantics import ir
 
-from ..errors import ANALOG_PIN, BAD_BAUD, BAD_PWM, BAUD_APPROXIMATED, NOT_COMPILED, PWM_FREQUENCY, fail, note
+from ..errors import BAD_BAUD, BAUD_APPROXIMATED, NOT_COMPILED, fail, note
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -26,11 +25,9 @@ DELAY_LOOP_CYCLES = 76
 
 BAUD_WARNING = 0.02  # LDmicro warns beyond this error
 BAUD_LIMIT = 0.045  # beyond this a receiver sampling mid-bit loses the frame
-PWM_TOLERANCE = 0.05
 TAD_MIN_NS = 1600  # the converter's shortest clock period (PIC16F87x: 1.6 us)
 ACQUISITION_US = 20  # the sample-and-hold capacitor's charging time before a conversion
 PWM_MODE = 0x0C  # CCPxM3:0 = 11xx
-TIMER2_PRESCALERS = {1: 0, 4: 1, 16: 2}  # T2CKPS1:0
 
 
 def _locate(cx, kind: str):
@@ -126,14 +123,14 @@ def adc_clock(part: Part, crystal_hz: int) -> int:
     return 3
 
 
-def analog_setup(cx, channels: set[int]) -> list:
+def analog_setup(cx, channels: set[int]) -> None:
     """At start-up: the pins of the channels READ ADC uses analog, the
-    others digital (as far as the part can: a warning for each digital pin
-    made analog with them); results right-justified."""
+    others digital (as far as the part can: the checks warn of each digital
+    pin made analog with them, LD714); results right-justified."""
     part = cx.part
     adc = part.feature("adc")
     if adc is None or not channels:
-        return []
+        return
     adfm = next((r for r in ("ADCON1", "ADCON0") if "ADFM" in part.bits(r)), None)
     if part.has("ANSEL"):
         mask = sum(1 << c for c in channels)
@@ -145,20 +142,10 @@ def analog_setup(cx, channels: set[int]) -> list:
             _write(cx, "ANSELH", mask >> 8)
         if adfm == "ADCON1":
             _write(cx, "ADCON1", 1 << part.bit("ADCON1", "ADFM"))
-        return []
-    choices = [(value, set(covered)) for value, covered in adc["pcfg"]]
-    value, analog = min((c for c in choices if channels <= c[1]), key=lambda c: len(c[1]))
-    found = []
-    for name, pin in sorted(cx.machine.pins.items()):
-        channel = part.device.adc.get(pin.name)
-        if name[0] in "XYP" and channel in analog and channel not in channels:
-            effect = "it reads 0" if name[0] == "X" else "reading the port back reads it as 0"
-            found.append(note(ANALOG_PIN, f"'{name}' is on {pin.name} (AN{channel}), which the {part.title} makes "
-                                          "analog with the A/D inputs on "
-                                          + ", ".join(f"AN{c}" for c in sorted(channels)) + f": {effect}",
-                              cx.machine.locate(name)))
-    _write(cx, "ADCON1", value | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
-    return found
+        return
+    group = analog_group(part.device, channels)
+    assert group is not None  # a part without ANSEL chooses its analog pins by PCFG
+    _write(cx, "ADCON1", group[0] | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
 
 
 def _adcs(part: Part, register: str, select: int) -> int:
@@ -194,42 +181,8 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
 
 # --- PWM ----------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class PwmSetting:
-    prescaler: int  # T2CKPS
-    period: int  # PR2 + 1
-    freq: float
-
-
-def pwm_setting(crystal_hz: int, freq: int, element=None) -> PwmSetting:
-    """Timer2's prescaler and period nearest the frequency (the finest period first)."""
-    if freq <= 0:
-        raise fail(BAD_PWM, f"PWM frequency {freq} Hz is not possible", element)
-    choices = []
-    for prescaler, select in TIMER2_PRESCALERS.items():
-        period = min(max(round(crystal_hz / (4 * prescaler * freq)), 1), 256)
-        choices.append(PwmSetting(select, period, crystal_hz / (4 * prescaler * period)))
-    return min(choices, key=lambda c: (abs(c.freq - freq), -c.period))
-
-
-def check_pwm(cx, ops: list[ir.Op]) -> list:
-    """Warnings for approximated frequencies; an error when two CCP outputs
-    (Timer2 makes both) ask for different frequencies."""
-    found = []
-    settings: dict[str | int, PwmSetting] = {}  # "timer2" -> Timer2's; each frequency warned of -> its own
-    element = _locate(cx, "SET_PWM")
-    for op in ops:
-        if not isinstance(op, ir.SetPwm):
-            continue
-        setting = pwm_setting(cx.machine.crystal_hz, op.freq, element)
-        if settings.setdefault("timer2", setting) != setting:
-            raise fail(BAD_PWM, "the CCP outputs share Timer2, so they need the same PWM frequency", element)
-        if abs(setting.freq - op.freq) > PWM_TOLERANCE * op.freq and op.freq not in settings:
-            settings[op.freq] = setting
-            found.append(note(PWM_FREQUENCY, f"PWM on {op.unit} runs at {setting.freq:.1f} Hz "
-                                             f"(asked {op.freq} Hz)", element))
-    return found
-
+# Timer2 makes every CCP's period (PR2 + 1) with the prescaler T2CKPS: the
+# checks (LD708, LD709) have said what the program asks is possible.
 
 def set_pwm(cx, op: ir.SetPwm) -> None:
     """0 or less: the CCP off and its pin low; full or more: off and high;
@@ -238,7 +191,7 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
 
     e, part = cx.e, cx.part
     s = Scratch(cx.layout.scratch)
-    setting = pwm_setting(cx.machine.crystal_hz, op.freq)
+    setting = pwm_setting(part.device, op.unit, cx.machine.crystal_hz, op.freq)
     off, on, done = e.new_label("pwm"), e.new_label("pwm"), e.new_label("pwm")
     width = max(2, ints.size(cx, op.duty))
     duty = s.C[:width]
@@ -295,9 +248,9 @@ def pwm_setup(cx, code: ir.Code) -> None:
     ops = [op for op in code.scan if isinstance(op, ir.SetPwm)]
     if not ops:
         return
-    setting = pwm_setting(cx.machine.crystal_hz, ops[0].freq)
+    setting = pwm_setting(cx.part.device, ops[0].unit, cx.machine.crystal_hz, ops[0].freq)
     _write(cx, "PR2", setting.period - 1)
-    _write(cx, "T2CON", 1 << 2 | setting.prescaler)  # TMR2ON
+    _write(cx, "T2CON", 1 << 2 | setting.select)  # TMR2ON, T2CKPS
 
 
 def _disconnect(cx, unit: str, level: bool) -> None:

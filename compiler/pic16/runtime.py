@@ -18,10 +18,9 @@ cycle before its first scan).
 
 from __future__ import annotations
 
+from lang.hardware import cycle_runs_free, cycle_setting
 from lang.semantics import ir
 
-from ..analysis import nearest_period
-from ..errors import BAD_CYCLE, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -30,19 +29,7 @@ from .memory import FileBit
 from .peripherals import analog_setup, pwm_setup, uart_setup
 from .select import Context, select
 
-CYCLE_TOLERANCE = 0.001
-TIMER1_PRESCALERS = {1: 0, 2: 1, 4: 2, 8: 3}  # T1CKPS1:0
 CCP_SPECIAL_EVENT = 0x0B  # CCP1M3:0 = 1011: compare, trigger special event
-
-
-def cycle_timer(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
-    """(T1CKPS, counts) for Timer1: the exact cycle when a prescaler makes it,
-    else the nearest within CYCLE_TOLERANCE."""
-    best = nearest_period(crystal_hz / 4 * cycle_us / 1_000_000, TIMER1_PRESCALERS, 65536)
-    if best is None or best[0] > CYCLE_TOLERANCE:
-        raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz "
-                              "crystal with Timer1 (16 bits, prescaler 1 to 8, Fosc/4)")
-    return best[1], best[2]
 
 
 def _write(cx: Context, register: str, value: int) -> None:
@@ -110,7 +97,7 @@ def _start(cx: Context, code: ir.Code) -> list:
     for features in ("digital_io", "comparators_off"):
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
-    warnings = analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
+    analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
     outputs = _pins(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.port(letter))
@@ -126,7 +113,7 @@ def _start(cx: Context, code: ir.Code) -> list:
             if part.has(register):
                 _write(cx, register, pulled)
         cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
-    warnings += uart_setup(cx, code)
+    warnings = uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
     return warnings
@@ -137,19 +124,6 @@ def _cycle_module(cx: Context, code: ir.Code) -> str | None:
     PWM takes CCP1; None when none is left (Timer1 then runs free)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
     return next((unit for unit in ("CCP1", "CCP2") if unit not in pwm and cx.part.has(f"{unit}CON")), None)
-
-
-def free_cycle(crystal_hz: int, cycle_us: int) -> tuple[int, int]:
-    """(T1CKPS, ticks) for a free-running Timer1: the largest prescaler (the
-    longest time between overflows, the longest scan it follows) that makes
-    the cycle within CYCLE_TOLERANCE, in at most 23 bits of ticks."""
-    cycles = crystal_hz / 4 * cycle_us / 1_000_000
-    for prescaler, select_bits in sorted(TIMER1_PRESCALERS.items(), reverse=True):
-        ticks = round(cycles / prescaler)
-        if 1 <= ticks < 1 << 23 and abs(ticks * prescaler - cycles) / cycles <= CYCLE_TOLERANCE:
-            return select_bits, ticks
-    raise fail(BAD_CYCLE, f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz clock "
-                          "with Timer1 (prescaler 1 to 8, Fosc/4)")
 
 
 def _scan(cx: Context, code: ir.Code) -> None:
@@ -165,7 +139,9 @@ def _scan(cx: Context, code: ir.Code) -> None:
 
 def _ccp_cycle(cx: Context, code: ir.Code, unit: str) -> None:
     e, part = cx.e, cx.part
-    prescaler, counts = cycle_timer(cx.machine.crystal_hz, cx.machine.cycle_us)
+    setting = cycle_setting(part.device, cx.machine.crystal_hz, cx.machine.cycle_us, free=False)
+    assert setting is not None  # the checks refuse a cycle Timer1 cannot make (LD706)
+    prescaler, counts = setting
     _write(cx, f"CCPR{unit[-1]}L", (counts - 1) & 0xFF)
     _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
     _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
@@ -187,7 +163,9 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     which moves on by one cycle each scan: no drift, a few cycles of jitter.
     A scan may last up to 65536 ticks without losing an overflow."""
     e, part = cx.e, cx.part
-    select_bits, ticks = free_cycle(cx.machine.crystal_hz, cx.machine.cycle_us)
+    setting = cycle_setting(part.device, cx.machine.crystal_hz, cx.machine.cycle_us, free=True)
+    assert setting is not None  # the checks refuse a cycle Timer1 cannot make (LD706)
+    select_bits, ticks = setting
     high, deadline = clock, [clock + 1 + i for i in range(3)]
     s = cx.layout.scratch
     count = [s[11], s[12], s[13]]  # the tick count read now, less the deadline
@@ -242,9 +220,7 @@ def free_running(code: ir.Code, part, machine) -> bool:
     """True when a free-running Timer1 makes the scan cycle: no CCP module is
     left for it, or the cycle is longer than Timer1 counts (0.52 s at 4 MHz)."""
     pwm = {op.unit for op in code.scan if isinstance(op, ir.SetPwm)}
-    free = any(unit not in pwm and part.has(f"{unit}CON") for unit in ("CCP1", "CCP2"))
-    longest = 65536 * max(TIMER1_PRESCALERS) * 4_000_000 / machine.crystal_hz
-    return not free or machine.cycle_us > longest
+    return cycle_runs_free(part.device, machine.crystal_hz, machine.cycle_us, pwm)
 
 
 def write_runtime(cx: Context, code: ir.Code) -> list:

@@ -12,6 +12,7 @@ from ..model import Element, Parallel, Series, Span, iter_elements
 from ..numbers import cdiv
 from ..roles import CYCLE_DUTY_PIN, ROLES, role
 from ..strings import ESCAPES, HEX
+from ..targets import compiled
 from ..values import format_delay, is_literal, literal_value
 
 # What a rule's diagnostics depend on, its module's SCOPE (lang.checks.incremental
@@ -274,6 +275,29 @@ def is_pwm(index, name: str) -> bool:
 
 def _named_by(index, name: str, kind: str) -> bool:
     return any(use.element.kind == kind and use.field == "name" for use in index.uses.get(name, ()))
+
+
+def pwm_outputs(program, index) -> list[tuple]:
+    """(rung, SET PWM element, PWM unit, frequency) of each SET PWM whose
+    name sits on a PWM pin of a part a back end compiles, in program order;
+    [] when the pins do not matter (no part, or C). The rules about an
+    unassigned name, a pin without PWM or a frequency that is no number say
+    what the others lack."""
+    cached = index.cache.get("pwm_outputs")
+    if cached is not None:
+        return cached
+    found = []
+    device = index.device
+    if index.pins_matter and compiled(device):
+        for rung, element in index.of_kind("SET_PWM"):
+            assignment = program.pins.get(token(element.args.get("name")))
+            pin = device.pin(assignment.pin) if assignment is not None and assignment.assigned else None
+            unit = device.pwm.get(pin.name) if pin is not None else None
+            freq = literal_or_none(str(element.args.get("freq")))
+            if unit is not None and freq is not None:
+                found.append((rung, element, unit, freq))
+    index.cache["pwm_outputs"] = found
+    return found
 
 
 def used_pins(program, index) -> list[tuple]:

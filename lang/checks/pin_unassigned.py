@@ -1,5 +1,7 @@
 """LD407: an I/O name with no pin while a part is selected (not when the
-program is compiled to C, whose runtime owns the pins)."""
+program is compiled to C, whose runtime owns the pins). The bare name P of a
+classic two-field SET PWM, which LDmicro's loader gives it, needs one too:
+LDmicro 5.4 refuses it ("'P' is not assigned") and no back end can guess it."""
 
 from __future__ import annotations
 
@@ -11,11 +13,6 @@ from .common import NAMES, is_analog, is_pwm
 
 CODE = rule_code(__name__)
 SCOPE = NAMES
-
-# A classic two-field SET_PWM has no name; LDmicro's loader calls it "P", and
-# classic LDmicro drove the part's one PWM pin without an assignment (the
-# corpus reg tests compile that way).
-CLASSIC_PWM = "P"
 
 _WHAT = {"X": "input", "Y": "output", "A": "A/D input", "P": "PWM output"}
 
@@ -30,8 +27,6 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             continue
         if name.endswith("~"):
             continue  # LD010
-        if name == CLASSIC_PWM:
-            continue
         assignment = program.pins.get(name)
         if assignment is not None and assignment.assigned:
             continue

@@ -53,6 +53,8 @@ class Pin:
     bit: int | None
     label: str
     functions: tuple[str, ...] = ()
+    # MCLR pins that double as an input (RE3, RA5, GP3): no output driver
+    input_only: bool = False
 
     @property
     def is_io(self) -> bool:
@@ -125,6 +127,7 @@ def _build(doc: dict, package: dict) -> Device:
                 bit=int(m.group(3)),
                 label=overrides.get(name, entry["label"]),
                 functions=tuple(entry.get("functions", ())),
+                input_only=entry.get("input_only", False),
             )
         else:
             pins[int(number)] = Pin(int(number), name, None, None, "", ())

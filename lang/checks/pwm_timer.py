@@ -1,0 +1,31 @@
+"""LD708: a SET PWM its part's timer cannot make: an output of a timer the
+back end does not drive, a frequency of 0 or less, or two outputs of one
+timer asking for different frequencies (they share its period)."""
+
+from __future__ import annotations
+
+from ..codes import rule_code
+from ..diagnostics import Diagnostic, report
+from ..hardware import PwmSetting, pwm_refusal, pwm_setting, pwm_timer
+from ..index import ProgramIndex
+from ..model import Program
+from .common import pwm_outputs
+
+CODE = rule_code(__name__)
+
+
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    device = index.device
+    found = []
+    timers: dict[int, PwmSetting] = {}
+    for _, element, unit, freq in pwm_outputs(program, index):
+        why = pwm_refusal(device, unit, freq)
+        if why is not None:
+            found.append(report(CODE, why, element.span))
+            continue
+        number = pwm_timer(device, unit)["timer"]
+        setting = pwm_setting(device, unit, program.settings.crystal_hz, freq)
+        if timers.setdefault(number, setting) != setting:
+            found.append(report(CODE, f"the outputs of Timer{number} ask for different PWM frequencies; "
+                                      "they share the timer, so they need the same one", element.span))
+    return found

@@ -1,0 +1,150 @@
+"""What a part's peripherals make of a program's settings, from the device
+files: the timer setting that makes the scan cycle, the frequency a PWM
+output runs at, and which pins the A/D inputs make analog on the parts that
+choose analog pins in groups.
+
+One definition for the checks, which report what a build would find
+(LD706, LD708, LD709, LD714) as soon as the program names its part, and for
+the back ends, which program the timers and ADCON1 from the same answers.
+The facts are in each device file's key for its family (`cycle_timer`,
+`pwm`, and the PIC16's `features.adc.pcfg`), which the back ends read too.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .devices import Device
+
+# beyond this the build warns that the PWM frequency is approximated (LD709)
+PWM_TOLERANCE = 0.05
+# the scan cycle's timer must make the cycle time this closely (LD706)
+CYCLE_TOLERANCE = 0.001
+
+
+def nearest_period(ticks: float, prescalers: dict[int, int], most: int) -> tuple[float, int, int] | None:
+    """(relative error, select bits, counts) of the prescaler whose whole
+    count (1..most) comes nearest `ticks`, the first of equals; None if none fits."""
+    best = None
+    for prescaler, select_bits in prescalers.items():
+        counts = round(ticks / prescaler)
+        if 1 <= counts <= most:
+            error = abs(counts * prescaler - ticks) / ticks
+            if best is None or error < best[0]:
+                best = (error, select_bits, counts)
+    return best
+
+
+def cycle_timer(device: Device) -> dict:
+    """The timer that makes the scan cycle: its clock divider, prescalers,
+    counts, and on parts that can run it free, the compare units that restart
+    it and the ticks a free-running count reaches."""
+    return device.data[device.family]["cycle_timer"]
+
+
+def _prescalers(timer: dict) -> dict[int, int]:
+    return {int(text): select for text, select in timer["prescalers"].items()}
+
+
+def cycle_runs_free(device: Device, crystal_hz: int, cycle_us: int, pwm_units: set[str]) -> bool:
+    """True when the cycle timer runs free, its overflows counted: no compare
+    unit is left by PWM to restart it, or the cycle is longer than it counts.
+    False on parts whose timer always restarts by itself (AVR's CTC mode)."""
+    timer = cycle_timer(device)
+    units = timer.get("compare_units")
+    if units is None:
+        return False
+    longest = timer["counts"] * max(_prescalers(timer)) * timer["clock_divider"] * 1_000_000 / crystal_hz
+    return not any(unit not in pwm_units for unit in units) or cycle_us > longest
+
+
+def cycle_setting(device: Device, crystal_hz: int, cycle_us: int, free: bool) -> tuple[int, int] | None:
+    """(select bits, counts) making the cycle within CYCLE_TOLERANCE: the
+    nearest when the timer restarts at a match, the largest prescaler when it
+    runs free (the longest time between overflows); None when none does."""
+    timer = cycle_timer(device)
+    prescalers = _prescalers(timer)
+    cycles = crystal_hz / timer["clock_divider"] * cycle_us / 1_000_000
+    if free:
+        for prescaler, select_bits in sorted(prescalers.items(), reverse=True):
+            ticks = round(cycles / prescaler)
+            if 1 <= ticks < timer["free_ticks"] and abs(ticks * prescaler - cycles) / cycles <= CYCLE_TOLERANCE:
+                return select_bits, ticks
+        return None
+    best = nearest_period(cycles, prescalers, timer["counts"])
+    if best is None or best[0] > CYCLE_TOLERANCE:
+        return None
+    return best[1], best[2]
+
+
+def cycle_refusal(device: Device, crystal_hz: int, cycle_us: int, free: bool) -> str:
+    """Why no setting makes the cycle (`cycle_setting` gave None)."""
+    timer = cycle_timer(device)
+    prescalers = sorted(_prescalers(timer))
+    clock = f", Fosc/{timer['clock_divider']}" if timer["clock_divider"] != 1 else ""
+    width = "" if free else "16 bits, "
+    return (f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz crystal with Timer1 "
+            f"({width}prescaler {prescalers[0]} to {prescalers[-1]}{clock})")
+
+
+@dataclass(frozen=True)
+class PwmSetting:
+    select: int  # the prescaler's clock select bits
+    period: int  # timer counts in one PWM period
+    freq: float  # the frequency the output runs at
+
+
+def pwm_timer(device: Device, unit: str) -> dict | None:
+    """The timer behind a PWM unit (OC0A, CCP1): its number and, when the
+    back end drives it, its clock divider, prescalers and period range."""
+    return device.data.get(device.family, {}).get("pwm", {}).get(unit)
+
+
+def pwm_refusal(device: Device, unit: str, freq: int) -> str | None:
+    """Why the unit cannot make a PWM output at all, or None."""
+    timer = pwm_timer(device, unit)
+    if timer is None or "prescalers" not in timer:
+        number = timer["timer"] if timer else "?"
+        why = "Timer1 makes the scan cycle" if number == 1 else f"Timer{number} is a 16-bit timer, not compiled"
+        return f"PWM on {unit}: {why}; use an 8-bit timer's output"
+    if freq <= 0:
+        return f"PWM frequency {freq} Hz is not possible"
+    return None
+
+
+def pwm_setting(device: Device, unit: str, crystal_hz: int, freq: int) -> PwmSetting:
+    """The prescaler and period whose frequency is nearest `freq` (the finest
+    period of equals); the unit must pass `pwm_refusal`."""
+    timer = pwm_timer(device, unit)
+    assert timer is not None and freq > 0, "pwm_refusal says why not"
+    divider = timer["clock_divider"]
+    low, high = timer["periods"]
+    choices = []
+    for text, select in timer["prescalers"].items():
+        prescaler = int(text)
+        period = min(max(round(crystal_hz / (divider * prescaler * freq)), low), high)
+        choices.append(PwmSetting(select, period, crystal_hz / (divider * prescaler * period)))
+    return min(choices, key=lambda c: (abs(c.freq - freq), -c.period))
+
+
+def approximated(setting: PwmSetting, freq: int) -> bool:
+    return abs(setting.freq - freq) > PWM_TOLERANCE * freq
+
+
+def analog_groups(device: Device) -> list[tuple[int, frozenset[int]]] | None:
+    """(PCFG value, the A/D channels it makes analog) for the parts whose
+    ADCON1 chooses the analog pins in fixed groups; None for the others."""
+    facts = device.data.get(device.family, {})
+    table = facts.get("features", {}).get("adc", {}).get("pcfg")
+    if table is None or "ANSEL" in facts.get("registers", {}):
+        return None  # no groups, or ANSEL sets each pin alone
+    return [(value, frozenset(channels)) for value, channels in table]
+
+
+def analog_group(device: Device, channels: set[int]) -> tuple[int, frozenset[int]] | None:
+    """The smallest group (PCFG value, channels) holding every channel READ
+    ADC reads; None when the part sets each pin alone or nothing is read."""
+    groups = analog_groups(device)
+    if groups is None or not channels:
+        return None
+    return min((group for group in groups if channels <= group[1]), key=lambda group: len(group[1]))
