@@ -142,6 +142,9 @@ async def test_crlf_ld_file(client):
     items = await client.text_document_completion_async(types.CompletionParams(
         text_document=td(doc.uri), position=types.Position(line=at.line, character=2)))
     assert "CTU" in {i.label for i in items.items}
+    line = doc.find("COIL Xlamp")
+    doc.change(line.line, line.character + 5, line.line, line.character + 6, "Y")
+    assert "LD102" not in [d.code for d in await doc.diagnostics()]
 
 
 @on_server
