@@ -9,8 +9,7 @@ holds on the simulator says so: that is where the two part.
 
 What the firmware cannot be given is a located failure, not a silent gap: a
 `set` of anything but an input or an A/D reading (the MCU's memory is not
-written from outside), an input with no pin on the part, UART bytes into
-gpsim. The firmware then runs up to the first such action, every
+written from outside), an input with no pin on the part. The firmware then runs up to the first such action, every
 expectation decided before it is reported as usual, and each one after it
 as not checked: the firmware's run is no longer the scenario's.
 """
@@ -60,9 +59,7 @@ def _unsupported(on: str, scenario: Scenario, program: Program, cycle_us: int) -
     found = []
     for action in scenario.actions:
         when = format_time(action.time_us, cycle_us)
-        if action.kind == "uart" and on == "pic16":
-            found.append((action, Failure(action.line, when, "uart", "", f"cannot send bytes to {TITLES[on]}")))
-        elif action.kind == "set" and on != "c" and action.name[:1] not in ("X", "A"):
+        if action.kind == "set" and on != "c" and action.name[:1] not in ("X", "A"):
             found.append((action, Failure(action.line, when, action.name, "",
                                           f"cannot set {action.name} on {TITLES[on]}: only inputs and A/D readings "
                                           "come from outside the MCU")))

@@ -10,7 +10,9 @@ cycle before the scan starts and sends a UART byte 0.75 cycle before (simavr
 delivers a byte up to about 1.1 ms later at 9600 baud, its receiver ticking
 once a byte time, so it must come after the scan before it has ended and in
 time for its own); gpsim switches the input pin's pull-up module 0.05 cycle
-before. After each scan, at 0.9 cycle when it is over, the MCU's data memory
+before, and a usart module starts sending a UART byte 0.75 cycle before (a
+frame of 10 bits at the program's baud rate must fit in that time). After
+each scan, at 0.9 cycle when it is over, the MCU's data memory
 is read through the build's symbol map; the C harness prints its variables.
 """
 
@@ -203,6 +205,7 @@ def record_pins(hex_path: Path, part: str, freq_hz: int, cycle_us: int, events: 
 # --- the PIC16 image in gpsim ----------------------------------------------------------------
 
 END_MARK = "__textladder_end__"
+UART_IN = "uart_in"  # the gpsim usart module that sends the scenario's bytes
 _VALUE = re.compile(r"^\*?\*?(?:gpsim> )*\s*(\w+)\[[^\]]*\] = \$([0-9a-fA-F]+)")
 _PC = re.compile(r"^\*?\*?(?:gpsim> )*\s*pc = 0x([0-9a-fA-F]+)")
 
@@ -234,7 +237,8 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
     each scan, read from the file registers (with the PC: one outside the
     wait for the next cycle is a CycleOverrun). On a part with a UART every
     write to TXREG is a byte sent, at the cycle of the write (gpsim logs
-    them; its USART module gives nothing out)."""
+    them; its usart module gives nothing out), and the bytes received come
+    from a usart module on the RX pin, sent 0.75 cycle before their scan."""
     from ..pic16.part import Part
 
     settings = build.program.settings
@@ -247,7 +251,13 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
 
     timeline: list[tuple[int, int, int, str]] = []  # cycle, kind, order, command
     modules: dict[str, str] = {}
+    receiving = device.uart.get("rx") if any(e.name == "uart" for e in events) else None
     for event in events:
+        if event.name == "uart":
+            if receiving:
+                timeline.append((at(max(0.0, (event.scan - SEND_BEFORE) * cycle_ms)), 0, len(timeline),
+                                 f"{UART_IN}.tx = {event.value}"))
+            continue
         pin = device.pin(build.program.pins[event.name].pin)
         module = modules.setdefault(pin.name, f"in_{pin.name.lower()}")
         # an input's level, or an A/D reading as the voltage that converts to it (VDD = 5 V reference)
@@ -269,6 +279,12 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
             port = "gpio" if pin_name.startswith("GP") else f"port{pin_name[1].lower()}"
             lines += [f"module load pullup {module}", f"{module}.resistance = {DRIVE_OHMS}", f"node n_{module}",
                       f"attach n_{module} {module}.pin {port}{pin_name[-1]}"]
+    if receiving:
+        # the bytes come from a usart module's TX pin, at the program's baud rate, into the RX pin
+        lines += (["module library libgpsim_modules"] if not modules else []) + [
+            f"module load usart {UART_IN}", f"{UART_IN}.txbaud = {settings.baud}",
+            f"{UART_IN}.rxbaud = {settings.baud}", f"node n_{UART_IN}",
+            f"attach n_{UART_IN} {UART_IN}.TXPIN port{receiving[1].lower()}{receiving[-1]}"]
     if uart:
         lines += ["log on uart.log", "log w txreg"]
     last = 0
