@@ -51,7 +51,7 @@ from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import LarkError
 
 from .codes import BAD_VALUE, LD_SYNTAX, UNREADABLE, code
-from .devices import find_device, packages_of
+from .devices import find_device, is_known_ldmicro_name, packages_of
 from .diagnostics import Diagnostic, error, warning
 from .instructions import INSTRUCTIONS, LD_KEYWORDS, Field, Instruction
 from .iolist import io_list, listed_type
@@ -76,6 +76,7 @@ __all__ = [
     "write_ld_bytes",
     "element_line",
     "package_pins",
+    "ldmicro_part_name",
     "line_limit_diagnostics",
     "MAX_LINE_BYTES",
     "MAX_LIST_LINE_BYTES",
@@ -903,7 +904,7 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
     out: list[str] = [f"LDmicro{version}"]
     # (line index, limit, span) of every line that must respect §3.1
     if s.mcu:
-        out.append(f"MICRO={s.mcu}")
+        out.append(f"MICRO={ldmicro_part_name(s.mcu)}")
     timer = -1 if s.cycle_us == 0 else s.cycle_timer
     out.append(f"CYCLE={s.cycle_us} us at Timer{timer}, YPlcCycleDuty:{int(bool(s.cycle_duty))}, "
                f"ConfigurationWord(s):0x{s.config_word:X}")
@@ -947,6 +948,17 @@ def write_ld(program: Program, version: str | None = None, *, encoding: str = "c
         if version == "0.1":
             diagnostics.extend(_control_characters(program))
     return text
+
+
+def ldmicro_part_name(mcu: str) -> str:
+    """The name LDmicro knows a part by (`Atmel AVR ATmega328 28-PDIP`) for
+    one of textladder's (`atmega328p`, `m328p:32-TQFP`): LDmicro refuses a
+    MICRO= line it does not list. A name LDmicro lists, or a part it does not
+    (the PIC16F877A), is kept as it is."""
+    if is_known_ldmicro_name(mcu):
+        return mcu
+    device = find_device(mcu)
+    return device.ldmicro_name if device is not None and device.ldmicro_name else mcu
 
 
 def package_pins(program: Program) -> tuple[dict[str, int], list[Diagnostic]]:

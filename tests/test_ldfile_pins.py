@@ -139,3 +139,15 @@ def test_convert_refuses_and_writes_nothing(tmp_path, capsys):
     assert main(["convert", str(source), str(tmp_path / "motor.ld")]) == 0
     written = (tmp_path / "motor.ld").read_bytes()
     assert b"    Xstart at 4 0 0\r\n    Ymotor at 19 0 0\r\n" in written
+
+
+@pytest.mark.parametrize("mcu, written", [
+    ("atmega328p", "Atmel AVR ATmega328 28-PDIP"),
+    ("m328p:32-TQFP", "Atmel AVR ATmega328 32-Pin packages"),
+    ("PIC16F887:44-TQFP", "Microchip PIC16F887 44-TQFP"),
+    ("Atmel AVR ATmega8 32-Pin packages", "Atmel AVR ATmega8 32-Pin packages"),
+    ("PIC16F877A", "PIC16F877A"),  # LDmicro does not list it: it says so itself when it opens the file
+])
+def test_the_part_is_written_by_the_name_ldmicro_knows_it_by(mcu, written):
+    prog = program([contact("Xa")], mcu=mcu, pins={"Xa": 0})
+    assert f"\nMICRO={written}\n" in write_ld(prog, diagnostics=[])

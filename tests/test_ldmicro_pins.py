@@ -1,7 +1,8 @@
 """LDmicro 5.4.1.1 compiles the `.ld` files we write for programs whose pins
 the text form gives by port bit (PB5, RD0, RC2): the writer puts the package
 pin numbers of the part in the IO LIST, as LDmicro needs (it read `Yled at
-PB5` as pin 0 and refused, "Must assign pins for all I/O"). Pins with
+PB5` as pin 0 and refused, "Must assign pins for all I/O"), and the part by
+LDmicro's name for it when the text names it by ours. Pins with
 alternate functions (INT0, MOSI, ADC0, OC1B, CCP2) and a PWM output on each
 part. LDmicro's own image of an AVR program then drives the output in simavr
 when the input is driven: the numbers name the pins the text meant.
@@ -30,6 +31,8 @@ LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 # part: (Xa, Xb, Yled, Yb, the PWM output P); LDmicro's PIC16 PWM needs Timer0 for the cycle
 PARTS = {
     "Atmel AVR ATmega328 28-PDIP": {"Xa": "PD2", "Xb": "PD4", "Yled": "PB5", "Yb": "PC0", "P": "PD6"},
+    # one of our names, written as LDmicro's ("Atmel AVR ATmega328 32-Pin packages")
+    "atmega328p:32-TQFP": {"Xa": "PD2", "Xb": "PD4", "Yled": "PB5", "Yb": "PC0", "P": "PD6"},
     "Atmel AVR ATmega16 40-PDIP": {"Xa": "PD2", "Xb": "PA0", "Yled": "PB5", "Yb": "PD4", "P": "PD7"},
     "Microchip PIC16F877 40-PDIP": {"Xa": "RB0", "Xb": "RA0", "Yled": "RD0", "Yb": "RC1", "P": "RC2"},
     "Microchip PIC16F628 18-PDIP or 18-SOIC": {"Xa": "RB0", "Xb": "RA0", "Yled": "RB5", "Yb": "RA2", "P": "RB3"},
@@ -45,7 +48,7 @@ def ldmicro():
 
 def _written(mcu: str, pins: dict[str, str], folder: Path) -> Path:
     """The program as a user writes it in the text form, converted to .ld."""
-    avr = "AVR" in mcu
+    avr = "AVR" in mcu or mcu.startswith("atmega")
     prog = program([contact("Xa"), coil("Yled")], [contact("Xb"), coil("Yb")],
                    [contact("Xa"), el("SET_PWM", duty="50", freq=1000, name="P")],
                    mcu=mcu, pins=pins, crystal_hz=16_000_000 if avr else 4_000_000, cycle_timer=1 if avr else 0)
