@@ -7,9 +7,12 @@
 //
 //   node vscode_e2e.js --vsix X.vsix --workspace DIR --bad FILE --sim FILE --out DIR [--python PY]
 //                      [--detect a.ld,b.txt] [--no-sim] [--no-hover]   (to narrow a run down while debugging)
+//                      [--no-python]
 //
 // Without --python the extension finds a Python itself (ladder.server.pythonPath unset), on the
-// PATH this script is started with, which code-server and its extension host inherit.
+// PATH this script is started with, which code-server and its extension host inherit. With
+// --no-python that PATH has none: the run opens --bad and reads the notification that says what
+// to install, and checks nothing else.
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
@@ -29,7 +32,7 @@ function parseArgs(argv) {
   for (let i = 0; i < argv.length; i++) {
     const m = /^--([a-z-]+)$/.exec(argv[i]);
     if (!m) throw new Error(`unexpected argument ${argv[i]}`);
-    if (m[1] === 'no-sim' || m[1] === 'no-hover') {
+    if (m[1] === 'no-sim' || m[1] === 'no-hover' || m[1] === 'no-python') {
       args[m[1]] = true;
       continue;
     }
@@ -254,170 +257,184 @@ async function main() {
       }, 30000),
     );
 
-    result.problems = await timed('diagnostic in the Problems panel', async () => {
-      await page.keyboard.press('Control+Shift+M');
-      return waitFor(
-        'the diagnostic in the Problems panel',
-        async () => {
-          const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
-          const hit = rows.find((r) => /LD102/.test(r));
-          return hit ? rows : false;
-        },
-        60000,
+    if (args['no-python']) {
+      // no Python on PATH: the notification says what to install
+      result.notification = await timed('the notification that no Python fits', () =>
+        waitFor('the notification', async () => {
+          const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+          const hit = toasts.find((t) => /language server needs Python/.test(t));
+          return hit ? hit.replace(/\s+/g, ' ').trim() : false;
+        }, 30000),
       );
-    });
-    log(`problems: ${JSON.stringify(result.problems)}`);
-    await page.screenshot({ path: path.join(args.out, 'vscode-problems.png') });
-
-    // languages by first line: LDmicro .ld files are `ldmicro`, linker scripts are not; exported .txt is `ladder`
-    if (args.detect) {
-      result.languages = await timed('languages of .ld and .txt files', async () => {
-        const out = {};
-        for (const name of args.detect.split(',')) {
-          await openFile(name);
-          out[name] = await waitFor(`the language mode of ${name}`, async () => {
-            const t = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')).trim();
-            return t || false;
-          }, 15000);
-          // the language is chosen when the file opens; give a late change a moment to show
-          await page.waitForTimeout(300);
-          out[name] = (await page.locator('.statusbar [id="status.editor.mode"]').innerText()).trim();
-        }
-        return out;
-      });
-    }
-
-    await timed('open the program to simulate', () => openFile(simName));
-    // the hover of a name: the server's text
-    if (!args['no-hover']) {
-      result.hover = await timed('hover a name', async () => {
-        await hoverName('Xstop');
-        return hoverText();
-      });
-      await page.mouse.move(5, 5);
-      await page.keyboard.press('Escape');
-    }
-
-    if (!args['no-sim']) {
-      await timed('start the simulation (command palette)', async () => {
-        await runCommand('Ladder: Start Simulation');
-        await waitFor('the status bar to show the simulation', async () => {
-          const text = await page.locator('.statusbar').innerText();
-          return /scan\s+\d+/.test(text);
-        }, 30000);
-      });
-
-      await timed('toggle Xstart with its code lens', async () => {
-        const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 0' }).first();
-        await lens.waitFor({ state: 'visible', timeout: 20000 });
-        await lens.click();
-        await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 1' }).first().waitFor({ timeout: 20000 });
-      });
-
-      await timed('one scan with F10', async () => {
-        const before = await page.locator('.statusbar').innerText();
-        const scanBefore = Number((/scan\s+(\d+)/.exec(before) || [])[1]);
-        await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-        await page.keyboard.press('F10');
-        result.statusBar = await waitFor('the scan count to advance', async () => {
-          const text = await page.locator('.statusbar').innerText();
-          const m = /Sim[^\n]*scan\s+(\d+)/.exec(text);
-          return m && Number(m[1]) > scanBefore ? m[0] : false;
-        }, 20000);
-      });
-
-      result.energized = await timed('energized elements painted red', () =>
-        waitFor('red (energized) text in the editor', async () => {
-          const texts = await page.evaluate(() => {
-            const out = [];
-            const spans = document.querySelectorAll('.monaco-editor .view-lines .view-line span span');
-            for (const s of spans) {
-              // textladder.energizedForeground in a dark theme: #ff4040
-              if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) out.push(s.textContent);
-            }
-            return out;
-          });
-          return texts.length > 0 ? texts : false;
-        }, 20000),
-      );
-      log(`energized: ${JSON.stringify(result.energized)}`);
-
-      // live values come as inlay hints after the end of their line: the drawing must not move
-      result.liveValues = await timed('live values after the line, rails aligned', () =>
-        waitFor('Xstart=1 after its line with every right rail in one column', async () => {
-          const seen = await page.evaluate(() => {
-            const rails = new Set();
-            let hint = '';
-            for (const line of document.querySelectorAll('.monaco-editor .view-lines .view-line')) {
-              const text = line.textContent || '';
-              if (/Xstart=1/.test(text)) hint = text.replace(/\u00a0/g, ' ');
-              // the right rail: the last "||" of the drawing, measured where the browser draws it
-              const walker = document.createTreeWalker(line, NodeFilter.SHOW_TEXT);
-              let last = null;
-              for (let node = walker.nextNode(); node; node = walker.nextNode()) {
-                const at = node.textContent.lastIndexOf('||');
-                if (at >= 0) last = [node, at];
-              }
-              if (!last || !/^\s*\d*\|\|/.test(text.replace(/\u00a0/g, ' '))) continue;
-              const range = document.createRange();
-              range.setStart(last[0], last[1]);
-              range.setEnd(last[0], last[1] + 2);
-              rails.add(Math.round(range.getBoundingClientRect().left));
-            }
-            return { rails: [...rails], hint };
-          });
-          return seen.rails.length === 1 && /\|\|\s+Xstart=1/.test(seen.hint) ? seen : false;
-        }, 20000),
-      );
-      log(`live values: ${JSON.stringify(result.liveValues)}`);
-
-      result.watch = await timed('watch view', async () => {
-        const header = page.locator('.pane-header', { hasText: 'Ladder Simulation' }).first();
-        await header.waitFor({ timeout: 15000 });
-        if ((await header.getAttribute('aria-expanded')) !== 'true') await header.click();
-        return waitFor('Xstart in the watch view', async () => {
-          const rows = await page.locator('.pane', { has: header }).locator('.monaco-list-row').allInnerTexts();
-          return rows.some((r) => /Xstart/.test(r)) ? rows.map((r) => r.replace(/\s+/g, ' ').trim()) : false;
-        }, 15000);
-      });
-
-      const shot = path.join(args.out, 'vscode-simulation.png');
+      const shot = path.join(args.out, 'vscode-no-python.png');
       await page.screenshot({ path: shot });
       result.screenshot = shot;
+    } else {
+      result.problems = await timed('diagnostic in the Problems panel', async () => {
+        await page.keyboard.press('Control+Shift+M');
+        return waitFor(
+          'the diagnostic in the Problems panel',
+          async () => {
+            const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
+            const hit = rows.find((r) => /LD102/.test(r));
+            return hit ? rows : false;
+          },
+          60000,
+        );
+      });
+      log(`problems: ${JSON.stringify(result.problems)}`);
+      await page.screenshot({ path: path.join(args.out, 'vscode-problems.png') });
 
-      // while simulating, the hover adds a link that toggles the input
-      if (!args['no-hover']) {
-        result.hoverSim = await timed('toggle Xstop from its hover', async () => {
-          await hoverName('Xstop');
-          const text = await waitFor('the toggle link in the hover', async () => {
-            const t = await hoverText();
-            return /Toggle Xstop/.test(t) ? t : false;
-          }, 15000);
-          await page.locator('.monaco-hover:not(.hidden) a', { hasText: 'Toggle Xstop' }).first().click();
-          await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstop = 1' }).first().waitFor({ timeout: 15000 });
-          return text;
+      // languages by first line: LDmicro .ld files are `ldmicro`, linker scripts are not; exported .txt is `ladder`
+      if (args.detect) {
+        result.languages = await timed('languages of .ld and .txt files', async () => {
+          const out = {};
+          for (const name of args.detect.split(',')) {
+            await openFile(name);
+            out[name] = await waitFor(`the language mode of ${name}`, async () => {
+              const t = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')).trim();
+              return t || false;
+            }, 15000);
+            // the language is chosen when the file opens; give a late change a moment to show
+            await page.waitForTimeout(300);
+            out[name] = (await page.locator('.statusbar [id="status.editor.mode"]').innerText()).trim();
+          }
+          return out;
         });
-        await page.mouse.move(5, 5);
       }
 
-      await timed('stop the simulation', async () => {
-        await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-        await page.keyboard.press('Shift+F5');
-        await waitFor('the red elements to go', async () => {
-          const n = await page.evaluate(() => {
-            let k = 0;
-            for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
-              if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) k++;
-            }
-            return k;
+      await timed('open the program to simulate', () => openFile(simName));
+      // the hover of a name: the server's text
+      if (!args['no-hover']) {
+        result.hover = await timed('hover a name', async () => {
+          await hoverName('Xstop');
+          return hoverText();
+        });
+        await page.mouse.move(5, 5);
+        await page.keyboard.press('Escape');
+      }
+
+      if (!args['no-sim']) {
+        await timed('start the simulation (command palette)', async () => {
+          await runCommand('Ladder: Start Simulation');
+          await waitFor('the status bar to show the simulation', async () => {
+            const text = await page.locator('.statusbar').innerText();
+            return /scan\s+\d+/.test(text);
+          }, 30000);
+        });
+
+        await timed('toggle Xstart with its code lens', async () => {
+          const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 0' }).first();
+          await lens.waitFor({ state: 'visible', timeout: 20000 });
+          await lens.click();
+          await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 1' }).first().waitFor({ timeout: 20000 });
+        });
+
+        await timed('one scan with F10', async () => {
+          const before = await page.locator('.statusbar').innerText();
+          const scanBefore = Number((/scan\s+(\d+)/.exec(before) || [])[1]);
+          await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+          await page.keyboard.press('F10');
+          result.statusBar = await waitFor('the scan count to advance', async () => {
+            const text = await page.locator('.statusbar').innerText();
+            const m = /Sim[^\n]*scan\s+(\d+)/.exec(text);
+            return m && Number(m[1]) > scanBefore ? m[0] : false;
+          }, 20000);
+        });
+
+        result.energized = await timed('energized elements painted red', () =>
+          waitFor('red (energized) text in the editor', async () => {
+            const texts = await page.evaluate(() => {
+              const out = [];
+              const spans = document.querySelectorAll('.monaco-editor .view-lines .view-line span span');
+              for (const s of spans) {
+                // textladder.energizedForeground in a dark theme: #ff4040
+                if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) out.push(s.textContent);
+              }
+              return out;
+            });
+            return texts.length > 0 ? texts : false;
+          }, 20000),
+        );
+        log(`energized: ${JSON.stringify(result.energized)}`);
+
+        // live values come as inlay hints after the end of their line: the drawing must not move
+        result.liveValues = await timed('live values after the line, rails aligned', () =>
+          waitFor('Xstart=1 after its line with every right rail in one column', async () => {
+            const seen = await page.evaluate(() => {
+              const rails = new Set();
+              let hint = '';
+              for (const line of document.querySelectorAll('.monaco-editor .view-lines .view-line')) {
+                const text = line.textContent || '';
+                if (/Xstart=1/.test(text)) hint = text.replace(/\u00a0/g, ' ');
+                // the right rail: the last "||" of the drawing, measured where the browser draws it
+                const walker = document.createTreeWalker(line, NodeFilter.SHOW_TEXT);
+                let last = null;
+                for (let node = walker.nextNode(); node; node = walker.nextNode()) {
+                  const at = node.textContent.lastIndexOf('||');
+                  if (at >= 0) last = [node, at];
+                }
+                if (!last || !/^\s*\d*\|\|/.test(text.replace(/\u00a0/g, ' '))) continue;
+                const range = document.createRange();
+                range.setStart(last[0], last[1]);
+                range.setEnd(last[0], last[1] + 2);
+                rails.add(Math.round(range.getBoundingClientRect().left));
+              }
+              return { rails: [...rails], hint };
+            });
+            return seen.rails.length === 1 && /\|\|\s+Xstart=1/.test(seen.hint) ? seen : false;
+          }, 20000),
+        );
+        log(`live values: ${JSON.stringify(result.liveValues)}`);
+
+        result.watch = await timed('watch view', async () => {
+          const header = page.locator('.pane-header', { hasText: 'Ladder Simulation' }).first();
+          await header.waitFor({ timeout: 15000 });
+          if ((await header.getAttribute('aria-expanded')) !== 'true') await header.click();
+          return waitFor('Xstart in the watch view', async () => {
+            const rows = await page.locator('.pane', { has: header }).locator('.monaco-list-row').allInnerTexts();
+            return rows.some((r) => /Xstart/.test(r)) ? rows.map((r) => r.replace(/\s+/g, ' ').trim()) : false;
+          }, 15000);
+        });
+
+        const shot = path.join(args.out, 'vscode-simulation.png');
+        await page.screenshot({ path: shot });
+        result.screenshot = shot;
+
+        // while simulating, the hover adds a link that toggles the input
+        if (!args['no-hover']) {
+          result.hoverSim = await timed('toggle Xstop from its hover', async () => {
+            await hoverName('Xstop');
+            const text = await waitFor('the toggle link in the hover', async () => {
+              const t = await hoverText();
+              return /Toggle Xstop/.test(t) ? t : false;
+            }, 15000);
+            await page.locator('.monaco-hover:not(.hidden) a', { hasText: 'Toggle Xstop' }).first().click();
+            await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstop = 1' }).first().waitFor({ timeout: 15000 });
+            return text;
           });
-          return n === 0;
-        }, 15000);
-      });
-    } else {
-      const shot = path.join(args.out, 'vscode-editor.png');
-      await page.screenshot({ path: shot });
-      result.screenshot = shot;
+          await page.mouse.move(5, 5);
+        }
+
+        await timed('stop the simulation', async () => {
+          await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+          await page.keyboard.press('Shift+F5');
+          await waitFor('the red elements to go', async () => {
+            const n = await page.evaluate(() => {
+              let k = 0;
+              for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
+                if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) k++;
+              }
+              return k;
+            });
+            return n === 0;
+          }, 15000);
+        });
+      } else {
+        const shot = path.join(args.out, 'vscode-editor.png');
+        await page.screenshot({ path: shot });
+        result.screenshot = shot;
+      }
     }
     result.ok = true;
   } catch (err) {

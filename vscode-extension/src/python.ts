@@ -217,8 +217,8 @@ export function noPythonMessage(platform: NodeJS.Platform, spec: string, rejecte
   const tried =
     rejected.length === 0
       ? platform === 'win32'
-        ? 'none of py, python.exe, python3.exe is on PATH'
-        : 'neither python3 nor python is on PATH'
+        ? 'None of py, python.exe, python3.exe is on PATH'
+        : 'Neither python3 nor python is on PATH'
       : rejected
           .map((r) => {
             const why = isStoreAlias(r.candidate.command) && !/too old/.test(r.reason)

@@ -140,8 +140,8 @@ test('the first candidate that answers with a suitable version wins; the others 
 });
 
 test('the message when nothing is on PATH, and when the setting names a bad Python', () => {
-  assert.match(noPythonMessage('win32', '>=3.11', []), /none of py, python\.exe, python3\.exe is on PATH/);
-  assert.match(noPythonMessage('linux', '>=3.11', []), /neither python3 nor python is on PATH/);
+  assert.match(noPythonMessage('win32', '>=3.11', []), /None of py, python\.exe, python3\.exe is on PATH/);
+  assert.match(noPythonMessage('linux', '>=3.11', []), /Neither python3 nor python is on PATH/);
   const setting: Candidate = { command: 'C:\\Program Files\\Python310\\python.exe', args: [], source: 'ladder.server.pythonPath' };
   const message = noPythonMessage('win32', '>=3.11', [{ candidate: setting, reason: 'Python 3.10.11 is too old (the server needs >=3.11)' }], 'ladder.server.pythonPath');
   assert.match(message, /"C:\\\\Program Files\\\\Python310\\\\python\.exe" \(ladder\.server\.pythonPath\): Python 3\.10\.11 is too old/);
