@@ -101,3 +101,79 @@ def test_neovim_ftdetect_and_module_present():
                     "LadderSimRunFor", "LadderSimRunUntil", "LadderSimRealtime", "LadderSimReset"):
         assert f"'{command}'" in module
     assert "ladder/simulationState" in module
+
+
+def _bundle_module():
+    spec = importlib.util.spec_from_file_location("bundle", EXT / "scripts" / "bundle.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_packaging_bundles_the_server_first():
+    assert MANIFEST["scripts"]["vscode:prepublish"].startswith("npm run bundle && ")
+    ignore = (EXT / ".vscodeignore").read_text().splitlines()
+    assert {"!bundled/tool/lsp_server.py", "!bundled/tool/python.json", "!bundled/libs/**", "**/__pycache__/**"} <= set(ignore)
+
+
+def test_bundle_reads_the_minimum_python():
+    bundle = _bundle_module()
+    assert bundle.minimum_python(">=3.11") == "3.11"
+    assert bundle.minimum_python(">= 3.12, <4") == "3.12"
+    with pytest.raises(bundle.BundleError, match=r"requires-python '<4' names no lower bound"):
+        bundle.minimum_python("<4")
+
+
+def _wheel(libs: Path, name: str, tags: str, purelib: str = "true") -> None:
+    info = libs / f"{name}.dist-info"
+    info.mkdir(parents=True)
+    (info / "WHEEL").write_text(f"Wheel-Version: 1.0\nRoot-Is-Purelib: {purelib}\n{tags}\n")
+
+
+def test_bundle_refuses_compiled_code(tmp_path):
+    bundle = _bundle_module()
+    _wheel(tmp_path, "lark-1.3.1", "Tag: py3-none-any")
+    bundle.check_pure(tmp_path)
+    _wheel(tmp_path, "rpds_py-0.20.0", "Tag: cp311-cp311-win_amd64", purelib="false")
+    with pytest.raises(bundle.BundleError, match=r"rpds_py-0.20.0.dist-info is not a pure-Python wheel \(cp311-cp311-win_amd64\)"):
+        bundle.check_pure(tmp_path)
+    (tmp_path / "rpds_py-0.20.0.dist-info").joinpath("WHEEL").write_text("Root-Is-Purelib: true\nTag: py3-none-any\n")
+    (tmp_path / "rpds").mkdir()
+    (tmp_path / "rpds" / "rpds.cp311-win_amd64.pyd").write_bytes(b"MZ")
+    with pytest.raises(bundle.BundleError, match=r"compiled code in the bundle: rpds/rpds.cp311-win_amd64.pyd"):
+        bundle.check_pure(tmp_path)
+
+
+def test_bundle_prunes_what_the_server_never_reads(tmp_path):
+    bundle = _bundle_module()
+    files = {
+        "bin/ladder": "", "lark/__init__.py": "", "lark/__pyinstaller/hook.py": "", "lark/grammars/common.lark": "",
+        "intelhex/__init__.py": "", "intelhex/test.py": "", "cattrs/tests/test_x.py": "", "cattrs/__pycache__/x.pyc": "",
+        "ladder/commands/test.py": "", "lang/__pycache__/model.cpython-311.pyc": "",
+        "pygls-2.1.1.dist-info/METADATA": "Name: pygls\nVersion: 2.1.1\n\n# pygls\n\nThe long README\n",
+        "pygls-2.1.1.dist-info/RECORD": "", "pygls-2.1.1.dist-info/INSTALLER": "",
+        "pygls-2.1.1.dist-info/licenses/LICENSE.txt": "Apache", "intelhex-2.3.0.dist-info/LICENSE.txt": "BSD",
+        "intelhex-2.3.0.dist-info/top_level.txt": "intelhex",
+    }
+    for name, text in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text)
+    bundle.prune(tmp_path, {"ladder", "lang"})
+    left = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*") if p.is_file())
+    assert left == ["intelhex-2.3.0.dist-info/LICENSE.txt", "intelhex/__init__.py", "ladder/commands/test.py",
+                    "lark/__init__.py", "lark/grammars/common.lark", "pygls-2.1.1.dist-info/METADATA",
+                    "pygls-2.1.1.dist-info/licenses/LICENSE.txt"]
+    assert (tmp_path / "pygls-2.1.1.dist-info" / "METADATA").read_text() == "Name: pygls\nVersion: 2.1.1\n"
+
+
+def test_bundle_reports_a_pyproject_it_cannot_use(tmp_path, capsys, monkeypatch):
+    bundle = _bundle_module()
+    (tmp_path / "pyproject.toml").write_text('[project]\nname = "textladder"\nversion = "0.1.0"\n')
+    libs = tmp_path / "vscode-extension" / "bundled" / "libs"
+    libs.mkdir(parents=True)
+    (libs / "kept.py").write_text("")
+    monkeypatch.setattr(bundle, "REPO", tmp_path)
+    monkeypatch.setattr(bundle, "LIBS", libs)
+    assert bundle.main() == 1
+    assert capsys.readouterr().err == "bundle: pyproject.toml has no 'requires-python'\n"
+    assert (libs / "kept.py").exists()  # an earlier bundle is left as it was

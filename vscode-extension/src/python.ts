@@ -117,6 +117,35 @@ export function parseProbe(stdout: string): Probe {
   return { version, executable: lines[lines.indexOf(version) + 1] || undefined };
 }
 
+/** What is read of the Python extension's API: the newer `environments`, else the older `settings`. */
+export interface PythonExtensionApi {
+  ready?: Promise<void>;
+  environments?: {
+    getActiveEnvironmentPath(resource?: unknown): { path: string };
+    resolveEnvironment(env: { path: string } | string): Promise<{ executable: { uri?: { fsPath: string } } } | undefined>;
+  };
+  settings?: {
+    getExecutionDetails(resource?: unknown): { execCommand?: string[] };
+  };
+}
+
+/** The interpreter the Python extension has selected for `resource` (a workspace folder's URI). */
+export async function interpreterOfPythonExtension(api: PythonExtensionApi | undefined, resource?: unknown): Promise<Candidate | undefined> {
+  await api?.ready;
+  if (api?.environments) {
+    const env = await api.environments.resolveEnvironment(api.environments.getActiveEnvironmentPath(resource));
+    const exe = env?.executable.uri?.fsPath;
+    if (exe) {
+      return { command: exe, args: [], source: 'the Python extension' };
+    }
+  }
+  const exec = api?.settings?.getExecutionDetails(resource).execCommand;
+  if (exec && exec.length > 0) {
+    return { command: exec[0], args: exec.slice(1), source: 'the Python extension' };
+  }
+  return undefined;
+}
+
 // ---------------------------------------------------------------- requires-python
 
 interface Clause {

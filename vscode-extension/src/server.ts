@@ -7,8 +7,10 @@ import * as vscode from 'vscode';
 import { Executable } from 'vscode-languageclient/node';
 import {
   Candidate,
+  PythonExtensionApi,
   describeCandidate,
   findPython,
+  interpreterOfPythonExtension,
   noPythonMessage,
   pathCandidates,
   probePython,
@@ -56,42 +58,19 @@ function isExecutableFile(p: string): boolean {
   }
 }
 
-interface PythonExtensionApi {
-  ready?: Promise<void>;
-  environments?: {
-    getActiveEnvironmentPath(resource?: vscode.Uri): { path: string };
-    resolveEnvironment(env: { path: string } | string): Promise<{ executable: { uri?: vscode.Uri } } | undefined>;
-  };
-  settings?: {
-    getExecutionDetails(resource?: vscode.Uri): { execCommand?: string[] };
-  };
-}
-
 /** The interpreter selected in the Python extension (ms-python.python), when it is installed. */
 async function pythonExtensionCandidate(log: (line: string) => void): Promise<Candidate | undefined> {
   const ext = vscode.extensions.getExtension<PythonExtensionApi>('ms-python.python');
   if (!ext) {
     return undefined;
   }
-  const resource = vscode.workspace.workspaceFolders?.[0]?.uri;
   try {
     const api = ext.isActive ? ext.exports : await ext.activate();
-    await api?.ready;
-    if (api?.environments) {
-      const env = await api.environments.resolveEnvironment(api.environments.getActiveEnvironmentPath(resource));
-      const exe = env?.executable.uri?.fsPath;
-      if (exe) {
-        return { command: exe, args: [], source: 'the Python extension' };
-      }
-    }
-    const exec = api?.settings?.getExecutionDetails(resource).execCommand;
-    if (exec && exec.length > 0) {
-      return { command: exec[0], args: exec.slice(1), source: 'the Python extension' };
-    }
+    return await interpreterOfPythonExtension(api, vscode.workspace.workspaceFolders?.[0]?.uri);
   } catch (err) {
     log(`the Python extension gave no interpreter: ${err instanceof Error ? err.message : String(err)}`);
+    return undefined;
   }
-  return undefined;
 }
 
 /**

@@ -10,6 +10,7 @@ import {
   Probe,
   findOnPath,
   findPython,
+  interpreterOfPythonExtension,
   minimumVersion,
   noPythonMessage,
   parseProbe,
@@ -71,6 +72,36 @@ test('a setting: a path is kept as written (spaces, backslashes, copied with quo
   assert.equal(resolveProgram('py', 'win32', { PATH: 'C:\\WINDOWS' }, files('C:\\WINDOWS\\py.exe')), 'C:\\WINDOWS\\py.exe');
   assert.equal(resolveProgram('python3', 'linux', { PATH: '/usr/bin' }, files('/usr/bin/python3')), '/usr/bin/python3');
   assert.equal(resolveProgram('/opt/my venv/bin/python', 'linux', {}, none), '/opt/my venv/bin/python');
+});
+
+test("the Python extension's interpreter: its environments API, else its older execution details", async () => {
+  const folder = { fsPath: 'C:\\Users\\Ana\\plc' };
+  const asked: unknown[] = [];
+  const environments = {
+    getActiveEnvironmentPath: (resource?: unknown) => {
+      asked.push(resource);
+      return { path: 'C:\\Users\\Ana\\plc\\.venv' };
+    },
+    resolveEnvironment: async (env: { path: string } | string) => ({
+      executable: { uri: { fsPath: `${typeof env === 'string' ? env : env.path}\\Scripts\\python.exe` } },
+    }),
+  };
+  assert.deepEqual(await interpreterOfPythonExtension({ environments }, folder), {
+    command: 'C:\\Users\\Ana\\plc\\.venv\\Scripts\\python.exe',
+    args: [],
+    source: 'the Python extension',
+  });
+  assert.deepEqual(asked, [folder]);
+  // an environment with no executable yet: the execution details (a conda command line) are used
+  const settings = { getExecutionDetails: () => ({ execCommand: ['C:\\Miniconda3\\Scripts\\conda.exe', 'run', '-n', 'plc', 'python'] }) };
+  const noExe = { ...environments, resolveEnvironment: async () => ({ executable: { uri: undefined } }) };
+  assert.deepEqual(await interpreterOfPythonExtension({ environments: noExe, settings, ready: Promise.resolve() }), {
+    command: 'C:\\Miniconda3\\Scripts\\conda.exe',
+    args: ['run', '-n', 'plc', 'python'],
+    source: 'the Python extension',
+  });
+  assert.equal(await interpreterOfPythonExtension({ settings: { getExecutionDetails: () => ({ execCommand: undefined }) } }), undefined);
+  assert.equal(await interpreterOfPythonExtension(undefined), undefined);
 });
 
 test('the probe reads the version and the interpreter, CRLF line ends included', () => {
