@@ -9,9 +9,10 @@ holds on the simulator says so: that is where the two part.
 
 What the firmware cannot be given is a located failure, not a silent gap: a
 `set` of anything but an input or an A/D reading (the MCU's memory is not
-written from outside), an input with no pin on the part. The firmware then runs up to the first such action, every
-expectation decided before it is reported as usual, and each one after it
-as not checked: the firmware's run is no longer the scenario's.
+written from outside), an input with no pin on the part. The firmware then
+runs up to the first such action, every expectation decided before it is
+reported as usual, and each one after it as not checked: the firmware's run
+is no longer the scenario's.
 """
 
 from __future__ import annotations
