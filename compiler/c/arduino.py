@@ -6,8 +6,10 @@ every cycle time, timed with `micros()`.
 
 The boards are data (boards.json, from the Arduino AVR core's pin tables).
 A program names its pins as the board's Arduino pins (`D2`, `A0`), as the
-board MCU's port bits (`PD2`) or by the package pin numbers of its own part;
-`compiler.build_arduino` resolves them into `SketchPin`s.
+board MCU's port bits (`PD2`) or by the package pin numbers of its own part
+when that is the board's MCU; `compiler.build_arduino` resolves them into
+`SketchPin`s (and refuses the pins of a program drawn for another chip,
+docs/c.md).
 """
 
 from __future__ import annotations
