@@ -975,6 +975,9 @@ def package_pins(program: Program) -> tuple[dict[str, int], list[Diagnostic]]:
         text = assignment.pin
         if isinstance(text, int):
             continue
+        if not assignment.assigned:  # "" or "0": LDmicro's unassigned pin
+            numbers[name] = 0
+            continue
         pin = device.pin(text) if device is not None else None
         if pin is not None:
             numbers[name] = pin.number

@@ -151,3 +151,8 @@ def test_convert_refuses_and_writes_nothing(tmp_path, capsys):
 def test_the_part_is_written_by_the_name_ldmicro_knows_it_by(mcu, written):
     prog = program([contact("Xa")], mcu=mcu, pins={"Xa": 0})
     assert f"\nMICRO={written}\n" in write_ld(prog, diagnostics=[])
+
+
+def test_a_pin_left_empty_is_written_unassigned():
+    prog = program([contact("Xa")], mcu="", pins={"Xa": ""})
+    assert "    Xa at 0 0 0\n" in write_ld(prog, diagnostics=[])
