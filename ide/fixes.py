@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from lang.checks import check_program
 from lang.config import NONE, Severities
-from lang.diagnostics import ERROR, Fix, Rename, SetPart
+from lang.diagnostics import ERROR, Fix, Rename, Replace, SetPart
 from lang.loader import parse
 from lang.model import Program
 
@@ -20,6 +20,9 @@ def fix_edits(fix: Fix, program: Program, text: str, kind: str) -> tuple[list[Li
     if isinstance(fix.change, Rename):
         locator = Locator(program, text.splitlines(), kind)
         return rename(program, locator, text, fix.change.old, fix.change.new, kind)
+    if isinstance(fix.change, Replace):
+        span = fix.change.span
+        return [], [TextEdit(span.line, span.col, span.end_col, fix.change.text)]
     assert isinstance(fix.change, SetPart)
     span = program.settings.mcu_span
     if span is None:
@@ -43,14 +46,17 @@ def fix_all(text: str, kind: str, severities: Severities = NONE) -> tuple[str, l
     """The text with every diagnostic that has exactly one fix fixed, one at
     a time (each fix changes what the next one sees), and the fixes' titles.
     Where a diagnostic offers a choice (a coil named `count`: `Ycount`,
-    `Rcount` or `Mcount`?) the user chooses, in the editor. A text the
-    reader finds errors in is left as it is."""
+    `Rcount` or `Mcount`?) the user chooses, in the editor. The reader's
+    own fixes (a connector glyph moved into its column) come first; the
+    checks' are made only once the text reads without error, as a rename
+    must see every use of the name."""
     applied: list[str] = []
     for _ in range(_ROUNDS):
         program, problems = parse(text, kind)
         if any(p.severity == ERROR for p in problems):
-            break
-        made = _first_fix(text, kind, program, check_program(program, severities=severities))
+            made = _first_fix(text, kind, program, problems)
+        else:
+            made = _first_fix(text, kind, program, check_program(program, severities=severities))
         if made is None:
             break
         text, title = made

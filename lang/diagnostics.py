@@ -33,12 +33,23 @@ class SetPart:
 
 
 @dataclass(frozen=True)
+class Replace:
+    """Replace the text of a one-line span (a glyph moved into its column)."""
+
+    span: Span
+    text: str
+
+    def shifted(self, lines: int) -> Replace:
+        return Replace(self.span.shifted(lines), self.text)
+
+
+@dataclass(frozen=True)
 class Fix:
     """A change that removes the diagnostic; the editor offers it as a quick
     fix and `ladder check --fix` applies a diagnostic's first one."""
 
     title: str
-    change: Rename | SetPart
+    change: Rename | SetPart | Replace
 
 
 @dataclass(frozen=True)
@@ -53,7 +64,9 @@ class Diagnostic:
     def shifted(self, lines: int) -> Diagnostic:
         """The diagnostic with every place moved `lines` lines down (up when negative)."""
         return replace(self, span=self.span.shifted(lines) if self.span is not None else None,
-                       related=tuple(Related(r.span.shifted(lines), r.message) for r in self.related))
+                       related=tuple(Related(r.span.shifted(lines), r.message) for r in self.related),
+                       fixes=tuple(Fix(f.title, f.change.shifted(lines)) if isinstance(f.change, Replace) else f
+                                   for f in self.fixes))
 
     def format(self, path: str) -> str:
         """`path:line:col: severity CODE message`, 1-based line and column."""

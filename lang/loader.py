@@ -5,11 +5,13 @@ share."""
 
 from __future__ import annotations
 
+import sys
+from bisect import bisect_right
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import codes
-from .diagnostics import Diagnostic, error
+from .diagnostics import ERROR, Diagnostic, error
 from .model import Program, Span
 from .values import decode_bytes
 
@@ -52,6 +54,41 @@ def parse(text: str, kind: str) -> tuple[Program, list[Diagnostic]]:
     from .textform.reader import read_text
 
     return read_text(text)
+
+
+def checkable(program: Program, problems: list[Diagnostic]) -> bool:
+    """Whether the checks can run on a program read with these problems: it
+    was read without error, or every reading error is inside a rung the text
+    reader could not read (that rung stands in its place, and the checks say
+    nothing inside it: `checked`). An error anywhere else (the header, the
+    I/O table, DETAILS, an .ld file) leaves the program too incomplete to
+    check without false alarms."""
+    errors = [p for p in problems if p.severity == ERROR]
+    if not errors:
+        return True
+    unread = _unread_lines(program)
+    return all(p.span is not None and _inside(p.span.line, unread) for p in errors)
+
+
+def checked(program: Program, diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """The checks' diagnostics without those inside rungs that could not be
+    read: a half-read rung's structure is not what was drawn."""
+    unread = _unread_lines(program)
+    if not unread:
+        return diagnostics
+    return [d for d in diagnostics if d.span is None or not _inside(d.span.line, unread)]
+
+
+def _unread_lines(program: Program) -> list[tuple[int, int]]:
+    from .textform.rungs import UnreadRung
+
+    return [(rung.span.line, rung.span.end_line) for rung in program.rungs
+            if isinstance(rung, UnreadRung) and rung.span is not None]
+
+
+def _inside(line: int, ranges: list[tuple[int, int]]) -> bool:
+    at = bisect_right(ranges, (line, sys.maxsize)) - 1
+    return at >= 0 and ranges[at][0] <= line <= ranges[at][1]
 
 
 def decode(data: bytes, path: str | Path, encoding: str | None) -> tuple[str, str, list[Diagnostic]]:

@@ -60,13 +60,16 @@ def _action(title: str, kind, edit: types.WorkspaceEdit | None = None, command=N
 # --- quick fixes ------------------------------------------------------------------------------
 
 def quick_fixes(ls, analysis, diagnostics) -> list[types.CodeAction]:
-    """The fixes the checks attached to the client's diagnostics (ide.fixes
-    turns each into edits, as `ladder check --fix` does)."""
+    """The fixes the reader or the checks attached to the client's
+    diagnostics (ide.fixes turns each into edits, as `ladder check --fix`
+    does): the reader's while the text has reading errors (a rename must see
+    every use of a name), else the checks'."""
     actions = []
+    offered = analysis.problems if analysis.has_errors else analysis.checks
     for diagnostic in diagnostics or ():
-        if diagnostic.source not in (None, "ladder") or analysis.has_errors:
+        if diagnostic.source not in (None, "ladder"):
             continue
-        for found in analysis.checks:
+        for found in offered:
             if found.code != diagnostic.code or found.span is None or \
                     analysis.positions.range(found.span) != diagnostic.range:
                 continue

@@ -28,6 +28,7 @@ from lang.checks import Checker
 from lang.config import NONE, Severities
 from lang.diagnostics import ERROR, WARNING, Diagnostic
 from lang.index import ProgramIndex
+from lang.loader import checkable, checked
 from lang.model import Program, Rung, Span
 
 from .positions import Positions
@@ -175,11 +176,14 @@ class Analysis:
 
     @cached_property
     def checks(self) -> list[Diagnostic]:
-        """The checks' diagnostics, as `ladder check` gives them: only for a
-        program that was read without errors."""
-        if self.too_large or self.has_errors or any(p.code == codes.UNREADABLE for p in self.problems):
+        """The checks' diagnostics, as `ladder check` gives them: for a
+        program read without errors, or whose only errors are in rungs that
+        could not be read (lang.loader.checkable)."""
+        if self.too_large or any(p.code == codes.UNREADABLE for p in self.problems) or \
+                not checkable(self.program, self.problems):
             return []
-        return self._checker.check(self.program, self.moved, self.severities)
+        found = self._checker.check(self.program, self.moved, self.severities)
+        return checked(self.program, found) if self.has_errors else found
 
     @property
     def checked(self) -> bool:

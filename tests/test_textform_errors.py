@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import random
 
+import pytest
 from corpus import EXPORTS
 from hypothesis import given
 from hypothesis import strategies as st
 from mutations import mutate
 
+from ide.fixes import fix_all
 from lang import codes
 from lang.loader import load_bytes
 from lang.textform.formatter import format_text
@@ -46,10 +48,62 @@ def test_a_missing_wire_is_located():
     assert (problem.span.line, problem.span.col) == (3, 37)
 
 
-def test_a_connector_one_column_off_is_located():
-    broken = GOOD.replace("    ||      Rrun      |", "    ||      Rrun       |")
-    problem = _one(broken, codes.BAD_JUNCTION)
-    assert problem.span.line in (4, 5, 6)
+# a connector glyph a column off: one error, at the glyph, naming its column
+# and the `+` it lines up with; the rung read as if it were there
+MISPLACED = [
+    ("the branch's closing `+` one column right",
+     "    |+-------] [------+  ", "    |+-------] [-------+ ",
+     "7:24: error LD014 move '+' to column 23, under the '+' of line 4"),
+    ("the branch's closing `+` one column left",
+     "    |+-------] [------+  ", "    |+-------] [-----+   ",
+     "7:22: error LD014 move '+' to column 23, under the '+' of line 4"),
+    ("the branch's `|` one column right",
+     "    ||      Rrun      |  ", "    ||      Rrun       | ",
+     "6:24: error LD014 move '|' to column 23, under the '+' of line 4"),
+    ("the `|` below the junction one column left",
+     "    ||                |          ", "    ||               |           ",
+     "5:22: error LD014 move '|' to column 23, under the '+' of line 4"),
+    ("the junction on the wire one column right",
+     "[------+-------]/[", "[-------+------]/[",
+     "4:24: error LD014 move '+' to column 23, above the '+' of line 7"),
+]
+
+
+@pytest.mark.parametrize("case", MISPLACED, ids=[case[0] for case in MISPLACED])
+def test_a_connector_glyph_one_column_off_says_where_it_belongs(case):
+    _, old, new, expected = case
+    broken = GOOD.replace(old, new, 1)
+    assert broken != GOOD
+    assert [p.format("f") for p in _problems(broken)] == [f"f:{expected}"]
+
+
+@pytest.mark.parametrize("case", MISPLACED, ids=[case[0] for case in MISPLACED])
+def test_the_fix_moves_the_glyph_back(case):
+    _, old, new, _ = case
+    fixed, titles = fix_all(GOOD.replace(old, new, 1), "ladder")
+    assert fixed == GOOD
+    glyph = case[3].split("move '")[1][0]
+    assert titles == [f"move '{glyph}' to column 23"]
+
+
+def test_a_misplaced_glyph_does_not_hide_the_rung_s_other_errors():
+    broken = GOOD.replace("    |+-------] [------+  ", "    |+-------] [-------+ ").replace("]/[", "[?]")
+    assert sorted(p.format("f") for p in _problems(broken)) == [
+        "f:4:31: error LD003 no instruction is drawn like 'Xstop / [?]'",
+        "f:7:24: error LD014 move '+' to column 23, under the '+' of line 4",
+    ]
+
+
+def test_a_middle_junction_off_is_one_error():
+    three = GOOD.replace("    |+-------] [------+                                   ||\n",
+                         "    |+-------] [------+                                   ||\n"
+                         "    ||                |                                   ||\n"
+                         "    ||      Rrun      |                                   ||\n"
+                         "    |+-------] [------+                                   ||\n")
+    assert _problems(three) == []
+    broken = three.replace("    |+-------] [------+  ", "    |+-------] [-------+ ", 1)
+    assert [p.format("f") for p in _problems(broken)] == [
+        "f:7:24: error LD014 move '+' to column 23, under the '+' of line 4"]
 
 
 def test_a_cut_off_box_is_an_unknown_element():

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ide.fixes import fix_all
 from lang import codes, config
-from lang.loader import Loaded, kind_of, parse
+from lang.loader import Loaded, checkable, checked, kind_of, parse
 from lang.values import encode_text
 
 from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_output
@@ -45,7 +45,7 @@ def run(args) -> int:
             report(path, diagnostics)
             status = EXIT_USAGE
             continue
-        if not has_errors(diagnostics):
+        if checkable(loaded.program, diagnostics):
             try:
                 severities = config.find(Path(path))
             except config.ConfigError as bad:
@@ -54,7 +54,8 @@ def run(args) -> int:
             if args.fix:
                 loaded = _fixed(path, loaded, severities) or loaded
                 diagnostics = list(loaded.diagnostics)
-            diagnostics += check_program(loaded.program, severities=severities)
+            if checkable(loaded.program, diagnostics):
+                diagnostics += checked(loaded.program, check_program(loaded.program, severities=severities))
         report(path, diagnostics)
         if has_errors(diagnostics) and status == EXIT_OK:
             status = EXIT_PROBLEMS

@@ -15,6 +15,7 @@ from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span, children
 from . import details
+from .alignment import shifted
 from .rungs import Line, read_rung
 from .sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
 
@@ -400,7 +401,7 @@ class TextReader:
         rung, found, at = cached
         if at != first:
             rung = shift_rung(rung, first - at) if rung is not None else None
-            found = [p.shifted(first - at) for p in found]
+            found = [shifted(p, first - at) for p in found]
         return _Block(first, last, rung, list(found), number_at, key)
 
     def _move(self, block: _Block, delta: int) -> _Block:
@@ -411,8 +412,8 @@ class TextReader:
         rung = block.rung
         if rung is not None:
             _move_circuit(rung.circuit, delta)
-            rung = Rung(rung.circuit, shift_span(rung.span, delta))
-        problems = [p.shifted(delta) for p in block.problems]
+            rung = type(rung)(rung.circuit, shift_span(rung.span, delta))
+        problems = [shifted(p, delta) for p in block.problems]
         moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.key)
         if block.key is not None:
             cached = self._cache.get(block.key)
@@ -611,7 +612,7 @@ def shift_rung(rung: Rung, delta: int) -> Rung:
     """A copy of the rung `delta` lines further down (a cached rung read again elsewhere)."""
     circuit = _shift_node(rung.circuit, delta)
     assert isinstance(circuit, Series)  # a series is moved as a series
-    return Rung(circuit, shift_span(rung.span, delta))
+    return type(rung)(circuit, shift_span(rung.span, delta))
 
 
 def _move_circuit(node: Node, delta: int) -> None:

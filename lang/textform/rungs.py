@@ -5,12 +5,13 @@ vertical connectors, and the wires reduced to a series/parallel circuit."""
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import codes
-from ..diagnostics import Diagnostic, error
+from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Rung, Series, Span, rung_circuit
+from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
 from .elements import GLYPH_RE, complete_args, recognise
 
@@ -50,6 +51,17 @@ TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
 
 
+@dataclass(slots=True)
+class UnreadRung(Rung):
+    """A rung with reading errors, kept in its place so that the rungs after
+    it keep their numbers. Its circuit is the rung as read with a misplaced
+    connector moved (lang/textform/alignment.py) when that was its only
+    fault, else the elements it could recognise, one after the other: their
+    names count as used, so that the checks of the other rungs do not call a
+    name the broken rung writes "never written". The checks say nothing
+    inside it (lang/loader.py, `checked`): its reading errors stand for it."""
+
+
 @dataclass
 class Glyph:
     line: int
@@ -69,9 +81,32 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung | None, list[D
         return Rung(Series([element], comment_span), span), []
     reader = _RungReader(lines, symbol_index)
     circuit = reader.read()
-    if reader.problems:
-        return None, reader.problems
-    return Rung(rung_circuit(circuit), span), []
+    if not reader.problems:
+        return Rung(rung_circuit(circuit), span), []
+    moves = misplaced(lines, symbol_index)
+    if not moves:
+        return UnreadRung(reader.salvage(), span), reader.problems
+    # read as if moved: what is still wrong then is wrong in its own right
+    moved = list(lines)
+    for move in moves:
+        first, last = move.cells
+        text = moved[move.row].text
+        moved[move.row] = replace(moved[move.row], text=text[:first] + move.text[first:last] + text[last:])
+    again = _RungReader(moved, symbol_index)
+    circuit = again.read()
+    problems = [_move_error(move, lines) for move in moves] + again.problems
+    if again.problems:
+        return UnreadRung(again.salvage(), span), problems
+    return UnreadRung(rung_circuit(circuit), span), problems
+
+
+def _move_error(move: Move, lines: list[Line]) -> Diagnostic:
+    number = lines[move.row].number
+    first, last = move.cells
+    fix = Fix(f"move '{move.glyph}' to column {move.to + 1}",
+              Replace(Span.at(number, first, last), move.text[first:last]))
+    anchor = Related(Span.at(lines[move.anchor].number, move.to), "the '+' it lines up with")
+    return replace(error(MISPLACED, move.message(lines), Span.at(number, move.col), anchor), fixes=(fix,))
 
 
 def _read_comment(lines: list[Line]) -> tuple[str, Span] | None:
@@ -106,6 +141,23 @@ class _RungReader:
         self.problems.append(error(code, message, Span.at(number, start, end)))
 
     # --- the rows ---------------------------------------------------------------
+
+    def salvage(self) -> Series:
+        """Every element of the rung that can be recognised, wired or not,
+        top to bottom and left to right, as one series."""
+        saved = self.problems
+        self.problems = []
+        found = []
+        try:
+            for row in self.symbol_rows:
+                for kind, start, end, text in self._tokens(row):
+                    if kind == "glyph":
+                        element = self._element(row, kind, start, end, text)
+                        if element is not None:
+                            found.append(element)
+        finally:
+            self.problems = saved
+        return Series(found, found[0].span.union(found[-1].span) if found and found[0].span else None)
 
     def read(self):
         tokens = {row: self._tokens(row) for row in self.symbol_rows}
