@@ -161,9 +161,14 @@ def _other_chip(program: Program, board: Board, name: str, keep_port_bits: bool)
                                  f"pin number, which means nothing on the {board.title}'s {chip.title}: "
                                  f"{', or '.join(ways) or 'give it a pin of the board'}", assignment.span)
     text = assignment.pin.upper()
+    if own.pin(text) is None:
+        return None  # not a port bit of the program's chip (a header name): _board_pin reads it
     number = board.number(text)
-    if own.pin(text) is None or number is None:
-        return None  # not a port bit of the program's chip (a header name), or not on the board: _board_pin says
+    if number is None:
+        lacks = (f"the {board.title} does not bring out" if chip.pin(text) is not None
+                 else f"the {board.title}'s {chip.title} does not have")
+        return error(OTHER_CHIP, f"'{name}' is at {text}, a port bit of the {own.title}, which {lacks}"
+                                 f"{f': {fits}' if fits else ''}", assignment.span)
     home_number = homes[0].number(text) if homes else None
     before = f"{homes[0].label(home_number)} on the {homes[0].title}" if home_number is not None else ""
     if keep_port_bits:

@@ -119,6 +119,22 @@ def test_a_chip_no_board_carries_has_no_board_to_suggest(capsys, tmp_path):
     assert status == 0 and "'Xbutton1': PD2 → D19 on the Arduino Mega 2560\n" in err
 
 
+def test_a_port_bit_the_board_lacks_names_the_board_that_has_it(capsys, tmp_path):
+    text = (ROOT / "examples" / "traffic-uno.ladder").read_text().replace("| PB0 | PB0   |", "| PD4 | PD4   |")
+    status, out, _ = _for_the_mega(capsys, tmp_path, text, "--keep-port-bits")
+    assert status == 1  # the Mega's ATmega2560 has PD4, but no header pin of the board
+    assert "error LD715 'Yred' is at PD4, a port bit of the ATmega328P, which the Arduino Mega 2560 does not " \
+           "bring out: build with --board uno or nano" in out
+    mega = text.replace("for 'Atmel AVR ATmega328 28-PDIP'", "for 'Atmel AVR ATmega2560 100-TQFP'").replace(
+        "| PD4 | PD4   |", "| PE4 | PE4   |")
+    source = tmp_path / "mega.ladder"
+    source.write_text(mega)
+    status, out, _ = run(capsys, "build", str(source), "--emit", "arduino", "--board", "uno", "--keep-port-bits")
+    assert status == 1
+    assert "error LD715 'Yred' is at PE4, a port bit of the ATmega2560, which the Arduino Uno's ATmega328P does " \
+           "not have: build with --board mega" in out
+
+
 def test_keep_port_bits_goes_with_a_board(capsys, tmp_path):
     status, _, err = run(capsys, "build", str(ROOT / "examples" / "conveyor.ladder"), "--keep-port-bits")
     assert status == 2 and "--keep-port-bits goes with --board" in err
