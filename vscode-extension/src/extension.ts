@@ -131,7 +131,8 @@ async function startClient(): Promise<void> {
   const cmd = await serverCommand(vscode.workspace.getConfiguration('ladder'), extensionPath, (line) => output.appendLine(line));
   if (isNoServer(cmd)) {
     output.appendLine(`no language server: ${cmd.message}`);
-    await reportServerProblem(cmd.message, cmd.message, cmd.download);
+    // not awaited: a command waiting for the server must not wait for the notification's answer
+    void reportServerProblem(cmd.message, cmd.message, cmd.download);
     return;
   }
   output.appendLine(`starting the language server: ${describe(cmd)} (${cmd.source})`);
@@ -171,7 +172,7 @@ async function startClient(): Promise<void> {
         ? 'Check the setting "ladder.server.command".'
         : 'See the "Ladder" output; the settings "ladder.server.pythonPath" and "ladder.server.command" choose another server.';
     output.appendLine(`could not start ${describe(cmd)}: ${message}`);
-    await reportServerProblem(
+    void reportServerProblem(
       `The ladder language server did not start (${describe(cmd)}): ${message}`,
       `could not start the language server "${describe(cmd)}": ${message}. ${hint}`,
       false,
