@@ -4,8 +4,8 @@ pin numbers of the part in the IO LIST, as LDmicro needs (it read `Yled at
 PB5` as pin 0 and refused, "Must assign pins for all I/O"), and the part by
 LDmicro's name for it when the text names it by ours. Pins with
 alternate functions (INT0, MOSI, ADC0, OC1B, CCP2) and a PWM output on each
-part. LDmicro's own image of an AVR program then drives the output in simavr
-when the input is driven: the numbers name the pins the text meant.
+part. LDmicro's own image then drives the output when the input is driven
+(simavr, gpsim): the numbers name the pins the text meant.
 
 LDmicro is found at /opt/ldmicro/ldmicro (or LDMICRO=); these tests run in
 the LDmicro step of .ci/run (marker `ldmicro`)."""
@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from builders import coil, contact, el, program
 
-from compiler.run import simavr
+from compiler.run import gpsim, simavr
 from lang.ldfile import write_ld
 from lang.textform.reader import read_text
 from lang.textform.writer import render_program
@@ -72,13 +72,24 @@ def test_ldmicro_compiles_pins_given_by_port_bit(mcu, ldmicro, tmp_path):
     assert image.stat().st_size > 0 and image.read_text().startswith(":")
 
 
-@pytest.mark.skipif(not simavr.available(), reason="simavr's harness cannot be built here")
-def test_ldmicros_image_drives_the_pin_the_text_named(ldmicro, tmp_path):
-    mcu = "Atmel AVR ATmega328 28-PDIP"
-    source = _written(mcu, PARTS[mcu], tmp_path)
+def _run(image: Path, mcu: str, pins: dict[str, str]):
+    """LDmicro's image with Xa low, then high from 100 ms, its Yled pin watched."""
+    inputs = [(0, pins["Xa"], 0), (0, pins["Xb"], 0), (100, pins["Xa"], 1)]
+    if "AVR" in mcu:
+        if not simavr.available():
+            pytest.skip("simavr's harness cannot be built here")
+        return simavr.simulate_avr(image, simavr.core_name(mcu), 16_000_000, 200, inputs=inputs, watch=[pins["Yled"]])
+    if not gpsim.available():
+        pytest.skip("gpsim is not installed")
+    return gpsim.run_pic(image, gpsim.processor_name(mcu.split()[1]), 4_000_000, inputs=inputs, watch=[pins["Yled"]],
+                         until_ms=200, timeout=120)
+
+
+@pytest.mark.parametrize("mcu", ["Atmel AVR ATmega328 28-PDIP", "Microchip PIC16F877 40-PDIP"])
+def test_ldmicros_image_drives_the_pin_the_text_named(mcu, ldmicro, tmp_path):
+    pins = PARTS[mcu]
+    source = _written(mcu, pins, tmp_path)
     image = tmp_path / "pins.hex"
     subprocess.run([str(ldmicro), "compile", str(source), str(image)], check=True, capture_output=True, timeout=300)
-    run = simavr.simulate_avr(image, "atmega328p", 16_000_000, 200,
-                              inputs=[(0, "PD2", 0), (0, "PD4", 0), (100, "PD2", 1)], watch=["PB5"])
-    levels = [level for _, level in run.pin_edges_ms("PB5")]
-    assert levels and levels[-1] == 1 and run.level_at("PB5", 90) == 0
+    run = _run(image, mcu, pins)
+    assert run.level_at(pins["Yled"], 90) == 0 and run.level_at(pins["Yled"], 199) == 1
