@@ -170,8 +170,6 @@ def _other_chip(program: Program, board: Board, name: str, keep_port_bits: bool)
         return error(OTHER_CHIP, f"'{name}' is at {text}, a port bit of the {own.title}, which {lacks}"
                                  f"{f': {fits}' if fits else ''}", assignment.span)
     home_number = homes[0].number(text) if homes else None
-    if home_number == number:
-        return None  # the same header pin on both boards: nothing moves
     before = f"{homes[0].label(home_number)} on the {homes[0].title}" if home_number is not None else ""
     if keep_port_bits:
         return note(OTHER_CHIP, f"'{name}': {text} → {board.label(number)} on the {board.title}"
