@@ -43,10 +43,10 @@ class Block:
         word, _, name = self.directive.partition(" ")
         return name.strip() if word == "file" and name.strip() else None
 
-    def commands(self) -> list[tuple[int, str]]:
-        """(line, command) for each command: comments and blank lines go, a line
-        ending in a backslash carries on on the next."""
-        found: list[tuple[int, str]] = []
+    def commands(self) -> list["Command"]:
+        """Each command: comments and blank lines go, a line ending in a
+        backslash carries on on the next."""
+        found: list[Command] = []
         pending: list[str] = []
         start = 0
         for number, line in enumerate(self.text.splitlines(), self.line):
@@ -57,11 +57,18 @@ class Block:
             if line.endswith("\\"):
                 pending.append(line[:-1])
                 continue
-            found.append((start, " ".join(part.strip() for part in (*pending, line))))
+            found.append(Command(start, number, " ".join(part.strip() for part in (*pending, line))))
             pending = []
         if pending:
-            found.append((start, " ".join(part.strip() for part in pending)))
+            found.append(Command(start, start + len(pending) - 1, " ".join(part.strip() for part in pending)))
         return found
+
+
+@dataclass(frozen=True)
+class Command:
+    line: int  # its first and last line in the document
+    last_line: int
+    text: str
 
 
 def blocks(path: Path) -> list[Block]:
@@ -89,7 +96,7 @@ def first_command(path: Path) -> str:
     shell = [block for block in blocks(path) if block.info == SHELL]
     if not shell or not shell[0].commands():
         raise SystemExit(f"{path}: no shell block with a command")
-    return shell[0].commands()[0][1]
+    return shell[0].commands()[0].text
 
 
 if __name__ == "__main__":
