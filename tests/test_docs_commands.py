@@ -12,13 +12,15 @@ Not run, but checked:
   and that each programmer command writes a HEX file the steps before it made;
 * the commands that are CI's own steps: the README's install command (.ci/run's
   package step runs it, verbatim, in the unpacked sdist), `bash .ci/run`, the
-  test suite (`python -m pytest`), the extension's build (`npm`, `code`): the
-  files and folders they name must exist in the checkout.
+  test suite (`python -m pytest`), the extension's build (`npm`, `code`, a `cd`
+  into a folder of the checkout), the venv's activation: the files and folders
+  they name must exist in the checkout.
 
 A block needing simavr or gpsim (`simavr`, `gpsim`, `ladder test --on avr` or
 `pic16`) runs in the test marked slow, one needing Debian's Arduino core
-(`arduino-builder`) in the test marked arduino: the fast test leaves those
-blocks out. `.ci/run` installs both before those steps.
+(`arduino-builder`, or `arduino-cli`, which Debian 12 does not have) in the
+test marked arduino: the fast test leaves those blocks out. `.ci/run` installs
+simavr and gpsim in its first step, the Arduino core in the Arduino step.
 """
 
 import os
