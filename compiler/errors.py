@@ -2,12 +2,12 @@
 
 A program the back end cannot turn into a correct image fails with located
 errors: an instruction or operand form it does not implement, a pin or
-peripheral the part lacks, a baud rate the crystal cannot make,
-a program or its variables too large for the part. What the part's data alone
-decides (a cycle time its timer cannot make, LD706; a PWM output its timer
-cannot make, LD708; a PWM frequency approximated, LD709; a digital pin an A/D
-input makes analog, LD714) is a check rule (lang/checks), which `ladder
-check` runs and the build runs first.
+peripheral the part lacks, a program or its variables too large for the part.
+What the part's data alone decides (a cycle time its timer cannot make,
+LD706; a baud rate its UART cannot make, LD707, or only approximates, LD713;
+a PWM output its timer cannot make, LD708, or only approximates, LD709; a
+digital pin an A/D input makes analog, LD714) is a check rule (lang/checks),
+which `ladder check` runs and the build runs first.
 """
 
 from __future__ import annotations
@@ -21,8 +21,6 @@ NOT_COMPILED = code("LD702")
 FLASH_FULL = code("LD703")
 RAM_FULL = code("LD704")
 EEPROM_FULL = code("LD705")
-BAD_BAUD = code("LD707")
-BAUD_APPROXIMATED = code("LD713")
 MOVED_PIN = code("LD711")
 SCAN_OVERRUN = code("LD712")
 BAD_OPERAND = code("LD710")

@@ -1,13 +1,14 @@
 """What a part's peripherals make of a program's settings, from the device
-files: the timer setting that makes the scan cycle, the frequency a PWM
-output runs at, and which pins the A/D inputs make analog on the parts that
-choose analog pins in groups.
+files: the timer setting that makes the scan cycle, the UART's baud rate
+divisor, the frequency a PWM output runs at, and which pins the A/D inputs
+make analog on the parts that choose analog pins in groups.
 
 One definition for the checks, which report what a build would find
-(LD706, LD708, LD709, LD714) as soon as the program names its part, and for
-the back ends, which program the timers and ADCON1 from the same answers.
-The facts are in each device file's key for its family (`cycle_timer`,
-`pwm`, and the PIC16's `features.adc.pcfg`), which the back ends read too.
+(LD706, LD707, LD708, LD709, LD713, LD714) as soon as the program names its
+part, and for the back ends, which program the timers, the UART and ADCON1
+from the same answers. The facts are in each device file's key for its
+family (`cycle_timer`, `baud`, `pwm`, and the PIC16's `features.adc.pcfg`),
+which the back ends read too.
 """
 
 from __future__ import annotations
@@ -85,6 +86,57 @@ def cycle_refusal(device: Device, crystal_hz: int, cycle_us: int, free: bool) ->
     width = "" if free else "16 bits, "
     return (f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz crystal with Timer1 "
             f"({width}prescaler {prescalers[0]} to {prescalers[-1]}{clock})")
+
+
+@dataclass(frozen=True)
+class BaudSetting:
+    select: int  # the divider's select bit (AVR U2X, PIC16 BRGH)
+    value: int  # the baud rate register (UBRR, SPBRG)
+    actual: float  # the baud rate it makes
+    error: float  # relative to the one asked
+
+
+def baud_facts(device: Device) -> dict | None:
+    """The UART's baud rate generator: its dividers (each with its select
+    bit, tried in order), the largest register value, the error beyond which
+    it fails and, where one is given, beyond which the build warns."""
+    return device.data.get(device.family, {}).get("baud")
+
+
+def baud_setting(device: Device, crystal_hz: int, baud: int) -> BaudSetting:
+    """The setting nearest the baud rate (the first of equals)."""
+    facts = baud_facts(device)
+    assert facts is not None, "a part without a UART: LD503"
+    best = None
+    for divider, select in facts["divisors"]:
+        value = min(max(round(crystal_hz / (divider * baud)) - 1, 0), facts["most"])
+        actual = crystal_hz / (divider * (value + 1))
+        error = abs(actual - baud) / baud
+        if best is None or error < best.error - 1e-12:
+            best = BaudSetting(select, value, actual, error)
+    assert best is not None  # every part has a divider
+    return best
+
+
+def baud_refusal(device: Device, crystal_hz: int, baud: int) -> str | None:
+    """Why the UART cannot run at the baud rate, or None."""
+    facts = baud_facts(device)
+    setting = baud_setting(device, crystal_hz, baud)
+    if setting.error <= facts["limit"]:
+        return None
+    return (f"{baud} baud cannot be made from a {crystal_hz / 1e6:g} MHz crystal: the nearest is "
+            f"{setting.actual:.0f} baud ({100 * setting.error:.1f} % off, at most {100 * facts['limit']:.1f} %)")
+
+
+def baud_approximated(device: Device, crystal_hz: int, baud: int) -> BaudSetting | None:
+    """The setting, when it is further off than the build warns of but
+    within what a receiver follows; None otherwise."""
+    facts = baud_facts(device)
+    setting = baud_setting(device, crystal_hz, baud)
+    warn = facts.get("warn")
+    if warn is None or not warn < setting.error <= facts["limit"]:
+        return None
+    return setting
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,7 @@ its listing (GNU avr-as source). Registers itself with `compiler.target`."""
 
 from __future__ import annotations
 
+from lang.hardware import baud_setting
 from lang.semantics import ir
 
 from ..analysis import loop_labels, uses_uart
@@ -13,7 +14,7 @@ from .asm import Assembler, Data, Label, compress_skips
 from .emit import Emitter
 from .memory import RegBit, allocate
 from .part import Part
-from .peripherals import UART_IDLE, baud_divisor
+from .peripherals import UART_IDLE
 from .routines import write_routines
 from .runtime import write_runtime
 from .select import DELAY_LOOP_CYCLES, Context
@@ -31,7 +32,7 @@ class AvrBackend:
         assembler = Assembler(part.long_jumps, part.flash // 2)
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)
         if uses_uart(code):
-            cx.uart_double = baud_divisor(machine.crystal_hz, machine.baud)[1]
+            cx.uart_double = bool(baud_setting(machine.device, machine.crystal_hz, machine.baud).select)
         cx.loops = loop_labels(code.scan)
         cx.e.jump("start")
         cx.e.label("start", loop=True)

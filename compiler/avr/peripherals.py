@@ -8,10 +8,9 @@ start-up), so a byte written while one is still shifting out is lost.
 
 from __future__ import annotations
 
-from lang.hardware import pwm_setting
+from lang.hardware import baud_setting, pwm_setting
 from lang.semantics import ir
 
-from ..errors import BAD_BAUD, fail
 from ..image import LoopBound
 from . import bits, integers
 from .emit import LOADED, SCRATCH, A
@@ -40,7 +39,6 @@ ADC_CONVERSION_CLOCKS = 25 + 1
 # bit times from a byte written to UDR to TXC: start, 8 data and stop bits,
 # and up to one more until the transmitter's clock starts the frame
 UART_FRAME_BITS = 10 + 1
-BAUD_TOLERANCE = 0.02  # LDmicro's limit
 UART_IDLE = "~uart.idle"  # no byte sent yet: the transmitter is ready
 
 
@@ -163,27 +161,10 @@ def pwm_off(cx, op: ir.PwmOff) -> None:
 
 # --- UART ---------------------------------------------------------------------------------
 
-def baud_divisor(crystal_hz: int, baud: int) -> tuple[int, bool]:
-    """(UBRR, double speed): the setting nearest the baud rate."""
-    best = None
-    for double in (False, True):
-        divisor = 8 if double else 16
-        ubrr = max(round(crystal_hz / (divisor * baud)) - 1, 0)
-        error = abs(crystal_hz / (divisor * (ubrr + 1)) - baud) / baud
-        if best is None or error < best[0] - 1e-12:
-            best = (error, ubrr, double)
-    assert best is not None  # the loop tried both settings
-    error, ubrr, double = best
-    if ubrr > 4095 or error > BAUD_TOLERANCE:
-        actual = crystal_hz / ((8 if double else 16) * (ubrr + 1))
-        raise fail(BAD_BAUD, f"{baud} baud cannot be made from a {crystal_hz / 1e6:g} MHz crystal: the nearest "
-                             f"is {actual:.0f} baud ({100 * error:.1f} % off, at most 2 %)")
-    return ubrr, double
-
-
 def uart_init(cx) -> None:
     e, part, uart = cx.e, cx.part, cx.part.uart
-    ubrr, double = baud_divisor(cx.crystal_hz, cx.baud)
+    setting = baud_setting(part.device, cx.crystal_hz, cx.baud)
+    ubrr, double = setting.value, bool(setting.select)
     # on parts sharing UBRRH with UCSRC, URSEL = 0 selects UBRRH
     _write(e, part, uart["UBRRH"], (ubrr >> 8) & ~(1 << URSEL))
     _write(e, part, uart["UBRRL"], ubrr & 0xFF)
@@ -232,7 +213,8 @@ def uart_send(cx, op: ir.UartSend) -> None:
 
 def _transmitter_wait(cx) -> LoopBound:
     """The last byte leaves the transmitter within one frame."""
-    ubrr, double = baud_divisor(cx.crystal_hz, cx.baud)
+    setting = baud_setting(cx.part.device, cx.crystal_hz, cx.baud)
+    ubrr, double = setting.value, bool(setting.select)
     bit_cycles = (8 if double else 16) * (ubrr + 1)
     return LoopBound(None, "waiting for the UART transmitter", cycles=UART_FRAME_BITS * bit_cycles)
 

@@ -67,7 +67,7 @@ class Pic16Backend:
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
         cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
         prepare(cx, code)
-        warnings = write_runtime(cx, code)
+        write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)
         _write_tables(cx)
         compress_skips(assembler.items)
@@ -82,7 +82,7 @@ class Pic16Backend:
         listing = header.format(words=len(assembled.words)) + assembled.listing
         return Image(
             words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-            flash_size=part.flash_words, flash_unit="words", warnings=warnings, symbols=_symbols(layout),
+            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=_symbols(layout),
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
             listing_suffix=".asm", loops=dict(cx.e.bounds))

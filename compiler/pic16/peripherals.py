@@ -9,10 +9,10 @@ the transmitter is busy is lost.
 
 from __future__ import annotations
 
-from lang.hardware import analog_group, pwm_setting
+from lang.hardware import analog_group, baud_setting, pwm_setting
 from lang.semantics import ir
 
-from ..errors import BAD_BAUD, BAUD_APPROXIMATED, NOT_COMPILED, fail, note
+from ..errors import NOT_COMPILED, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -23,8 +23,6 @@ from .part import Part
 # one count of a variable DELAY: 19 instruction cycles of 4 clock cycles
 DELAY_LOOP_CYCLES = 76
 
-BAUD_WARNING = 0.02  # LDmicro warns beyond this error
-BAUD_LIMIT = 0.045  # beyond this a receiver sampling mid-bit loses the frame
 TAD_MIN_NS = 1600  # the converter's shortest clock period (PIC16F87x: 1.6 us)
 ACQUISITION_US = 20  # the sample-and-hold capacitor's charging time before a conversion
 PWM_MODE = 0x0C  # CCPxM3:0 = 11xx
@@ -267,46 +265,21 @@ def pwm_off(cx, op: ir.PwmOff) -> None:
 
 # --- UART -------------------------------------------------------------------------------------
 
-def baud_divisor(crystal_hz: int, baud: int, element=None) -> tuple[int, bool, float]:
-    """(SPBRG, BRGH, error): the setting nearest the baud rate."""
-    best = None
-    for high in (True, False):
-        divisor = 16 if high else 64
-        spbrg = min(max(round(crystal_hz / (divisor * baud)) - 1, 0), 255)
-        error = abs(crystal_hz / (divisor * (spbrg + 1)) - baud) / baud
-        if best is None or error < best[2] - 1e-12:
-            best = (spbrg, high, error)
-    assert best is not None  # the loop tried both settings
-    if best[2] > BAUD_LIMIT:
-        spbrg, high, error = best
-        actual = crystal_hz / ((16 if high else 64) * (spbrg + 1))
-        raise fail(BAD_BAUD, f"{baud} baud cannot be made from a {crystal_hz / 1e6:g} MHz crystal: the nearest "
-                             f"is {actual:.0f} baud ({100 * error:.1f} % off; a receiver follows up to "
-                             f"{100 * BAUD_LIMIT:.1f} %)", element)
-    return best
-
-
 def _uart_element(cx):
     return _locate(cx, "UART_SEND") or _locate(cx, "UART_RECV") or _locate(cx, "FORMATTED_STRING")
 
 
-def uart_setup(cx, code: ir.Code) -> list:
-    """The USART on at the baud rate; a warning when it is more than 2 % off."""
+def uart_setup(cx, code: ir.Code) -> None:
+    """The USART on at the baud rate (the checks have said it can make it,
+    LD707, and warned when it is more than 2 % off, LD713)."""
     if not any(isinstance(op, (ir.UartSend, ir.UartReady, ir.UartAvailable, ir.UartTake)) for op in code.scan):
-        return []
-    element = _uart_element(cx)
+        return
     if not cx.part.feature("uart"):
-        raise fail(NOT_COMPILED, f"the {cx.part.title} has no UART", element)
-    spbrg, high, error = baud_divisor(cx.machine.crystal_hz, cx.machine.baud, element)
-    _write(cx, "SPBRG", spbrg)
-    _write(cx, "TXSTA", 1 << cx.part.bit("TXSTA", "TXEN") | int(high) << cx.part.bit("TXSTA", "BRGH"))
+        raise fail(NOT_COMPILED, f"the {cx.part.title} has no UART", _uart_element(cx))
+    setting = baud_setting(cx.part.device, cx.machine.crystal_hz, cx.machine.baud)
+    _write(cx, "SPBRG", setting.value)
+    _write(cx, "TXSTA", 1 << cx.part.bit("TXSTA", "TXEN") | setting.select << cx.part.bit("TXSTA", "BRGH"))
     _write(cx, "RCSTA", 1 << cx.part.bit("RCSTA", "SPEN") | 1 << cx.part.bit("RCSTA", "CREN"))
-    if error > BAUD_WARNING:
-        actual = cx.machine.crystal_hz / ((16 if high else 64) * (spbrg + 1))
-        return [note(BAUD_APPROXIMATED, f"{cx.machine.baud} baud runs at {actual:.0f} baud from a "
-                                        f"{cx.machine.crystal_hz / 1e6:g} MHz crystal ({100 * error:.1f} % off)",
-                     element)]
-    return []
 
 
 def _ready(cx, busy: str) -> None:

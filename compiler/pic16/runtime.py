@@ -90,7 +90,7 @@ def _clear(cx: Context, addresses: list[int]) -> None:
         e.goto(top)
 
 
-def _start(cx: Context, code: ir.Code) -> list:
+def _start(cx: Context, code: ir.Code) -> None:
     part = cx.part
     # the scratch bytes are written before they are read
     _clear(cx, sorted(cx.e.ram - set(cx.layout.scratch)))
@@ -113,10 +113,9 @@ def _start(cx: Context, code: ir.Code) -> list:
             if part.has(register):
                 _write(cx, register, pulled)
         cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
-    warnings = uart_setup(cx, code)
+    uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
-    return warnings
 
 
 def _cycle_module(cx: Context, code: ir.Code) -> str | None:
@@ -223,8 +222,7 @@ def free_running(code: ir.Code, part, machine) -> bool:
     return cycle_runs_free(part.device, machine.crystal_hz, machine.cycle_us, pwm)
 
 
-def write_runtime(cx: Context, code: ir.Code) -> list:
-    """The runtime and the scan; the warnings of the peripherals' set-up."""
-    warnings = _start(cx, code)
+def write_runtime(cx: Context, code: ir.Code) -> None:
+    """The runtime and the scan."""
+    _start(cx, code)
     _scan_loop(cx, code)
-    return warnings

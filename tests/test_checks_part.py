@@ -1,0 +1,229 @@
+"""`ladder check` says what `ladder build` would say about the program's own
+part: the same code, message and place, without compiling. Real programs
+(avr-hw.ld's unassigned PWM name, test-pwm.ld's approximated frequency,
+pic-adc.ld's digital pin made analog), each part rule on both families, the
+input-only MCLR pins, and a property over the corpus and random programs:
+what a build reports is among what the check reports, but for what only the
+compiled code can tell (its size, its scan time)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from builders import coil, contact, el, program
+from corpus import CORPUS, all_ld_files
+from generators import programs
+from hypothesis import HealthCheck, assume, given, settings
+
+import compiler
+from compiler.errors import CompileError
+from ladder.cli import main
+from lang import ldfile
+from lang.checks import check_program
+from lang.devices import all_devices, find_device
+from lang.targets import compiled
+
+M328 = "Atmel AVR ATmega328 28-PDIP"
+P877 = "Microchip PIC16F877 40-PDIP"
+P887 = "Microchip PIC16F887 40-PDIP"
+
+# What only the compiled image can tell: flash and RAM use, the scan's worst case.
+NEEDS_THE_IMAGE = {"LD703", "LD704", "LD712"}
+
+# The MCLR pins that double as an input and cannot drive (the datasheets' pin tables
+# and MCLRE configuration bit: "input only"); nothing else of these parts is.
+INPUT_ONLY = {
+    "pic12f675": {"GP3"}, "pic12f683": {"GP3"},
+    "pic16f628": {"RA5"}, "pic16f628a": {"RA5"}, "pic16f819": {"RA5"}, "pic16f88": {"RA5"},
+    "pic16f886": {"RE3"}, "pic16f887": {"RE3"},
+}
+
+
+def _key(d):
+    return d.code, d.message, d.span
+
+
+def _built(prog) -> list:
+    """What `ladder build` reports: its errors, or its warnings."""
+    try:
+        return compiler.build(prog).warnings
+    except CompileError as failure:
+        return failure.diagnostics
+
+
+def _same_in_check_and_build(prog, code: str):
+    """The one diagnostic `code` of the check, which the build reports as it is."""
+    checked = [d for d in check_program(prog) if d.code == code]
+    assert len(checked) == 1, checked
+    assert _key(checked[0]) in {_key(d) for d in _built(prog)}
+    return checked[0]
+
+
+def _corpus(relative: str):
+    path = CORPUS / "ldmicro" / relative
+    if not path.exists():
+        pytest.skip("no corpus beside the repository")
+    return ldfile.read_ld_bytes(path.read_bytes())[0]
+
+
+# --- the programs of the issue ------------------------------------------------------------
+
+
+def test_avr_hw_unassigned_pwm_name_is_reported_by_check_as_by_build_and_ldmicro():
+    # LDmicro 5.4.1.1: "Must assign pins for all I/O. 'P' is not assigned."
+    d = _same_in_check_and_build(_corpus("reg/tests/avr-hw.ld"), "LD407")
+    assert d.severity == "error" and d.message.startswith("PWM output 'P' has no pin")
+
+
+def test_approximated_pwm_frequency_is_reported_by_check():
+    d = _same_in_check_and_build(_corpus("Tests/test-pwm.ld"), "LD709")
+    assert d.severity == "warning" and d.message == "PWM on OC2A runs at 1800.0 Hz (asked 1200 Hz)"
+
+
+def test_digital_pin_made_analog_is_reported_by_check():
+    d = _same_in_check_and_build(_corpus("sample/pic-adc.ld"), "LD714")
+    assert d.message.startswith("'Xlimit' is on RA0 (AN0), which the PIC16F877 makes analog")
+
+
+def test_ladder_check_on_the_file_reports_it(tmp_path, capsys):
+    source = CORPUS / "ldmicro" / "reg" / "tests" / "avr-hw.ld"
+    if not source.exists():
+        pytest.skip("no corpus beside the repository")
+    copy = tmp_path / "avr-hw.ld"
+    copy.write_bytes(source.read_bytes())
+    assert main(["check", str(copy)]) == 1
+    assert "error LD407 PWM output 'P' has no pin: assign it a pin of the ATmega128" in capsys.readouterr().out
+
+
+# --- each part rule, on both families ------------------------------------------------------------
+
+
+def _pwm(name="Pa", freq=1000, duty="50"):
+    return el("SET_PWM", duty=duty, freq=freq, name=name)
+
+
+def test_pwm_on_the_cycle_timer_is_refused_by_check():
+    prog = program([contact("Xa"), _pwm()], mcu=M328, pins={"Xa": 4, "Pa": 15})  # PB1: OC1A
+    d = _same_in_check_and_build(prog, "LD708")
+    assert d.message == "PWM on OC1A: Timer1 makes the scan cycle; use an 8-bit timer's output"
+
+
+@pytest.mark.parametrize("mcu, pins, timer", [(M328, {"Pa": 12, "Pb": 11}, 0),  # OC0A, OC0B
+                                              (P877, {"Pa": 17, "Pb": 16}, 2)])  # CCP1, CCP2
+def test_two_outputs_of_one_timer_at_different_frequencies(mcu, pins, timer):
+    prog = program([contact("Xa"), _pwm("Pa", 1000)], [contact("Xa"), _pwm("Pb", 250)],
+                   mcu=mcu, pins={"Xa": 4 if mcu == M328 else 33, **pins})
+    d = _same_in_check_and_build(prog, "LD708")
+    assert d.message.startswith(f"the outputs of Timer{timer} ask for different PWM frequencies")
+    assert d.span == prog.rungs[1].circuit.items[1].span
+
+
+def test_pic16_pwm_frequency_approximated_at_check():
+    prog = program([contact("Xa"), _pwm("Pa", 100)], mcu=P877, pins={"Xa": 33, "Pa": 17}, crystal_hz=20_000_000)
+    d = _same_in_check_and_build(prog, "LD709")
+    assert d.message == "PWM on CCP1 runs at 1220.7 Hz (asked 100 Hz)"
+
+
+def test_cycle_time_the_timer_cannot_make_is_refused_by_check():
+    prog = program([contact("Xa"), coil("Yb")], mcu=M328, pins={"Xa": 4, "Yb": 5}, cycle_us=10_000_000)
+    d = _same_in_check_and_build(prog, "LD706")
+    assert d.message.startswith("a 10000 ms cycle cannot be made from a 16 MHz crystal")
+
+
+def test_pic16_long_cycle_runs_timer1_free_and_passes_both():
+    # longer than Timer1 counts (0.52 s at 4 MHz): counted in software, as the build does
+    prog = program([contact("Xa"), coil("Yb")], mcu=P877, pins={"Xa": 33, "Yb": 34}, cycle_us=2_000_000,
+                   crystal_hz=4_000_000)
+    assert not [d for d in check_program(prog) if d.code == "LD706"]
+    compiler.build(prog)
+
+
+@pytest.mark.parametrize("mcu, crystal, baud, code", [(M328, 16_000_000, 115200, "LD707"),
+                                                      (P877, 4_000_000, 115200, "LD707"),
+                                                      (P877, 8_000_000, 57600, "LD713")])
+def test_baud_rates_at_check(mcu, crystal, baud, code):
+    prog = program([contact("Xa"), el("UART_SEND", var="c")], mcu=mcu, pins={"Xa": 4 if mcu == M328 else 33},
+                   crystal_hz=crystal, baud=baud)
+    d = _same_in_check_and_build(prog, code)
+    assert d.span == prog.rungs[0].circuit.items[1].span
+
+
+def test_part_rules_stay_quiet_without_a_part_or_for_c():
+    prog = program([contact("Xa"), _pwm()], mcu=None, cycle_us=10_000_000, baud=115200)
+    assert not [d for d in check_program(prog) if d.code[2] == "7"]
+    assert not [d for d in check_program(program([_pwm()], mcu=M328, cycle_us=10_000_000), family="c")
+                if d.code[2] == "7"]
+
+
+# --- input-only pins ------------------------------------------------------------------------------
+
+
+def test_input_only_pins_are_the_datasheets_and_ldmicros():
+    for device in all_devices():
+        marked = {pin.name for pin in device.pins.values() if pin.input_only}
+        assert marked == INPUT_ONLY.get(device.part, set()), device
+        # LDmicro's own pin list says "(Input Only)" of exactly these
+        labelled = {pin.name for pin in device.io_pins() if "(Input Only)" in pin.label}
+        assert marked == labelled, device
+        assert all(device.pin(name).is_io for name in marked)
+
+
+@pytest.mark.parametrize("part", sorted(INPUT_ONLY))
+def test_an_output_on_an_input_only_pin_is_an_error_at_check_and_build(part):
+    device = find_device(part)
+    pin = next(p for p in device.pins.values() if p.input_only)
+    other = next(p for p in device.io_pins() if not p.input_only and p.name not in device.uart.values())
+    mcu = device.ldmicro_name or part
+    prog = program([contact("Xa"), coil("Yout")], mcu=mcu, pins={"Xa": other.number, "Yout": pin.number},
+                   crystal_hz=4_000_000)
+    d = _same_in_check_and_build(prog, "LD412")
+    assert d.severity == "error" and d.span == prog.pins["Yout"].span
+    assert f"({pin.name}), which can only be an input on the {device.title}" in d.message
+    # as an input it is fine
+    reading = program([contact("Xin"), coil("Yout")], mcu=mcu, pins={"Xin": pin.number, "Yout": other.number},
+                      crystal_hz=4_000_000)
+    assert not [d for d in check_program(reading) if d.code == "LD412"]
+    if compiled(device):
+        compiler.build(reading)
+
+
+# --- what a build reports, the check reports ------------------------------------------------------
+
+
+def _build_within_check(prog) -> None:
+    checked = {_key(d) for d in check_program(prog)}
+    missing = [d for d in _built(prog) if _key(d) not in checked and d.code not in NEEDS_THE_IMAGE]
+    assert not missing, missing
+
+
+def _compiled_corpus() -> list[Path]:
+    return [path for path in all_ld_files() if _names_a_compiled_part(ldfile.read_ld_bytes(path.read_bytes())[0])]
+
+
+@pytest.mark.skipif(not all_ld_files(), reason="no corpus beside the repository")
+def test_every_corpus_program_for_a_compiled_part_builds_within_its_check():
+    paths = _compiled_corpus()
+    assert len(paths) >= 20
+    for path in paths:
+        _build_within_check(ldfile.read_ld_bytes(path.read_bytes())[0])
+
+
+def _names_a_compiled_part(prog) -> bool:
+    device = find_device(prog.settings.mcu) if prog.settings.mcu else None
+    return device is not None and compiled(device)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@given(programs())
+def test_random_programs_build_within_their_check(prog):
+    assume(_names_a_compiled_part(prog))
+    _build_within_check(prog)
+
+
+@pytest.mark.slow
+@settings(max_examples=3000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(programs())
+def test_many_random_programs_build_within_their_check(prog):
+    assume(_names_a_compiled_part(prog))
+    _build_within_check(prog)
