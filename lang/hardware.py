@@ -103,10 +103,15 @@ def baud_facts(device: Device) -> dict | None:
     return device.data.get(device.family, {}).get("baud")
 
 
-def baud_setting(device: Device, crystal_hz: int, baud: int) -> BaudSetting:
-    """The setting nearest the baud rate (the first of equals)."""
+def _baud(device: Device) -> dict:
     facts = baud_facts(device)
     assert facts is not None, "a part without a UART: LD503"
+    return facts
+
+
+def baud_setting(device: Device, crystal_hz: int, baud: int) -> BaudSetting:
+    """The setting nearest the baud rate (the first of equals)."""
+    facts = _baud(device)
     best = None
     for divider, select in facts["divisors"]:
         value = min(max(round(crystal_hz / (divider * baud)) - 1, 0), facts["most"])
@@ -120,7 +125,7 @@ def baud_setting(device: Device, crystal_hz: int, baud: int) -> BaudSetting:
 
 def baud_refusal(device: Device, crystal_hz: int, baud: int) -> str | None:
     """Why the UART cannot run at the baud rate, or None."""
-    facts = baud_facts(device)
+    facts = _baud(device)
     setting = baud_setting(device, crystal_hz, baud)
     if setting.error <= facts["limit"]:
         return None
@@ -131,7 +136,7 @@ def baud_refusal(device: Device, crystal_hz: int, baud: int) -> str | None:
 def baud_approximated(device: Device, crystal_hz: int, baud: int) -> BaudSetting | None:
     """The setting, when it is further off than the build warns of but
     within what a receiver follows; None otherwise."""
-    facts = baud_facts(device)
+    facts = _baud(device)
     setting = baud_setting(device, crystal_hz, baud)
     warn = facts.get("warn")
     if warn is None or not warn < setting.error <= facts["limit"]:

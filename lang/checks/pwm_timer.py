@@ -23,7 +23,9 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         if why is not None:
             found.append(report(CODE, why, element.span))
             continue
-        number = pwm_timer(device, unit)["timer"]
+        timer = pwm_timer(device, unit)
+        assert timer is not None  # pwm_refusal says it drives the unit
+        number = timer["timer"]
         setting = pwm_setting(device, unit, program.settings.crystal_hz, freq)
         if timers.setdefault(number, setting) != setting:
             found.append(report(CODE, f"the outputs of Timer{number} ask for different PWM frequencies; "
