@@ -7,6 +7,12 @@ the bit instructions SBI/CBI/SBIS/SBIC; from 0x60 on ("extended I/O", such as
 the UART and timer registers of the ATmega328P or PORTF/G of the ATmega128)
 only LDS/STS reach it. Bit positions that are the same on every part are
 constants here; tests/test_compiler_parts.py checks them against avr-libc.
+
+Its `cycle_timer` (Timer1 in CTC mode: clock divider, prescalers, counts),
+`baud` (the UART's dividers with their U2X bit, the largest UBRR, the 2 %
+error LDmicro tolerates) and, for each 8-bit timer's PWM output in `pwm`,
+its prescalers and period are what lang/hardware.py reads, for the checks
+and this back end alike.
 """
 
 from __future__ import annotations

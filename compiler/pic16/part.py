@@ -39,6 +39,14 @@ config
     fields: name -> {word, mask, value, symbol}: every field of the words,
     its bits, its value in the words and the header symbol meaning that value
     (a listing writes __CONFIG as the AND of the symbols of a word).
+cycle_timer, baud, pwm
+    what lang/hardware.py makes of the program's settings, for the checks and
+    this back end alike: Timer1 as the scan's timer (Fosc/4, its T1CKPS
+    prescalers, 65536 counts; the CCP modules whose special event trigger
+    restarts it; the 23 bits of ticks a free-running count reaches), the
+    USART's dividers ([16, BRGH 1], [64, BRGH 0]), the largest SPBRG and the
+    errors that fail (4.5 %) and warn (2 %), and Timer2 behind each CCP's PWM
+    (T2CKPS prescalers 1, 4, 16, periods of 1 to 256 counts).
 features
     adc: {bits, result: [result registers, high byte first], pcfg}, absent
     without an A/D converter; pcfg, on the parts whose ADCON1 PCFG bits pick
