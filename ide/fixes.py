@@ -21,8 +21,8 @@ def fix_edits(fix: Fix, program: Program, text: str, kind: str) -> tuple[list[Li
         locator = Locator(program, text.splitlines(), kind)
         return rename(program, locator, text, fix.change.old, fix.change.new, kind)
     if isinstance(fix.change, Replace):
-        span = fix.change.span
-        return [], [TextEdit(span.line, span.col, span.end_col, fix.change.text)]
+        place = fix.change.span
+        return [], [TextEdit(place.line, place.col, place.end_col, fix.change.text)]
     assert isinstance(fix.change, SetPart)
     span = program.settings.mcu_span
     if span is None:

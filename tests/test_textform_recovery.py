@@ -7,6 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from test_lsp_actions import actions_at, edits_of
+from test_lsp_support import Doc, apply_edits, lsp_fixture, new_uri
 
 from ladder.cli import main
 from lang.checks import check_program
@@ -57,6 +59,8 @@ I/O ASSIGNMENT:
   Ymotor                     | digital out        |  19 | PB5   | PB5 SCK/PCINT5
   Ylamp                      | digital out        |  17 | PB3   | PB3
 """
+
+client = lsp_fixture()
 
 SIX_REPORT = [
     "{path}:7:44: error LD004 this branch stops before reaching a junction",
@@ -162,3 +166,30 @@ def test_a_rung_broken_then_mended_reads_as_a_fresh_reader_reads_it():
 def test_a_loaded_file_with_broken_rungs_is_checkable(tmp_path):
     loaded = load_file(_write(tmp_path, SIX))
     assert checkable(loaded.program, loaded.diagnostics)
+
+
+def test_the_misplaced_glyph_s_message_follows_its_rung_when_lines_are_added_above():
+    reader = TextReader()
+    reader.read(SIX)
+    blank = "    ||                                                                    ||\n"
+    moved = SIX.replace(blank, blank * 2, 1)
+    program, problems = reader.read(moved)
+    assert reader.last_mode == "window"
+    assert (program, problems) == read_text(moved)
+    assert problems[-1].format("f") == "f:29:24: error LD014 move '+' to column 23, under the '+' of line 26"
+    assert problems[-1].fixes[0].change.span.line == 28
+
+
+@pytest.mark.asyncio(loop_scope="module")
+async def test_the_editor_shows_every_problem_and_moves_the_glyph(client):
+    doc = Doc(client, new_uri(), SIX)
+    found = sorted(await doc.diagnostics(), key=lambda d: d.range.start.line)
+    assert [(d.range.start.line + 1, d.code) for d in found] == [
+        (7, "LD004"), (13, "LD003"), (15, "LD104"), (18, "LD130"), (21, "LD102"), (28, "LD014")]
+    misplaced = found[-1]
+    actions = await actions_at(client, doc, misplaced.range.start, misplaced.range.end, [misplaced],
+                               only=["quickfix"])
+    assert [a.title for a in actions] == ["move '+' to column 23"]
+    doc.replace_all(apply_edits(doc.text, edits_of(actions[0], doc.uri)))
+    mended = sorted(await doc.diagnostics(), key=lambda d: d.range.start.line)
+    assert [d.code for d in mended] == ["LD004", "LD003", "LD104", "LD130", "LD102"]

@@ -227,7 +227,7 @@ CACHE_SIZE = 20000
 class _Block:
     first: int  # first source line (an empty rung: the line showing its number)
     last: int
-    rung: Rung | None  # None: the rung could not be read
+    rung: Rung  # an UnreadRung when it could not be read whole
     problems: list[Diagnostic]
     number_at: int | None  # offset of the numbered line from `first` (None: unnumbered)
     key: tuple | None = None  # in the rung cache
@@ -336,8 +336,7 @@ class TextReader:
                 rungs = []
                 for block in section_blocks:
                     problems.extend(block.problems)
-                    if block.rung is not None:
-                        rungs.append(block.rung)
+                    rungs.append(block.rung)
                 program.rungs = rungs
             elif section.title == IO:
                 _read_io(section, program, problems)
@@ -400,7 +399,7 @@ class TextReader:
             self._cache.move_to_end(key)
         rung, found, at = cached
         if at != first:
-            rung = shift_rung(rung, first - at) if rung is not None else None
+            rung = shift_rung(rung, first - at)
             found = [shifted(p, first - at) for p in found]
         return _Block(first, last, rung, list(found), number_at, key)
 
@@ -409,10 +408,8 @@ class TextReader:
         their identity and get their new positions in place (so that a symbol
         table built on them stays true: lang/checks/incremental.py), in a new
         Rung at the new place; the rung cache follows it."""
-        rung = block.rung
-        if rung is not None:
-            _move_circuit(rung.circuit, delta)
-            rung = type(rung)(rung.circuit, shift_span(rung.span, delta))
+        _move_circuit(block.rung.circuit, delta)
+        rung = type(block.rung)(block.rung.circuit, shift_span(block.rung.span, delta))
         problems = [shifted(p, delta) for p in block.problems]
         moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.key)
         if block.key is not None:
@@ -477,7 +474,7 @@ class TextReader:
         kept_after = [self._move(b, delta) for b in blocks[i1 + 1:]] if delta else blocks[i1 + 1:]
         if delta:
             for old, new in zip(blocks[i1 + 1:], kept_after):
-                if old.rung is not None and old.rung.circuit.items:
+                if old.rung.circuit.items:
                     self.moved[id(new.rung)] = (old.rung, delta)
         problems = [q for q in state.raw_problems if q.span is None or q.span.line < start]
         problems += raw_problems

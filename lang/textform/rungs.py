@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Rung, Series, Span, rung_circuit
+from ..model import Element, Node, Rung, Series, Span, rung_circuit
 from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
 from .elements import GLYPH_RE, complete_args, recognise
@@ -70,7 +70,7 @@ class Glyph:
     text: str
 
 
-def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung | None, list[Diagnostic]]:
+def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung, list[Diagnostic]]:
     """Read a rung whose first symbol line is lines[symbol_index]; the line
     above it, if any, is its first name line."""
     span = Span(lines[0].number, 0, lines[-1].number, len(lines[-1].text))
@@ -147,7 +147,7 @@ class _RungReader:
         top to bottom and left to right, as one series."""
         saved = self.problems
         self.problems = []
-        found = []
+        found: list[Node] = []
         try:
             for row in self.symbol_rows:
                 for kind, start, end, text in self._tokens(row):
