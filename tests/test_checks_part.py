@@ -15,6 +15,7 @@ from builders import coil, contact, el, program
 from corpus import CORPUS, all_ld_files
 from generators import programs
 from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
 import compiler
 from compiler.errors import CompileError
@@ -214,7 +215,49 @@ def _names_a_compiled_part(prog) -> bool:
     return device is not None and compiled(device)
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+COMPILED = [device for device in all_devices() if compiled(device)]
+
+
+@st.composite
+def part_programs(draw):
+    """A program for a compiled part that leans on its hardware: inputs and
+    outputs on any of its pins (the MCLR input among them), PWM outputs at
+    any frequency, an A/D input, the UART, any crystal, cycle and baud rate."""
+    device = draw(st.sampled_from(COMPILED))
+    pins: dict[str, int] = {}
+
+    def give(name, choices):
+        """A pin for the name, mostly one no other name has."""
+        free = [pin for pin in choices if pin.number not in pins.values()] or choices
+        pins[name] = draw(st.sampled_from(free)).number
+
+    give("Xa", device.io_pins())
+    give("Yb", device.io_pins())
+    rungs = [[contact("Xa"), coil("Yb")]]
+    pwm = [device.pin(name) for name in sorted(device.pwm) if device.pin(name) is not None]
+    for name in ("Pa", "Pb")[:draw(st.integers(0, 2 if pwm else 0))]:
+        give(name, pwm)
+        rungs.append([contact("Xa"), _pwm(name, draw(st.integers(-1, 200_000)))])
+    adc = [device.pin(name) for name in sorted(device.adc) if device.pin(name) is not None]
+    if adc and draw(st.booleans()):
+        give("Ain", adc)
+        rungs.append([contact("Xa"), el("READ_ADC", name="Ain")])
+    if draw(st.booleans()):
+        rungs.append([contact("Xa"), el("UART_SEND", var="c")])
+    return program(*rungs, mcu=device.ldmicro_name or device.part, pins=pins,
+                   crystal_hz=draw(st.one_of(st.sampled_from([4_000_000, 8_000_000, 16_000_000, 20_000_000]),
+                                             st.integers(1_000_000, 20_000_000))),
+                   cycle_us=draw(st.integers(100, 2_000_000)),
+                   baud=draw(st.sampled_from([2400, 9600, 19200, 38400, 57600, 115200])))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))
+@given(part_programs())
+def test_programs_on_a_parts_hardware_build_within_their_check(prog):
+    _build_within_check(prog)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
 @given(programs())
 def test_random_programs_build_within_their_check(prog):
     assume(_names_a_compiled_part(prog))
@@ -222,8 +265,15 @@ def test_random_programs_build_within_their_check(prog):
 
 
 @pytest.mark.slow
-@settings(max_examples=3000, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=1000, deadline=None, suppress_health_check=list(HealthCheck))
 @given(programs())
 def test_many_random_programs_build_within_their_check(prog):
     assume(_names_a_compiled_part(prog))
+    _build_within_check(prog)
+
+
+@pytest.mark.slow
+@settings(max_examples=2000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(part_programs())
+def test_many_programs_on_a_parts_hardware_build_within_their_check(prog):
     _build_within_check(prog)
