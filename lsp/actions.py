@@ -11,6 +11,7 @@ from lsprotocol import types
 
 from ide import edits
 from ide.fixes import fix_edits
+from lang.textform.rungs import UnreadRung
 
 from .documents import LADDER
 from .navigation import workspace_edit
@@ -124,6 +125,8 @@ def structural(ls, analysis, selection: types.Range) -> list[types.CodeAction]:
     if rung_index is None:
         return []
     rung = analysis.program.rungs[rung_index]
+    if isinstance(rung, UnreadRung):
+        return []  # redrawn from what could be read, it would lose what could not
     actions: list[types.CodeAction] = []
 
     def offer(title: str, kind, make) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from lsprotocol import types
 from test_lsp_actions import actions_at, edits_of
 from test_lsp_support import Doc, apply_edits, lsp_fixture, new_uri
 
@@ -193,3 +194,8 @@ async def test_the_editor_shows_every_problem_and_moves_the_glyph(client):
     doc.replace_all(apply_edits(doc.text, edits_of(actions[0], doc.uri)))
     mended = sorted(await doc.diagnostics(), key=lambda d: d.range.start.line)
     assert [d.code for d in mended] == ["LD004", "LD003", "LD104", "LD130", "LD102"]
+    # a broken rung is not redrawn from what could be read of it; a rung that reads is
+    in_broken = await actions_at(client, doc, types.Position(line=12, character=14))
+    in_good = await actions_at(client, doc, types.Position(line=15, character=14))
+    assert not [a.title for a in in_broken if a.title.startswith("Delete")]
+    assert "Delete contact 'Rrun'" in [a.title for a in in_good]
