@@ -9,6 +9,8 @@ line just before a fence says more about it:
 * `<!-- doc-test: file NAME -->` before any block: the block is a file the
   reader is told to write, and the test writes it as NAME (in the document's
   folder) at that point of the document.
+* `<!-- doc-test: output -->` before any block: the block is what the shell
+  block before it prints (its standard output), and the test compares the two.
 
 `python tests/doc_blocks.py --first-command README.md` prints the first
 command of the document's first shell block.
@@ -37,6 +39,10 @@ class Block:
     @property
     def hardware(self) -> bool:
         return self.directive == "hardware"
+
+    @property
+    def shows_output(self) -> bool:
+        return self.directive == "output"
 
     @property
     def file_name(self) -> str | None:

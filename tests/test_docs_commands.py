@@ -5,7 +5,9 @@ script (`set -e`), in a scratch folder of the document's own where `ladder`
 is the test venv's and the repository's examples are copied twice over:
 as the folder `examples/` and, beside it, each file (`conveyor.ladder`).
 A block a `<!-- doc-test: file NAME -->` comment names is written there as
-NAME when the reading reaches it (tests/doc_blocks.py has the conventions).
+NAME when the reading reaches it; one marked `<!-- doc-test: output -->` must
+be what the shell block before it prints (tests/doc_blocks.py has the
+conventions).
 
 Not run, but checked:
 * a block marked `<!-- doc-test: hardware -->` (flashing a chip): its syntax,
@@ -23,6 +25,7 @@ test marked arduino: the fast test leaves those blocks out. `.ci/run` installs
 simavr and gpsim in its first step, the Arduino core in the Arduino step.
 """
 
+import difflib
 import os
 import re
 import shlex
@@ -148,44 +151,51 @@ def _script(block: Block, skipped: set[int]) -> str:
     return "set -eo pipefail\ntrap 'echo \"doc-test-line $LINENO\" >&2' ERR\n" + "\n".join(body) + "\n"
 
 
-def _run_document(document: Path, folder: Path, needs: set[str]) -> int:
-    """Runs the document's blocks a test with `needs` runs; returns how many commands ran."""
+def _run_block(document: Path, block: Block, folder: Path, needs: set[str]) -> str | None:
+    """Runs the commands of the block a test with `needs` runs; their output, or None when none ran."""
+    skipped: set[int] = set()
+    for command in block.commands():
+        if _words(command)[:1] and _words(command)[0] in PROGRAMMERS:
+            pytest.fail(f"{_name(document)}:{command.line}: `{command.text}` needs a board: "
+                        "mark its block <!-- doc-test: hardware -->", pytrace=False)
+        if _checked_not_run(block, command, folder) or _need(command) not in needs:
+            skipped |= set(range(command.line, command.last_line + 1))
+    if all(command.line in skipped for command in block.commands()):
+        return None
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
+    result = subprocess.run(["bash", "-c", _script(block, skipped)], cwd=folder, env=env, input="",
+                            capture_output=True, text=True, timeout=600)
+    if result.returncode != 0:
+        marks = re.findall(r"doc-test-line (\d+)", result.stderr)
+        line = block.line + int(marks[-1]) - 3 if marks else block.line
+        failed = next((c.text for c in block.commands() if c.line <= line <= c.last_line), block.text)
+        pytest.fail(f"{_name(document)}:{line}: `{failed}` exited {result.returncode}\n"
+                    f"--- stdout\n{result.stdout[-3000:]}\n--- stderr\n{result.stderr[-3000:]}", pytrace=False)
+    return result.stdout
+
+
+def _run_document(document: Path, folder: Path, needs: set[str]) -> None:
+    """Runs the document's blocks a test with `needs` runs, and compares the outputs it shows."""
     shutil.copytree(ROOT / "examples", folder / "examples")
     for example in (ROOT / "examples").iterdir():
         if example.is_file():
             shutil.copy2(example, folder / example.name)
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
-    ran = 0
+    output: str | None = None  # of the last shell block run
     for block in blocks(document):
         if block.file_name:
             (folder / block.file_name).parent.mkdir(parents=True, exist_ok=True)
             (folder / block.file_name).write_text(block.text, encoding="utf-8")
-            continue
-        if block.info != SHELL:
-            continue
-        if block.hardware:
+        elif block.shows_output:
+            if output is not None and block.text != output:
+                diff = "".join(difflib.unified_diff(block.text.splitlines(True), output.splitlines(True),
+                                                    "the document shows", "the commands print"))
+                pytest.fail(f"{_name(document)}:{block.line}: the output shown is not what the commands above "
+                            f"print:\n{diff}", pytrace=False)
+        elif block.info == SHELL and block.hardware:
             _check_hardware_block(block, folder)
-            continue
-        skipped: set[int] = set()
-        for command in block.commands():
-            if _words(command)[:1] and _words(command)[0] in PROGRAMMERS:
-                pytest.fail(f"{_name(document)}:{command.line}: `{command.text}` needs a board: "
-                            "mark its block <!-- doc-test: hardware -->", pytrace=False)
-            if _checked_not_run(block, command, folder) or _need(command) not in needs:
-                skipped |= set(range(command.line, command.last_line + 1))
-            else:
-                ran += 1
-        if all(command.line in skipped for command in block.commands()):
-            continue
-        result = subprocess.run(["bash", "-c", _script(block, skipped)], cwd=folder, env=env, input="",
-                                capture_output=True, text=True, timeout=600)
-        if result.returncode != 0:
-            marks = re.findall(r"doc-test-line (\d+)", result.stderr)
-            line = block.line + int(marks[-1]) - 3 if marks else block.line
-            failed = next((c.text for c in block.commands() if c.line <= line <= c.last_line), block.text)
-            pytest.fail(f"{_name(document)}:{line}: `{failed}` exited {result.returncode}\n"
-                        f"--- stdout\n{result.stdout[-3000:]}\n--- stderr\n{result.stderr[-3000:]}", pytrace=False)
-    return ran
+            output = None
+        elif block.info == SHELL:
+            output = _run_block(document, block, folder, needs)
 
 
 def _needs_of(document: Path) -> set[str]:
@@ -239,3 +249,15 @@ def test_a_flash_names_the_hex_file_the_steps_before_it_made(tmp_path):
         _check_hardware_block(block, tmp_path)
     (tmp_path / "blink.hex").write_text(":00000001FF\n")
     _check_hardware_block(block, tmp_path)
+
+
+def test_an_output_shown_is_compared_with_what_the_commands_print(tmp_path):
+    document = tmp_path / "guide.md"
+    folder = tmp_path / "run"
+    folder.mkdir()
+    document.write_text("```sh\nladder sim conveyor.ladder --for 1s --set Xstart=1 --watch Rrun\n```\n\n"
+                        "<!-- doc-test: output -->\n```text\n0 Rrun 0\n```\n", encoding="utf-8")
+    with pytest.raises(pytest.fail.Exception) as failure:
+        _run_document(document, folder, {"fast"})
+    assert str(failure.value).startswith("guide.md:7: the output shown is not what the commands above print")
+    assert "-0 Rrun 0\n+0 Rrun 1" in str(failure.value)
