@@ -7,12 +7,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from lsprotocol import types
 from test_lsp_actions import actions_at, edits_of
+from test_lsp_incremental import apply, edits
 from test_lsp_support import Doc, apply_edits, lsp_fixture, new_uri
 
+from ide.incremental import IncrementalReader
 from ladder.cli import main
-from lang.checks import check_program
+from lang.checks import Checker, check_program
 from lang.loader import checkable, checked, load_file
 from lang.textform.reader import TextReader, read_text
 from lang.textform.rungs import UnreadRung
@@ -162,6 +166,27 @@ def test_a_rung_broken_then_mended_reads_as_a_fresh_reader_reads_it():
     assert (program, problems) == read_text(mended)
     assert not any(isinstance(rung, UnreadRung) for rung in program.rungs)
     assert [p.code for p in problems] == []
+
+
+def _as_ladder_check(text: str) -> list[str]:
+    program, problems = read_text(text)
+    found = checked(program, check_program(program)) if checkable(program, problems) else []
+    return sorted(d.format("f") for d in problems + found)
+
+
+@settings(max_examples=80, suppress_health_check=[HealthCheck.too_slow], deadline=None)
+@given(data=st.data())
+def test_edits_of_a_broken_program_are_checked_as_a_fresh_check_does(data):
+    """The editor's way (the text re-read where it changed, the checks run
+    again on what an edit can change) gives what `ladder check` gives, after
+    edits that break rungs and mend them."""
+    reader, checker = IncrementalReader("ladder"), Checker()
+    text = SIX
+    for step in [None, *data.draw(edits(SIX))]:
+        text = text if step is None else apply(text, step)
+        program, problems = reader.read(text)
+        found = checked(program, checker.check(program, reader.moved)) if checkable(program, problems) else []
+        assert sorted(d.format("f") for d in problems + found) == _as_ladder_check(text)
 
 
 def test_a_loaded_file_with_broken_rungs_is_checkable(tmp_path):
