@@ -156,6 +156,17 @@ def test_fix_moves_the_misplaced_glyph_and_leaves_the_rest(tmp_path, capsys):
     assert path.read_text(encoding="utf-8") == SIX.replace("[-------+  ", "[------+   ")
 
 
+def test_fix_moves_the_glyph_first_then_makes_the_checks_fixes(tmp_path, capsys):
+    """Once the move leaves no reading error, the checks' fixes that need no
+    choice follow (a rename must see every use of the name)."""
+    path = _write(tmp_path, SIX.replace("[?]", "---").replace("]/[----------       ----", "]/[-----------------------"))
+    assert main(["check", "--fix", str(path)]) == 1
+    printed = capsys.readouterr()
+    assert printed.err.splitlines() == [f"{path}: fixed: move '+' to column 23",
+                                        f"{path}: fixed: Rename 'delay' to 'Tdelay' (timer)"]
+    assert [line.split(" ")[2] for line in printed.out.splitlines()] == ["LD130", "LD102"]
+
+
 def test_a_rung_broken_then_mended_reads_as_a_fresh_reader_reads_it():
     reader = TextReader()
     reader.read(SIX)

@@ -1,8 +1,8 @@
 """A vertical connector with one glyph a column off: the `+` at its top or
-bottom, or one of the two `|` between them. Drawn by hand, this is the most
-common slip, and read as it stands it gives three or four errors, none of
-which says what to do; found here, it is one error at the misplaced glyph
-that names the column it belongs in, and the rung is read as if moved."""
+bottom, or one of the two `|` between them. An easy slip when drawing by
+hand; read as it stands it gives three or four errors, none of which says
+what to do. Found here, it is one error at the misplaced glyph that names
+the column it belongs in, and the rung is read as if the glyph were there."""
 
 from __future__ import annotations
 
