@@ -27,6 +27,8 @@ import asyncio
 import inspect
 import json
 import logging
+import os
+import stat
 from typing import TYPE_CHECKING, cast
 
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInvalidRequest
@@ -138,6 +140,18 @@ class ResyncReader:
         return self.inner.readexactly(n)
 
 
+def _pollable(stdin) -> bool:
+    """Whether the event loop can watch `stdin`: a pipe or a socket. asyncio
+    also takes a character device, but epoll refuses some (/dev/null), and
+    only inside a callback, where the failure cannot be caught: the server
+    would wait forever on input that has ended."""
+    try:
+        mode = os.fstat(stdin.fileno()).st_mode
+    except (ValueError, OSError, AttributeError):  # no file descriptor
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode)
+
+
 class PipeReader:
     """Standard input read by the event loop (a pipe: what an editor gives a
     language server), so that reading every message already arrived never
@@ -153,13 +167,11 @@ class PipeReader:
     async def _source(self):
         if not self._tried:
             self._tried = True
+            if not _pollable(self.stdin):
+                return None
             stream = asyncio.StreamReader(limit=1 << 30)  # a lost frame's body is read as one line
-            try:
-                await asyncio.get_running_loop().connect_read_pipe(
-                    lambda: asyncio.StreamReaderProtocol(stream), self.stdin)
-                self._stream = stream
-            except (ValueError, OSError):  # a regular file, or no file descriptor
-                pass
+            await asyncio.get_running_loop().connect_read_pipe(lambda: asyncio.StreamReaderProtocol(stream), self.stdin)
+            self._stream = stream
         return self._stream
 
     async def readline(self) -> bytes:

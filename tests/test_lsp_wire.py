@@ -104,3 +104,17 @@ def test_a_frame_of_the_wrong_length_costs_only_itself(wire, short):
     wire.send(b"{not json at all")
     wire.request(4, "textDocument/hover", position)
     assert wire.answers({4}) == {4: "result"}
+
+
+@pytest.mark.parametrize("stdin", ["devnull", "file"])
+def test_input_that_is_not_a_pipe_is_read_to_its_end(tmp_path, stdin):
+    """`ladder lsp < /dev/null` (a service manager, a script) ends at once,
+    without a traceback: the event loop cannot watch /dev/null, so the
+    server reads it as it reads a file."""
+    source = tmp_path / "input"
+    source.write_bytes(b"")
+    with open(os.devnull if stdin == "devnull" else source, "rb") as given:
+        done = subprocess.run([sys.executable, "-m", "ladder", "lsp"], cwd=ROOT, stdin=given,
+                              capture_output=True, timeout=30)
+    assert done.returncode == 0
+    assert b"Traceback" not in done.stderr
