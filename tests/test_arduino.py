@@ -56,6 +56,22 @@ def test_the_sketch_folder_has_the_ino_and_the_c(capsys, tmp_path):
     assert "next += 10000UL;" in ino and "PlcCycle();" in ino
 
 
+@pytest.mark.parametrize("given, folder", [("ard/blink", "ard/blink"), ("ard/blink/blink.ino", "ard/blink"),
+                                           ("ard/blink.ino", None)])
+def test_o_names_the_sketch_folder_or_its_ino(capsys, tmp_path, given, folder):
+    """-o DIR, or DIR/DIR.ino for the sketch file in it; an .ino in a folder
+    of another name the Arduino IDE would not open, so it is refused, saying what would do."""
+    shutil.copyfile(ROOT / "examples" / "traffic-uno.ladder", tmp_path / "t.ladder")
+    status, _, err = run(capsys, "build", str(tmp_path / "t.ladder"), "--emit", "arduino", "--board", "uno",
+                         "-o", str(tmp_path / given))
+    if folder is None:
+        assert status == 2 and f"-o {tmp_path / 'ard' / 'blink'}" in err, err
+        assert not (tmp_path / "ard").exists()
+    else:
+        assert status == 0, err
+        assert (tmp_path / folder / "blink.ino").is_file() and (tmp_path / folder / "blink.c").is_file()
+
+
 def test_pins_may_be_arduino_names_port_bits_or_package_pins(capsys, tmp_path):
     program = ROOT / "examples" / "conveyor.ladder"  # package pins 4, 5, 18, 19 of the ATmega328P
     for board in ("uno", "nano"):  # the board's own chip: its package pins

@@ -127,6 +127,14 @@ def _emit_c(args, program) -> int:
     source = Path(args.file)
     if args.emit == "arduino":
         folder = Path(args.output) if args.output else source.with_suffix("")
+        if folder.suffix == ".ino":
+            # the Arduino IDE opens a sketch only in a folder of its own name: `-o blink/blink.ino` is that folder
+            if folder.parent.name != folder.stem:
+                print(f"ladder build: error: -o {args.output}: --emit arduino writes a sketch folder, and the "
+                      f"Arduino IDE needs the .ino in a folder of the same name: -o {folder.with_suffix('')}",
+                      file=sys.stderr)
+                return EXIT_USAGE
+            folder = folder.parent
         output = folder / f"{folder.name}.c"
     else:
         output = Path(args.output) if args.output else source.with_suffix(".c")
