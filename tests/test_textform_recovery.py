@@ -129,6 +129,18 @@ def test_an_error_outside_the_diagram_still_stops_the_checks(tmp_path, capsys):
     assert "LD104" not in out and "LD102" not in out
 
 
+def test_a_detail_of_an_element_a_broken_rung_lost_is_no_second_error():
+    """DETAILS may name an element whose drawing is broken: the rung's error
+    says what is wrong, and the checks still run."""
+    text = SIX.replace("[TON 2 s]", "[TOX 2 s]") + "\nDETAILS:\n  TON delay: adjust -1\n"
+    program, problems = read_text(text)
+    assert [p.code for p in problems] == ["LD004", "LD003", "LD003", "LD014"]
+    assert checkable(program, problems)
+    mended, problems = read_text(text.replace("[TOX 2 s]", "[TON 2 s]").replace("[?]", "---"))
+    timer = next(e for _, e in mended.elements() if e.kind == "TON")
+    assert timer.args["adjust"] == -1
+
+
 def test_fmt_leaves_a_file_with_a_broken_rung_as_it_is(tmp_path, capsys):
     path = _write(tmp_path, SIX)
     assert main(["fmt", str(path)]) == 1

@@ -15,6 +15,7 @@ from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS, Instruction
 from ..model import Element, PinAssignment, Program, Settings, Span
+from .rungs import UnreadRung
 from .sections import Section
 
 # key in the file -> (Settings attribute, kind)
@@ -191,7 +192,9 @@ def read_details(section: Section, program: Program, problems: list[Diagnostic])
             occurrence = int(match.group("n"))
             targets = targets[occurrence - 1:occurrence]
         if not targets:
-            problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
+            if not any(isinstance(rung, UnreadRung) for rung in program.rungs):
+                problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
+            # else its element may be in a rung that could not be read: that rung's errors say so
             continue
         try:
             values = _parse_values(instruction, match.group("rest"))
