@@ -3,7 +3,8 @@ Chromium through playwright-core (tests/e2e/vscode_e2e.js).
 
 The extension runs the language server it carries (bundled/), with the Python it finds: the
 session below gives code-server a PATH on which the only Python is a fresh, bare virtual
-environment's, without textladder, and no `ladder`.
+environment's, without textladder, and no `ladder`. It ends with a program that sends on the
+UART (TICKER), whose messages the watch view lists.
 
 Slow: runs in the editor step of .ci/run (`pytest -m slow tests/test_editor_*.py`), which installs
 the npm packages first. Leaves screenshots in build/editor-e2e/ (LADDER_E2E_OUT).
@@ -27,6 +28,31 @@ sys.path.insert(0, str(Path(__file__).parent / "e2e"))
 import editor_env as env  # noqa: E402
 
 pytestmark = pytest.mark.slow
+
+# Sends "tick N\r\n" (N in three digits) every 220 ms: a FORMATTED_STRING on Rosc, a 200 ms oscillator
+TICKER = (
+    env.HEADER
+    + "LADDER DIAGRAM:\n"
+    "    ||                                                   ||\n"
+    "    ||      Rosc             Tosc             Rosc       ||\n"
+    "0001||-------] [---------[TON 200 ms]----------(/)-------||\n"
+    "    ||                                                   ||\n"
+    "    ||                                                   ||\n"
+    "    ||      Rosc            _     _     {ADD      cnt:=} ||\n"
+    "0002||-------] [---------[_/ OSR_/ \\_]--{cnt     +    1}-||\n"
+    "    ||                                                   ||\n"
+    "    ||                                                   ||\n"
+    "    ||      Rosc                      cnt                ||\n"
+    '0003||-------] [----------------{"tick \\3\\r\\n"}----------||\n'
+    "    ||                                                   ||\n"
+    "    ||                                                   ||\n"
+    "    ||                                                   ||\n"
+    "   3||------[END]----------------------------------------||\n"
+    "    ||                                                   ||\n"
+    "    ||                                                   ||\n"
+    "\n"
+    + env.IO_TABLE
+)
 
 
 def _npm(*args: str, cwd: Path, timeout: int = 300) -> subprocess.CompletedProcess:
@@ -154,9 +180,12 @@ def code_server_run(vsix, bare_path, tmp_path_factory):
     (ws / "linker.ld").write_text('OUTPUT_FORMAT("elf32-avr")\nSECTIONS\n{\n  .text : { *(.text) }\n}\n')
     (ws / "export.txt").write_text(env.lamp_fixed())
     (ws / "notes.txt").write_text("LDmicro is a ladder logic compiler.\n")
+    ticker = ws / "ticker.ladder"
+    ticker.write_text(TICKER)
     shutil.rmtree(env.OUT, ignore_errors=True)  # no screenshot of an earlier run
     env.OUT.mkdir(parents=True, exist_ok=True)
-    return _vscode_e2e(vsix, ws, bad, sim, env.OUT, bare_path, "--detect", "program.ld,linker.ld,export.txt,notes.txt")
+    return _vscode_e2e(vsix, ws, bad, sim, env.OUT, bare_path, "--detect", "program.ld,linker.ld,export.txt,notes.txt",
+                       "--uart", str(ticker))
 
 
 def _vscode_e2e(vsix: Path, ws: Path, bad: Path, sim: Path, out: Path, path: str, *more: str) -> dict:
@@ -224,6 +253,29 @@ def test_simulation(code_server_run):
     assert any(row.startswith("Xstart") for row in code_server_run["watch"]), code_server_run["watch"]
     assert code_server_run["screenshot"].endswith("vscode-simulation.png")
     assert "Toggle Xstop" in code_server_run["hoverSim"]
+
+
+def test_the_watch_view_shows_what_the_uart_sent(code_server_run, tmp_path):
+    """TICKER run for a second ("Run Simulation For…"): the watch view counts the bytes sent and lists
+    the messages as `ladder sim --watch uart` prints them, each with its time, the latest first."""
+    env.require_feature("simulation")
+    uart = code_server_run["uart"]
+    assert "1.010 s" in uart["statusBar"], uart
+    rows = uart["rows"]
+    at = next((i for i, row in enumerate(rows) if row["label"].startswith("UART sent")), None)
+    assert at is not None, rows
+    assert rows[at]["label"] == "UART sent (50 bytes)"
+    messages = rows[at + 1:]
+    assert all(row["level"] == rows[at]["level"] + 1 for row in messages), rows
+    assert [(row["description"], row["label"]) for row in messages[:2]] == [
+        ("880 ms", '"tick   5\\r\\n"'), ("660 ms", '"tick   4\\r\\n"')]
+    program = tmp_path / "ticker.ladder"
+    program.write_text(TICKER)
+    sim = subprocess.run([sys.executable, "-m", "ladder", "sim", str(program), "--for", "1s", "--watch", "uart"],
+                         capture_output=True, text=True, timeout=60)
+    assert sim.returncode == 0, sim.stderr
+    printed = [line.split(" uart ") for line in sim.stdout.splitlines()]
+    assert [(row["description"], row["label"]) for row in messages] == [(f"{t} ms", text) for t, text in printed[::-1]]
 
 
 def test_without_python_a_notification_says_what_to_install(code_server_run, vsix, tmp_path_factory):

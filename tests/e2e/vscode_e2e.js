@@ -3,9 +3,11 @@
 // on Node 20), opens it in Debian's Chromium through playwright-core, and checks what a person
 // would see: the diagnostic in the Problems panel, a simulation started from the command palette,
 // an input toggled with its code lens, a scan run with F10, energized elements painted red, the
-// status bar and the watch view. Saves screenshots.
+// status bar and the watch view; with --uart, a program that sends run for a second and what it
+// sent read from the watch view. Saves screenshots.
 //
 //   node vscode_e2e.js --vsix X.vsix --workspace DIR --bad FILE --sim FILE --out DIR [--python PY]
+//                      [--uart FILE]
 //                      [--detect a.ld,b.txt] [--no-sim] [--no-hover]   (to narrow a run down while debugging)
 //                      [--no-python]
 //
@@ -245,6 +247,46 @@ async function main() {
         return (await h.isVisible().catch(() => false)) ? (await h.innerText()).trim() : false;
       }, 15000);
 
+    // the rows of the watch view as drawn: label (its spaces kept), description, depth in the tree
+    const watchRows = (pane) =>
+      pane.locator('.monaco-list-row').evaluateAll((rows) =>
+        rows.map((r) => ({
+          label: (r.querySelector('.label-name') || r).textContent,
+          description: ((r.querySelector('.label-description') || {}).textContent || '').trim(),
+          level: Number(r.getAttribute('aria-level')),
+        })),
+      );
+
+    // a program that sends, simulated for a second ("Run Simulation For…"): the watch view's UART group
+    const uartInWatchView = async (name) => {
+      await openFile(name);
+      await runCommand('Ladder: Start Simulation');
+      await waitFor('the status bar to show scan 1', async () => /scan 1\b/.test(await page.locator('.statusbar').innerText()), 30000);
+      await runCommand('Ladder: Run Simulation For');
+      const box = page.locator('.quick-input-widget input');
+      await box.waitFor({ state: 'visible', timeout: 15000 });
+      await box.fill('1 s');
+      await box.press('Enter');
+      const statusBar = await waitFor('a second simulated', async () => {
+        const m = /Sim[^\n]*scan\s+(\d+)/.exec(await page.locator('.statusbar').innerText());
+        return m && Number(m[1]) > 1 ? m[0] : false;
+      }, 30000);
+      // the Explorer's folder section gives its height to the watch view, whose rows are drawn only when in sight
+      const folders = page.locator('.pane', { has: page.locator('.explorer-folders-view') }).locator('.pane-header').first();
+      if ((await folders.getAttribute('aria-expanded')) === 'true') await folders.click();
+      const pane = page.locator('.pane', { has: page.locator('.pane-header', { hasText: 'Ladder Simulation' }) });
+      let before = '';
+      const rows = await waitFor('the UART group in the watch view, its rows settled', async () => {
+        const now = await watchRows(pane);
+        const group = now.findIndex((r) => /^UART sent/.test(r.label));
+        const seen = JSON.stringify(now);
+        const settled = group >= 0 && group + 1 < now.length && seen === before;
+        before = seen;
+        return settled ? now : false;
+      }, 20000);
+      return { statusBar, rows };
+    };
+
     const badName = path.basename(args.bad);
     const simName = path.basename(args.sim);
 
@@ -430,6 +472,12 @@ async function main() {
             return n === 0;
           }, 15000);
         });
+
+        if (args.uart) {
+          result.uart = await timed('what the UART sent, in the watch view', () => uartInWatchView(path.basename(args.uart)));
+          log(`uart: ${JSON.stringify(result.uart)}`);
+          await page.screenshot({ path: path.join(args.out, 'vscode-uart.png') });
+        }
       } else {
         const shot = path.join(args.out, 'vscode-editor.png');
         await page.screenshot({ path: shot });
