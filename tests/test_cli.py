@@ -31,6 +31,15 @@ def test_check_a_clean_program_exits_0():
     assert result.stdout == ""
 
 
+def test_the_examples_users_start_from_are_clean_and_formatted():
+    """What a user copies first must pass `ladder check` and `ladder fmt --check` as shipped."""
+    examples = sorted(EXAMPLE.parent.glob("*.ladder"))
+    result = ladder("check", *examples)
+    assert result.returncode == 0 and not result.stdout, result.stdout + result.stderr
+    result = ladder("fmt", "--check", *examples)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
 def test_check_reports_path_line_col_severity_code(tmp_path):
     source = tmp_path / "lamp.ladder"
     source.write_text(COIL_ON_INPUT)
