@@ -26,6 +26,7 @@ from corpus import EXPORTS
 from mutations import mutate
 
 from lang.checks import check_program
+from lang.loader import checkable, checked
 from lang.textform.reader import read_text
 
 URI = "file:///fuzz/program.ladder"
@@ -151,7 +152,8 @@ def _worker(job):
             break
     missing = len(session.waiting)
     program, problems = read_text(final)
-    expected = sorted(d.code for d in problems + ([] if problems else check_program(program)))
+    found = checked(program, check_program(program)) if checkable(program, problems) else []
+    expected = sorted(d.code for d in problems + found)
     got = sorted(d.get("code") for d in session.diagnostics.get(session.version, []))
     session.process.kill()
     return sent, crashes, missing, expected == got
