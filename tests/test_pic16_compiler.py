@@ -283,6 +283,24 @@ def test_free_running_timer1_makes_the_cycle_without_a_ccp(tmp_path):
     assert all(abs(t - rises[0] - 10 * k) < 0.1 for k, t in enumerate(rises))
 
 
+def test_free_running_timer1_keeps_the_cycle_when_its_count_is_outside_bank_0(tmp_path):
+    """Variables filling bank 0 push the tick count's deadline into bank 1; a
+    cycle longer than Timer1 counts (0.52 s at 4 MHz) runs it free. The wait
+    loop still returns to bank 0 and the cycle-duty pin rises every cycle."""
+    from builders import coil, contact, move, program
+
+    rungs = [[contact("Xa"), coil("Yb")]] + [[contact("Xa"), move(f"V{i}", i)] for i in range(24)]
+    prog = program(*rungs, mcu="Microchip PIC16F819 18-PDIP or 18-SOIC", cycle_us=600_000, crystal_hz=4_000_000,
+                   pins={"Xa": "RA0", "Yb": "RB1", "YPlcCycleDuty": "RB2"}, sizes={f"V{i}": 4 for i in range(24)},
+                   cycle_duty=True)
+    compiler.build(prog).write(tmp_path / "full.hex")
+    run = gpsim.run_pic(tmp_path / "full.hex", "p16f819", 4_000_000, inputs=[(0, "RA0", 0)], watch=["RB2"],
+                        until_ms=3100, timeout=120)
+    rises = [t for t, v in run.pin_edges("RB2") if v]
+    assert len(rises) == 6  # at 0, 0.6, ... 3.0 s
+    assert all(abs(t - rises[0] - 600 * k) < 0.5 for k, t in enumerate(rises))
+
+
 # --- the oracle programs (tests/pic16_programs) against the simulator ---------------------------------
 
 ORACLES = Path(__file__).parent / "pic16_programs"

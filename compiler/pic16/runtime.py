@@ -195,6 +195,10 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     e.load(high)
     e.store(count[2])
     ints.chain(e, "sub", count, [ints.Byte("mem", d) for d in deadline])
+    # the deadline may sit in another bank (RAM filled by the variables); the wait loop starts
+    # in bank 0, whose selection cannot come between the skip and its GOTO (the scratch
+    # bytes are in bank 0 or common RAM)
+    e.bank0()
     bits.jump_if(e, FileBit(count[2], 7), True, "wait")
     e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
     e.goto("scan")
