@@ -77,17 +77,22 @@ def nvim_run(request, tmp_path_factory):
     }
     config["sim"] = str(sim)
     (tmp / "config.json").write_text(json.dumps(config))
-    run_env = {**os.environ, "LADDER_NVIM_CONFIG": str(tmp / "config.json"),
-               "XDG_CACHE_HOME": str(tmp / "cache"), "XDG_STATE_HOME": str(tmp / "state"),
-               "XDG_DATA_HOME": str(tmp / "data"), "XDG_CONFIG_HOME": str(tmp / "config")}
-    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c",
-                           f"luafile {env.E2E / 'nvim_lsp.lua'}"],
-                          capture_output=True, text=True, timeout=180, env=run_env, cwd=tmp)
-    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    result = json.loads(out.read_text())
+    result = _headless(nvim, env.E2E / "nvim_lsp.lua", out, tmp, 180, LADDER_NVIM_CONFIG=str(tmp / "config.json"))
     result["_detect"] = detect
     print(json.dumps({k: round(v["seconds"], 2) for k, v in result["steps"].items()}))
     return result
+
+
+def _headless(nvim: str, script: Path, out: Path, folder: Path, timeout: int, **extra_env) -> dict:
+    """Run `script` in a headless Neovim with its own XDG folders under
+    `folder`, and return the JSON it wrote to `out` (with Neovim's stderr
+    as "_stderr", for the messages of assertions)."""
+    run_env = {**os.environ, **extra_env, **{f"XDG_{kind}_HOME": str(folder / kind.lower())
+                                             for kind in ("CACHE", "STATE", "DATA", "CONFIG")}}
+    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {script}"],
+                          capture_output=True, text=True, timeout=timeout, env=run_env, cwd=folder)
+    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    return {**json.loads(out.read_text()), "_stderr": proc.stderr}
 
 
 def _step(run, name):
@@ -281,20 +286,15 @@ r.sim_error = not ok and tostring(err) or nil
 vim.fn.writefile({{ vim.fn.json_encode(r) }}, '{out}')
 vim.cmd('qa!')
 """)
-    run_env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "XDG_STATE_HOME": str(tmp_path / "state"),
-               "XDG_DATA_HOME": str(tmp_path / "data"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
-    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
-                          capture_output=True, text=True, timeout=120, env=run_env, cwd=tmp_path)
-    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    r = json.loads(out.read_text())
+    r = _headless(nvim, tmp_path / "drive.lua", out, tmp_path, 120)
     assert (r["program"], r["linker"], r["lamp"]) == ("ldmicro", "ld", "ladder")
     assert {"lnum": env.BAD_LINE, "code": "LD102"} in r["diagnostics"]
     assert r["commands"] == 2
     assert r["omnifunc"] == "v:lua.vim.lsp.omnifunc" and r["k_buffer"] == 1, r
     assert "input" in r["hover"].lower(), r["hover"]
-    assert r.get("sim_error") is None, f"{r['sim_error']}\n{proc.stderr}"
+    assert r.get("sim_error") is None, f"{r['sim_error']}\n{r['_stderr']}"
     assert "▶ sim" in r["virt_text"] and "Xstart=1" in r["virt_text"] and "Ylamp=1" in r["virt_text"], \
-        f"{r['virt_text']!r}\n{proc.stderr}"
+        f"{r['virt_text']!r}\n{r['_stderr']}"
     if "inlay_hints" in r:
         assert "Xstart=1" in r["inlay_hints"] and "Ylamp=1" in r["inlay_hints"], r["inlay_hints"]
 
@@ -337,12 +337,7 @@ r.health = table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\\n')
 vim.fn.writefile({{ vim.fn.json_encode(r) }}, '{out}')
 vim.cmd('qa!')
 """)
-    run_env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "XDG_STATE_HOME": str(tmp_path / "state"),
-               "XDG_DATA_HOME": str(tmp_path / "data"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
-    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
-                          capture_output=True, text=True, timeout=120, env=run_env, cwd=tmp_path)
-    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    r = json.loads(out.read_text())
+    r = _headless(nvim, tmp_path / "drive.lua", out, tmp_path, 120)
     assert r["filetype"] == "ladder" and r["attached"], r
     assert "ladder: the language server" in r["health"] and "version: ladder " in r["health"], r["health"]
 
@@ -370,11 +365,6 @@ local gh, k = vim.fn.maparg('gh', 'n', false, true), vim.fn.maparg('K', 'n', fal
 vim.fn.writefile({{ vim.fn.json_encode({{ gh = gh.desc or '', k = k.desc or '', v = vim.version().minor }}) }}, '{out}')
 vim.cmd('qa!')
 """)
-    proc = subprocess.run([nvim, "--headless", "-u", "NONE", "-i", "NONE", "-c", f"luafile {tmp_path / 'drive.lua'}"],
-                          capture_output=True, text=True, timeout=60, cwd=tmp_path,
-                          env={**os.environ, "XDG_STATE_HOME": str(tmp_path / "state"),
-                               "XDG_DATA_HOME": str(tmp_path / "data")})
-    assert out.exists(), f"Neovim wrote no result (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    r = json.loads(out.read_text())
+    r = _headless(nvim, tmp_path / "drive.lua", out, tmp_path, 60)
     assert r["gh"] == "ladder: hover"
     assert r["k"] == ("" if r["v"] < 10 else "vim.lsp.buf.hover()"), r
