@@ -23,7 +23,7 @@ from lang.diagnostics import ERROR, Diagnostic, error
 from lang.model import Program
 from lang.semantics.errors import LoweringError
 from lang.semantics.lower import lower_program
-from lang.semantics.lower.io import PWM_FULL
+from lang.semantics.operands import PWM_FULL
 from lang.targets import FAMILIES, Family, compiled, family_of, parts_text
 from lang.textform.writer import render_rung
 

@@ -8,11 +8,13 @@ One definition for the checks, which report what a build would find
 part, and for the back ends, which program the timers, the UART and ADCON1
 from the same answers. The facts are in each device file's key for its
 family (`cycle_timer`, `baud`, `pwm`, and the PIC16's `features.adc.pcfg`),
-which the back ends read too.
+which the back ends read too. And which register a `#` name reaches
+(indirect access, LD702), from each part's register table.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from .devices import Device
@@ -205,3 +207,34 @@ def analog_group(device: Device, channels: set[int]) -> tuple[int, frozenset[int
     if groups is None or not channels:
         return None
     return min((group for group in groups if channels <= group[1]), key=lambda group: len(group[1]))
+
+
+# `#PORTB`, `#PINB`, `#DDRB`, `#TRISB`: a port register by the name either family gives it
+_PORT_REGISTER = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-Z])$", re.IGNORECASE)
+# what each family calls the others' port registers: an AVR has no TRIS (it is DDR); a PIC16
+# reads its pins in PORT and sets their direction in TRIS
+_PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}}
+
+
+def _data_addresses(device: Device) -> range:
+    """The data addresses a `#0x..` name may reach: an AVR's above its 32
+    working registers up to the end of RAM, a PIC16's every bank."""
+    facts = device.data[device.family]
+    if "banks" in facts:
+        return range(0, 128 * facts["banks"])
+    return range(0x20, facts["ram"]["start"] + facts["ram"]["size"])
+
+
+def register_address(device: Device, name: str) -> int | None:
+    """The data address a `#` name reaches on a part of a compiled family
+    (`#PORTB`, `#TRISA`, `#0x25`), or None when it names none of the part's."""
+    registers = device.data[device.family]["registers"]
+    port = _PORT_REGISTER.match(name)
+    if port:
+        kind = port.group(1).upper()
+        return registers.get(_PORT_NAMES[device.family].get(kind, kind) + port.group(2).upper())
+    try:
+        address = int(name[1:], 0)
+    except ValueError:
+        return None
+    return address if address in _data_addresses(device) else None

@@ -2,16 +2,18 @@
 part: the same code, message and place, without compiling. Real programs
 (avr-hw.ld's unassigned PWM name, test-pwm.ld's approximated frequency,
 pic-adc.ld's digital pin made analog), each part rule on both families, the
-input-only MCLR pins, and a property over the corpus and random programs:
-what a build reports is among what the check reports, but for what only the
-compiled code can tell (its size, its scan time)."""
+input-only MCLR pins, PERSIST beyond the EEPROM, indirect access to a
+register the part lacks, operand forms with no code, and a property over the
+corpus and random programs: what a build reports is among what the check
+reports, but for what only the compiled code can tell (its size, its scan
+time)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
-from builders import coil, contact, el, program
+from builders import coil, contact, el, move, program
 from corpus import CORPUS, all_ld_files
 from generators import programs
 from hypothesis import HealthCheck, assume, given, settings
@@ -28,6 +30,7 @@ from lang.targets import compiled
 M328 = "Atmel AVR ATmega328 28-PDIP"
 P877 = "Microchip PIC16F877 40-PDIP"
 P887 = "Microchip PIC16F887 40-PDIP"
+P72 = "Microchip PIC16F72 28-Pin PDIP, SOIC, SSOP"
 
 # What only the compiled image can tell: flash and RAM use, the scan's worst case.
 NEEDS_THE_IMAGE = {"LD703", "LD704", "LD712"}
@@ -100,8 +103,8 @@ def test_ladder_check_on_the_file_reports_it(tmp_path, capsys):
 # --- each part rule, on both families ------------------------------------------------------------
 
 
-def _pwm(name="Pa", freq=1000, duty="50"):
-    return el("SET_PWM", duty=duty, freq=freq, name=name)
+def _pwm(name="Pa", freq=1000, duty="50", resolution=""):
+    return el("SET_PWM", duty=duty, freq=freq, name=name, resolution=resolution)
 
 
 def test_pwm_on_the_cycle_timer_is_refused_by_check():
@@ -155,6 +158,70 @@ def test_part_rules_stay_quiet_without_a_part_or_for_c():
     assert not [d for d in check_program(prog) if d.code[2] == "7"]
     assert not [d for d in check_program(program([_pwm()], mcu=M328, cycle_us=10_000_000), family="c")
                 if d.code[2] == "7"]
+
+
+# --- PERSIST, indirect registers and operand forms, known before any code is written ---------------
+
+
+def test_persist_on_a_part_without_eeprom_is_reported_by_check():
+    prog = program([contact("Xa"), el("PERSIST", var="count")], mcu=P72, pins={"Xa": 2}, crystal_hz=4_000_000)
+    d = _same_in_check_and_build(prog, "LD705")
+    assert d.message == "the PERSIST variables need 2 bytes of EEPROM; the part has 0"
+    assert d.span == prog.rungs[0].circuit.items[1].span
+
+
+def test_persist_beyond_the_eeprom_is_reported_on_the_first_that_does_not_fit():
+    rungs = [[contact("Xa"), el("PERSIST", var=f"v{i}")] for i in range(130)]
+    prog = program(*rungs, mcu="Atmel AVR ATmega8 28-PDIP", pins={"Xa": 4}, sizes={f"v{i}": 4 for i in range(130)})
+    d = _same_in_check_and_build(prog, "LD705")
+    assert d.message == "the PERSIST variables need 516 bytes of EEPROM; the part has 512"
+    assert d.span == prog.rungs[128].circuit.items[1].span
+    # a timer kept in the EEPROM takes the bytes its delay needs, as the lowering gives it
+    fits = program([contact("Xa"), el("PERSIST", var="v")], mcu=M328, pins={"Xa": 4})
+    assert not [d for d in check_program(fits) if d.code == "LD705"]
+    compiler.build(fits)
+
+
+@pytest.mark.parametrize("mcu, name, pin", [(M328, "#0x1234", 4), (M328, "#TRISZ", 4), (P877, "#0x200", 33),
+                                            (P877, "#PORTF", 33)])
+def test_a_register_the_part_does_not_have_is_reported_by_check(mcu, name, pin):
+    prog = program([contact("Xa"), move(name, 5)], [contact("Xa"), move("v", name)], mcu=mcu, pins={"Xa": pin})
+    d = _same_in_check_and_build(prog, "LD702")
+    assert d.message.startswith(f"'{name}' names no register of the ")
+    assert d.span == prog.rungs[0].circuit.items[1].span  # the first use, as the build says
+
+
+@pytest.mark.parametrize("mcu, pin, name", [(M328, 4, "#PORTB"), (M328, 4, "#TRISB"), (M328, 4, "#0x25"),
+                                            (P877, 33, "#PINB"), (P877, 33, "#DDRA"), (P877, 33, "#0x1FF")])
+def test_each_familys_register_names_pass_both(mcu, pin, name):
+    prog = program([contact("Xa"), move(name, 5)], mcu=mcu, pins={"Xa": pin})
+    assert not [d for d in check_program(prog) if d.code == "LD702"]
+    compiler.build(prog)
+
+
+@pytest.mark.parametrize("element, message", [
+    (el("DELAY", delay="-5"), "a delay cannot be negative"),
+    (el("TIME2COUNT", name="v", delay="Tvar", adjust=0), "the T2CNT delay must be a time, not a variable"),
+    (el("TIME2DELAY", name="v", delay="Tvar"), "the T2DLY delay must be a time"),
+    (el("UART_RECV", var="v", bytes=3), "UART RECV of 3 bytes into 'v' of 2 bytes"),
+])
+@pytest.mark.parametrize("mcu, pin", [(M328, 4), (P877, 33)])
+def test_operand_forms_without_code_are_reported_by_check(element, message, mcu, pin):
+    prog = program([contact("Xa"), element], mcu=mcu, pins={"Xa": pin})
+    d = _same_in_check_and_build(prog, "LD710")
+    assert d.message == message and d.span == prog.rungs[0].circuit.items[1].span
+
+
+def test_a_pwm_resolution_the_instruction_does_not_have_is_reported_by_check():
+    prog = program([contact("Xa"), _pwm("Pa", 976, resolution="0-2048")], mcu=M328, pins={"Xa": 4, "Pa": 12})
+    d = _same_in_check_and_build(prog, "LD710")
+    assert d.message == "unknown PWM resolution '0-2048'"
+
+
+def test_operand_forms_are_not_part_rules_without_a_part():
+    prog = program([contact("Xa"), el("DELAY", delay="-5")])
+    assert not [d for d in check_program(prog) if d.code == "LD710"]
+    assert [d.code for d in check_program(prog, family="c") if d.code == "LD710"] == ["LD710"]
 
 
 # --- input-only pins ------------------------------------------------------------------------------
@@ -217,12 +284,23 @@ def _names_a_compiled_part(prog) -> bool:
 
 COMPILED = [device for device in all_devices() if compiled(device)]
 
+# elements some of whose forms no back end compiles, with forms that compile beside them
+ODD = (lambda: el("SLEEP"), lambda: el("9SEGMENTS", dest="Vseg", src="Vsrc"),
+       lambda: move("#0x1234", 1), lambda: move("#PORTB", 1), lambda: move("Vreg", "#TRISC"), lambda: move("#0x60", 2),
+       lambda: el("DELAY", delay="-1"), lambda: el("DELAY", delay="10"),
+       lambda: el("TIME2COUNT", name="Vt", delay="Vdelay", adjust=0),
+       lambda: el("TIME2COUNT", name="Vt", delay=100_000, adjust=0),
+       lambda: el("TIME2DELAY", name="Vd", delay="Vdelay"), lambda: el("TIME2DELAY", name="Vd", delay=-3),
+       lambda: el("UART_RECV", var="Vrecv", bytes=3), lambda: el("UART_RECV", var="Vrecv", bytes=2))
+
 
 @st.composite
 def part_programs(draw):
     """A program for a compiled part that leans on its hardware: inputs and
     outputs on any of its pins (the MCLR input among them), PWM outputs at
-    any frequency, an A/D input, the UART, any crystal, cycle and baud rate."""
+    any frequency and resolution, an A/D input, the UART, PERSIST variables
+    up to beyond the EEPROM, instructions, registers and operand forms its
+    family may have no code for, any crystal, cycle and baud rate."""
     device = draw(st.sampled_from(COMPILED))
     pins: dict[str, int] = {}
 
@@ -237,14 +315,23 @@ def part_programs(draw):
     pwm = [device.pin(name) for name in sorted(device.pwm) if device.pin(name) is not None]
     for name in ("Pa", "Pb")[:draw(st.integers(0, 2 if pwm else 0))]:
         give(name, pwm)
-        rungs.append([contact("Xa"), _pwm(name, draw(st.integers(-1, 200_000)))])
+        rungs.append([contact("Xa"), _pwm(name, draw(st.integers(-1, 200_000)),
+                                          resolution=draw(st.sampled_from(["", "0-256", "0-1024", "0-2048"])))])
     adc = [device.pin(name) for name in sorted(device.adc) if device.pin(name) is not None]
     if adc and draw(st.booleans()):
         give("Ain", adc)
         rungs.append([contact("Xa"), el("READ_ADC", name="Ain")])
     if draw(st.booleans()):
         rungs.append([contact("Xa"), el("UART_SEND", var="c")])
-    return program(*rungs, mcu=device.ldmicro_name or device.part, pins=pins,
+    # PERSIST up to beyond the EEPROM (none at all on the PIC16F72)
+    sizes = {}
+    for i in range(draw(st.one_of(st.just(0), st.integers(1, 3), st.integers(30, 130)))):
+        sizes[f"Vkeep{i}"] = draw(st.integers(1, 4))
+        rungs.append([contact("Xa"), el("PERSIST", var=f"Vkeep{i}")])
+    # what the family has no code for: an instruction, a register, an operand form
+    rungs += [[contact("Xa"), odd] for odd in draw(st.lists(st.sampled_from(range(len(ODD))).map(lambda i: ODD[i]()),
+                                                             max_size=2))]
+    return program(*rungs, mcu=device.ldmicro_name or device.part, pins=pins, sizes=sizes,
                    crystal_hz=draw(st.one_of(st.sampled_from([4_000_000, 8_000_000, 16_000_000, 20_000_000]),
                                              st.integers(1_000_000, 20_000_000))),
                    cycle_us=draw(st.integers(100, 2_000_000)),

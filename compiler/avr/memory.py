@@ -12,9 +12,9 @@ RAM. Integer variables are consecutive RAM bytes, least significant first;
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
+from lang.hardware import register_address
 from lang.semantics import ir
 
 from ..analysis import live_intervals, use_counts
@@ -54,23 +54,6 @@ class Layout:
     vars: dict[str, Storage]
     ram_used: int  # bytes from the start of RAM
     homes: tuple[int, ...]  # registers holding memory bits
-
-
-_REGISTER_NAME = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-L])$", re.IGNORECASE)
-
-
-def _register_of(name: str, part: Part) -> int | None:
-    """The data address a `#` name refers to, or None if it names none."""
-    m = _REGISTER_NAME.match(name)
-    if m:
-        kind = {"TRIS": "DDR"}.get(m.group(1).upper(), m.group(1).upper())
-        return part.port(kind, m.group(2).upper()) if part.has(kind + m.group(2).upper()) else None
-    body = name[1:]
-    try:
-        address = int(body, 0)
-    except ValueError:
-        return None
-    return address if 0x20 <= address <= part.ram_end else None
 
 
 def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
@@ -113,7 +96,7 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
     variables: dict[str, Storage] = {}
     for name, size in code.vars.items():
         if name.startswith("#"):
-            register = _register_of(name, part)
+            register = register_address(part.device, name)
             if register is None:
                 raise fail(NOT_COMPILED, f"'{name}' names no register of the {part.title}; indirect "
                                          "register access is not compiled", machine.locate(name))

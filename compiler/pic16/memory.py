@@ -20,9 +20,9 @@ share a bit; a temporary still needed after a GOSUB gets a bit of its own
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
+from lang.hardware import register_address
 from lang.semantics import ir
 
 from ..analysis import live_intervals, use_counts
@@ -54,25 +54,6 @@ class Layout:
     ram_used: int
     ram_size: int
     clock: int | None = None  # a free-running cycle's tick count high byte and 3-byte deadline
-
-
-_REGISTER_NAME = re.compile(r"#(PORT|PIN|TRIS|DDR)([A-E])$", re.IGNORECASE)
-
-
-def register_of(name: str, part: Part) -> int | None:
-    """The file address a `#` name refers to (`#PORTB`, `#TRISA`, `#0x06`),
-    or None if it names none. PIN reads the port, DDR is TRIS, as on PIC
-    the port register reads the pins."""
-    m = _REGISTER_NAME.match(name)
-    if m:
-        kind = {"PIN": "PORT", "DDR": "TRIS"}.get(m.group(1).upper(), m.group(1).upper())
-        register = kind + m.group(2).upper()
-        return part.reg(register) if part.has(register) else None
-    try:
-        address = int(name[1:], 0)
-    except ValueError:
-        return None
-    return address if 0 <= address < 128 * part.banks else None
 
 
 class _Ram:
@@ -152,7 +133,7 @@ def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> 
         variables: dict[str, Storage] = {}
         for name, size in code.vars.items():
             if name.startswith("#"):
-                register = register_of(name, part)
+                register = register_address(part.device, name)
                 if register is None:
                     raise fail(NOT_COMPILED, f"'{name}' names no register of the {part.title}; indirect "
                                              "register access is not compiled", machine.locate(name))

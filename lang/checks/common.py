@@ -11,6 +11,7 @@ from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
 from ..numbers import cdiv
 from ..roles import CYCLE_DUTY_PIN, ROLES, role
+from ..storage import variable_of
 from ..strings import ESCAPES, HEX
 from ..targets import compiled
 from ..values import format_delay, is_literal, literal_value
@@ -298,6 +299,12 @@ def pwm_outputs(program, index) -> list[tuple]:
                 found.append((rung, element, unit, freq))
     index.cache["pwm_outputs"] = found
     return found
+
+
+def variable_of_uses(program, index, name: str) -> tuple[bool, int]:
+    """Whether the lowering makes `name` a bit, and its size as an integer
+    (lang.storage.variable_of), from the elements that use it."""
+    return variable_of(program, name, (use.element for use in index.names.get(name, ())))
 
 
 def used_pins(program, index) -> list[tuple]:

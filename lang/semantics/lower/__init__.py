@@ -21,7 +21,8 @@ from lang.targets import Family, family_of
 from lang.values import as_int, is_literal, literal_value
 
 from .. import ir
-from ..errors import JUMP, UNSUPPORTED, fail
+from ..errors import JUMP, OPERAND, UNSUPPORTED, fail
+from ..operands import operand_refusal
 from . import io, logic, math, timers  # noqa: F401  (they register the lowerings)
 from .builder import LOWERINGS, Builder
 
@@ -113,6 +114,9 @@ class TargetBuilder(Builder):
         self.emit(ir.Note(describe(element), element=element))
         if not element.spec.supports(self.family.key) or element.kind not in LOWERINGS:
             raise fail(UNSUPPORTED, f"{element.kind} cannot be compiled for {self.family.title}", element)
+        refused = operand_refusal(element, self.size)
+        if refused:
+            raise fail(OPERAND, refused, element)
         # a jump leaves the element's code at once: its power is traced before
         jumps = element.kind in JUMPS
         if self.trace and jumps:

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from contextlib import contextmanager
 
 from lang.model import Element
-from lang.storage import TimerError, timer_period
+from lang.storage import DEFAULT_SIZE, TimerError, eeprom_layout, timer_period
 from lang.values import is_literal, literal_value
 
 from .. import ir
@@ -16,8 +16,6 @@ from ..errors import OPERAND, TIMER, fail
 from ..ir import Condition, Holds, IsSet
 
 __all__ = ["LOWERINGS", "Builder", "Holds", "IsSet", "lowers"]
-
-DEFAULT_SIZE = 2
 
 LOWERINGS: dict[str, Callable] = {}
 
@@ -66,6 +64,10 @@ class Builder:
         self._labels = 0
         self._temps = 0
         self.eeprom = 0  # EEPROM bytes the PERSIST variables take so far
+        # each PERSIST's (first address, address after it), laid out as the checks see it (LD705)
+        persists = [e for e in elements if e.kind == "PERSIST"]
+        places = eeprom_layout(persists, lambda name: (name in bits, sizes.get(name, DEFAULT_SIZE)))
+        self.eeprom_places = {id(e): (first, end) for e, first, end in places}
         self.eeprom_size = 0  # the part's
         self.overflow_read = "ROverflowFlagV" in {
             str(e.args.get("name")) for e in elements if e.kind == "CONTACTS"}

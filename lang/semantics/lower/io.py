@@ -7,18 +7,16 @@ from __future__ import annotations
 from contextlib import ExitStack
 from typing import TYPE_CHECKING
 
+from lang.storage import eeprom_refusal
 from lang.strings import parse_format
 
 from .. import ir
 from ..errors import EEPROM, OPERAND, fail
+from ..operands import PWM_FULL
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
     from . import TargetBuilder
-
-
-# SET PWM resolutions: the duty value that means "always on"
-PWM_FULL = {"0-100%": 100, "0-256": 256, "0-512": 512, "0-1024": 1024}
 
 
 @lowers("READ_ADC")
@@ -32,8 +30,6 @@ def read_adc(b: TargetBuilder, el, p: ir.Bit) -> None:
 def set_pwm(b: TargetBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     resolution = str(el.args.get("resolution") or "0-100%")
-    if resolution not in PWM_FULL:
-        raise fail(OPERAND, f"unknown PWM resolution '{resolution}'", el)
     with b.if_(IsSet(p)):
         b.emit(ir.SetPwm(b.pwm_unit(name), b.operand(el.args["duty"]), PWM_FULL[resolution],
                          int(el.args["freq"])))
@@ -43,11 +39,10 @@ def set_pwm(b: TargetBuilder, el, p: ir.Bit) -> None:
 @lowers("PERSIST")
 def persist(b: Builder, el, p: ir.Bit) -> None:
     v = b.dest("var")
-    address = b.eeprom
-    b.eeprom += v.size
-    if b.eeprom > b.eeprom_size:
-        raise fail(EEPROM, f"the PERSIST variables need {b.eeprom} bytes of EEPROM; the part has "
-                                f"{b.eeprom_size}", el)
+    address, b.eeprom = b.eeprom_places[id(el)]
+    refused = eeprom_refusal(b.eeprom, b.eeprom_size)
+    if refused:
+        raise fail(EEPROM, refused, el)
     loaded = b.memory_bit("loaded")
     with b.if_(IsSet(p)):
         # the first powered scan loads the variable from EEPROM; later ones
@@ -113,8 +108,6 @@ def uart_send(b: Builder, el, p: ir.Bit) -> None:
 def uart_recv(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest("var")
     count = int(el.args.get("bytes", 1) or 1)
-    if count > d.size:
-        raise fail(OPERAND, f"UART RECV of {count} bytes into '{d.name}' of {d.size} bytes", el)
     if count == 1:
         with b.if_(IsSet(p)):
             b.emit(ir.UartAvailable(p))

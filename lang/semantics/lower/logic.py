@@ -10,7 +10,6 @@ from lang.instructions import RELATIONS
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
@@ -161,8 +160,6 @@ def sleep(b: Builder, el, p: ir.Bit) -> None:
 def delay(b: Builder, el, p: ir.Bit) -> None:
     amount = str(el.args["delay"])
     if is_literal(amount):
-        if b.literal(amount) < 0:
-            raise fail(OPERAND, "a delay cannot be negative", el)
         _when_powered(b, p, ir.Delay(ir.Const(b.literal(amount)), loops=False))
     else:
         _when_powered(b, p, ir.Delay(b.var(amount), loops=True))

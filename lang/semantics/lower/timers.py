@@ -10,7 +10,6 @@ from lang.instructions import TIMERS
 from lang.values import is_literal
 
 from .. import ir
-from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
@@ -112,8 +111,6 @@ def timer(b: Builder, el, p: ir.Bit) -> None:
 @lowers("TIME2COUNT")
 def time_to_count(b: Builder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
-    if not isinstance(delay, int):
-        raise fail(OPERAND, "the T2CNT delay must be a time, not a variable", el)
     value = b.period(delay, 0, el.args["name"])
     with b.if_(IsSet(p)):
         b.emit(ir.Move(b.var(el.args["name"]), ir.Const(value)))
@@ -122,8 +119,6 @@ def time_to_count(b: Builder, el, p: ir.Bit) -> None:
 @lowers("TIME2DELAY")
 def time_to_delay(b: TargetBuilder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
-    if not isinstance(delay, int) or delay < 0:
-        raise fail(OPERAND, "the T2DLY delay must be a time", el)
     loops = round(delay * b.program.settings.crystal_hz / (1_000_000 * b.delay_loop_cycles))
     with b.if_(IsSet(p)):
         b.emit(ir.Move(b.var(el.args["name"]), ir.Const(loops)))
