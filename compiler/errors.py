@@ -6,8 +6,10 @@ peripheral the part lacks, a program or its variables too large for the part.
 What the part's data alone decides (a cycle time its timer cannot make,
 LD706; a baud rate its UART cannot make, LD707, or only approximates, LD713;
 a PWM output its timer cannot make, LD708, or only approximates, LD709; a
-digital pin an A/D input makes analog, LD714) is a check rule (lang/checks),
-which `ladder check` runs and the build runs first.
+digital pin an A/D input makes analog, LD714; PERSIST data beyond the EEPROM,
+LD705; a `#` name that is none of the part's registers, LD702; an operand
+form with no code, LD710) is a check rule (lang/checks), which `ladder check`
+runs and the build runs first. Only LD703, LD704 and LD712 need the code.
 """
 
 from __future__ import annotations
