@@ -8,11 +8,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 
-from .instructions import COUNTERS, TIMERS
+from .instructions import COUNTERS, INSTRUCTIONS, TIMERS
 from .model import Element, Program
 from .numbers import byte_needed
 from .values import is_literal, literal_value
 
+# the arithmetic overflow flag, a bit the compiler writes
+OVERFLOW = "ROverflowFlagV"
 # an integer variable the VAR LIST gives no size (LDmicro's default)
 DEFAULT_SIZE = 2
 # LDmicro seeds a name that has an SRAND element with C rand() at start-up; 1 makes runs repeat
@@ -44,14 +46,24 @@ def timer_period(cycle_us: int, delay: int, adjust: int, name: str) -> int:
     return (delay + cycle * adjust) // cycle
 
 
+# (instruction, operand) of the table's bit operands (contacts, coils...)
+BIT_FIELDS = frozenset((key, f.name) for key, spec in INSTRUCTIONS.items() for f in spec.fields if f.kind == "bit")
+
+
+def bit_operand(element: Element, field: str) -> bool:
+    """Whether the element makes the name in its operand `field` a bit: a bit
+    operand, or the name of a PWM output that SET PWM drives or RES stops."""
+    if (element.kind, field) in BIT_FIELDS:
+        return True
+    return field == "name" and element.kind in ("SET_PWM", "RES") and str(element.args.get("name", "")).startswith("P")
+
+
 def _declared(element: Element, cycle_us: int) -> Iterator[tuple[str, int | None]]:
     """(name, size) of what the element makes of a name: None for a bit, the
     bytes of a timer or counter sized to its values."""
     for field in element.spec.fields:
-        if field.kind == "bit" and element.args.get(field.name):
+        if element.args.get(field.name) and bit_operand(element, field.name):
             yield str(element.args[field.name]), None
-    if element.kind in ("SET_PWM", "RES") and str(element.args.get("name", "")).startswith("P"):
-        yield str(element.args["name"]), None
     delay = element.args.get("delay")
     if element.kind in TIMERS and isinstance(delay, int) and cycle_us > 0:
         yield str(element.args["name"]), min(4, byte_needed(delay // cycle_us))
@@ -68,7 +80,7 @@ def _declared(element: Element, cycle_us: int) -> Iterator[tuple[str, int | None
 def variable_names(program: Program) -> tuple[set[str], dict[str, int]]:
     """Bit names, and the sizes LDmicro gives integer variables: VAR LIST
     sizes, with timers and counters sized to their values."""
-    bits = {"ROverflowFlagV"}
+    bits = {OVERFLOW}
     sizes = dict(program.var_sizes)
     cycle = program.settings.cycle_us
     for _, element in program.elements():
@@ -84,7 +96,7 @@ def variable_of(program: Program, name: str, users: Iterable[Element]) -> tuple[
     """What `variable_names` makes of one name, from the elements that use it
     (in program order), without reading the rest of the program: whether it
     is a bit, and its size as an integer."""
-    bit = name == "ROverflowFlagV"
+    bit = name == OVERFLOW
     size = program.var_sizes.get(name, DEFAULT_SIZE)
     cycle = program.settings.cycle_us
     for element in users:

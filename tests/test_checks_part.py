@@ -25,6 +25,7 @@ from ladder.cli import main
 from lang import ldfile
 from lang.checks import check_program
 from lang.devices import all_devices, find_device
+from lang.instructions import INSTRUCTIONS
 from lang.targets import compiled
 
 M328 = "Atmel AVR ATmega328 28-PDIP"
@@ -216,6 +217,47 @@ def test_a_pwm_resolution_the_instruction_does_not_have_is_reported_by_check():
     prog = program([contact("Xa"), _pwm("Pa", 976, resolution="0-2048")], mcu=M328, pins={"Xa": 4, "Pa": 12})
     d = _same_in_check_and_build(prog, "LD710")
     assert d.message == "unknown PWM resolution '0-2048'"
+
+
+def _with_operand(spec, field: str, name: str):
+    """An element of the instruction with `name` in `field` and ordinary operands elsewhere."""
+    args = {}
+    for other in spec.fields:
+        if other.name == field:
+            args[other.name] = name
+        elif other.kind in ("var", "operand"):
+            args[other.name] = f"v_{other.name}"
+        elif other.kind == "delay":
+            args[other.name] = 100_000
+        elif other.kind == "bit":
+            args[other.name] = f"Rother_{other.name}"
+        elif other.kind == "values":
+            args[other.name] = [1, 2, 3, 4]
+        elif other.kind == "points":
+            args[other.name] = [(0, 0), (10, 10)]
+        elif other.kind == "text":
+            args[other.name] = "value \\3"
+        elif other.kind == "label":
+            args[other.name] = "L1"
+        else:
+            args[other.name] = other.default if other.default is not None else 1
+    return el(spec.key, **args)
+
+
+INTEGER_FIELDS = [(spec.key, field.name) for spec in INSTRUCTIONS.values() if spec.supports("avr")
+                  for field in spec.fields if field.kind in ("var", "operand", "delay")]
+
+
+@pytest.mark.parametrize("kind, field", INTEGER_FIELDS)
+def test_a_bit_where_the_lowering_needs_an_integer_is_reported_by_check(kind, field):
+    """Every variable, operand and delay field of the table: where the build
+    refuses a coil's name, the check does, at the same element."""
+    element = _with_operand(INSTRUCTIONS[kind], field, "Rbit")
+    prog = program([contact("Xa"), coil("Rbit")], [contact("Xa"), element], [el("LABEL", label="L1")],
+                   mcu=M328, pins={"Xa": 4})
+    refused = [d for d in _built(prog) if d.message == "'Rbit' is a bit; it cannot hold an integer"]
+    checked = [d for d in check_program(prog) if d.code == "LD710" and "'Rbit'" in d.message]
+    assert [_key(d) for d in checked] == [_key(d) for d in refused]
 
 
 def test_operand_forms_are_not_part_rules_without_a_part():

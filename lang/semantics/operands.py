@@ -1,6 +1,7 @@
 """Operand forms no code is written for, whatever the part: a negative DELAY,
 a variable where a constant time is needed (TIME2COUNT, TIME2DELAY), a SET
-PWM resolution or a UART RECV byte count the instruction does not have.
+PWM resolution or a UART RECV byte count the instruction does not have, a
+bit name (a contact's or coil's) where an integer variable is needed.
 
 One definition for the lowering, which refuses such an element, and for the
 check that reports it before any code is written (LD710, lang/checks).
@@ -10,7 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from lang.instructions import INSTRUCTIONS
 from lang.model import Element
+from lang.strings import parse_format
 from lang.values import as_int, is_literal, literal_value
 
 # SET PWM resolutions: the duty value that means "always on"
@@ -71,3 +74,33 @@ def operand_refusal(element: Element, size_of: SizeOf) -> str | None:
     `size_of` gives a variable's size in bytes."""
     refusal = REFUSALS.get(element.kind)
     return refusal(element, size_of) if refusal is not None else None
+
+
+def bit_refusal(name: str) -> str:
+    return f"'{name}' is a bit; it cannot hold an integer"
+
+
+# (instruction, operand) of the table's variable, operand and delay fields, but for a PWM
+# output's name (a bit) and a random seed's name (the seed has a variable of its own)
+_INTEGER_FIELDS = frozenset(
+    (key, f.name) for key, spec in INSTRUCTIONS.items() for f in spec.fields
+    if f.kind in ("var", "operand", "delay") and f.io != "pwm" and (key, f.name) != ("SEED_RANDOM", "name"))
+
+
+def integer_operand(element: Element, field: str) -> bool:
+    """Whether the lowering keeps the name in this operand as an integer
+    variable (a bit name there is refused): the table's variable, operand
+    and delay fields, but for a PWM output's name, a RES of one (P), a
+    random seed's name and a formatted string's variable when the text
+    inserts none."""
+    kind = element.kind
+    if (kind, field) not in _INTEGER_FIELDS:
+        return False
+    if kind == "RES":
+        return not str(element.args.get("name", "")).startswith("P")
+    if kind == "FORMATTED_STRING":
+        try:
+            return bool(parse_format(str(element.args.get("text") or "")).digits)
+        except ValueError:
+            return False  # LD320 says what is wrong with the text
+    return True

@@ -14,6 +14,7 @@ from lang.values import is_literal, literal_value
 from .. import ir
 from ..errors import OPERAND, TIMER, fail
 from ..ir import Condition, Holds, IsSet
+from ..operands import bit_refusal
 
 __all__ = ["LOWERINGS", "Builder", "Holds", "IsSet", "lowers"]
 
@@ -115,7 +116,7 @@ class Builder:
 
     def var(self, name: str) -> ir.Var:
         if name in self.bit_names:
-            raise fail(OPERAND, f"'{name}' is a bit; it cannot hold an integer", self.element)
+            raise fail(OPERAND, bit_refusal(name), self.element)
         size = self.size(name)
         self.vars[name] = size
         return ir.Var(name, size)
