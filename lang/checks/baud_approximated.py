@@ -5,25 +5,21 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
-from ..hardware import baud_approximated, baud_facts
+from ..hardware import baud_approximated
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled
-from .common import UART_KINDS
+from .common import first_uart_use
 
 CODE = rule_code(__name__)
 
 
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
-    device = index.device
-    if not index.pins_matter or not compiled(device) or baud_facts(device) is None:
-        return []
-    uses = index.of_kind(*UART_KINDS)
-    if not uses:
+    use = first_uart_use(index)
+    if use is None:
         return []
     crystal, baud = program.settings.crystal_hz, program.settings.baud
-    setting = baud_approximated(device, crystal, baud)
+    setting = baud_approximated(index.device, crystal, baud)
     if setting is None:
         return []
     return [report(CODE, f"{baud} baud runs at {setting.actual:.0f} baud from a {crystal / 1e6:g} MHz crystal "
-                         f"({100 * setting.error:.1f} % off)", uses[0][1].span)]
+                         f"({100 * setting.error:.1f} % off)", use.span)]

@@ -5,21 +5,17 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
-from ..hardware import baud_facts, baud_refusal
+from ..hardware import baud_refusal
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled
-from .common import UART_KINDS
+from .common import first_uart_use
 
 CODE = rule_code(__name__)
 
 
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
-    device = index.device
-    if not index.pins_matter or not compiled(device) or baud_facts(device) is None:
+    use = first_uart_use(index)
+    if use is None:
         return []
-    uses = index.of_kind(*UART_KINDS)
-    if not uses:
-        return []
-    why = baud_refusal(device, program.settings.crystal_hz, program.settings.baud)
-    return [report(CODE, why, uses[0][1].span)] if why else []
+    why = baud_refusal(index.device, program.settings.crystal_hz, program.settings.baud)
+    return [report(CODE, why, use.span)] if why else []

@@ -6,6 +6,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..diagnostics import Fix, Related, Rename, report
+from ..hardware import baud_facts
 from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
 from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
@@ -29,6 +30,16 @@ NAMES = "names"
 PROGRAM = "program"
 
 UART_KINDS = ("UART_SEND", "UART_RECV", "UART_SEND_READY", "UART_RECV_AVAIL", "FORMATTED_STRING")
+
+
+def first_uart_use(index) -> Element | None:
+    """The first UART instruction of a program whose compiled part has UART
+    facts (where the baud rate rules speak), or None."""
+    device = index.device
+    if not index.pins_matter or not compiled(device) or baud_facts(device) is None:
+        return None
+    uses = index.of_kind(*UART_KINDS)
+    return uses[0][1] if uses else None
 
 # Names the compiler writes itself (§4.2): never "read but never written".
 GENERATED = frozenset({"ROverflowFlagV", "RUartRecvErrorFlag", "RUartSendErrorFlag", CYCLE_DUTY_PIN})
