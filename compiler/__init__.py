@@ -37,9 +37,6 @@ from .target import BACKENDS, first_use, machine_for
 
 OTHER_CHIP = code("LD715")
 
-# Each registers its back end on import; the lead adds "compiler.pic16".
-_BACKEND_MODULES = ("compiler.avr", "compiler.pic16")
-
 
 def target_device(program: Program, target: str | None) -> Device:
     """The part to compile for: `target`, else the program's; LD701 when no
@@ -78,7 +75,7 @@ def build(program: Program, target: str | None = None, severities: Severities = 
     noted = [d for d in checked if d.code[2] == "7"]
     code = optimise(_lower(program, device, backend.delay_loop_cycles))
     image = backend.compile(code, machine_for(program, device))
-    budget = scan_budget(program, device, image)
+    budget = scan_budget(program, device, image, backend.flow)
     overrun = overrun_warning(program, budget)
     warnings = severities.apply(moved + noted + image.warnings + ([overrun] if overrun else []), building=True)
     if any(d.severity == ERROR for d in warnings):
@@ -232,5 +229,7 @@ def _moved_pins(program: Program, device: Device) -> list[Diagnostic]:
     return found
 
 
-for _module in _BACKEND_MODULES:
-    importlib.import_module(_module)
+# each family that compiles for parts has its back end in compiler.<family>, which registers itself on import
+for _family in FAMILIES.values():
+    if _family.parts:
+        importlib.import_module(f"{__name__}.{_family.key}")

@@ -8,10 +8,11 @@ to the start of its wait (label `wait`), through every call, with every loop
 bounded by the `LoopBound` its back end gave the loop's head (`Image.loops`).
 
 The analysis reads a neutral description of program memory: an
-`Instruction` per address (size, cycles, control flow), which each family's
-`compiler.<family>.flow.instruction_at(words, address, device)` decodes
-from the image's words. The decoder is independent of the assembler: it
-could time any HEX file of the family.
+`Instruction` per address (size, cycles, control flow), which a `Decoder`
+reads from the image's words. Each back end carries its family's decoder
+(`Backend.flow` in compiler/target.py: the module `compiler.<family>.flow`),
+so this module names no family. A decoder is independent of the assembler:
+it could time any HEX file of the family.
 
 Method, per routine (the scan; each call target on its own, so that a call
 costs its callee's worst case): the control-flow graph of the instructions
@@ -28,11 +29,12 @@ rung that calls it).
 from __future__ import annotations
 
 import bisect
-import importlib
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import Protocol
 
+from lang.devices import Device
 from lang.diagnostics import Diagnostic
 from lang.model import Program
 
@@ -60,6 +62,16 @@ class Instruction:
     @property
     def next(self) -> int:
         return self.address + self.size
+
+
+class Decoder(Protocol):
+    """A family's reading of its program memory."""
+
+    CLOCKS_PER_CYCLE: int  # clocks per CPU cycle: what the budget's cycles are counted in
+
+    def instruction_at(self, words: list[int], address: int, device: Device) -> Instruction | None:
+        """The instruction at a word address, None where none is encoded."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -444,9 +456,8 @@ def _rung_starts(image: Image, rungs: int) -> list[tuple[int, int]]:
     return sorted((a, n if n <= rungs else 0) for a, n in found.items())
 
 
-def scan_budget(program: Program, device, image: Image) -> Budget:
-    """The worst case of one scan of a compiled image."""
-    flow = importlib.import_module(f"compiler.{device.family}.flow")
+def scan_budget(program: Program, device: Device, image: Image, flow: Decoder) -> Budget:
+    """The worst case of one scan of a compiled image, read by its family's decoder."""
     cache: dict[int, Instruction | None] = {}
 
     def code(address: int) -> Instruction | None:

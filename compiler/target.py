@@ -4,8 +4,9 @@ A back end sees two things: the optimised intermediate code (`ir.Code`) and
 a `Machine`, a neutral description of what to build for (the part, the
 clock, the scan cycle, the pins and the settings that shape the runtime).
 It never sees the ladder `Program`. Each family in `lang.targets.FAMILIES`
-has one back end, which registers itself here when its package is imported
-(`compiler/__init__.py` imports them all).
+with parts has one back end, the package `compiler.<family>`, which registers
+itself here when it is imported; `compiler/__init__.py` imports one for each
+such family, so `lang.targets` is the one list of back ends.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from lang.model import Program
 from lang.roles import CYCLE_DUTY_PIN
 from lang.semantics import ir
 
+from .budget import Decoder
 from .image import Image
 
 
@@ -40,6 +42,7 @@ class Machine:
 class Backend(Protocol):
     family: str  # its key in lang.targets.FAMILIES
     delay_loop_cycles: int  # CPU cycles one count of a variable DELAY takes (T2DLY converts with it)
+    flow: Decoder  # reads the family's program memory for the scan budget (its module compiler.<family>.flow)
 
     def compile(self, code: ir.Code, machine: Machine) -> Image: ...
 

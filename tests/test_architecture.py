@@ -8,7 +8,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import compiler
 from compiler.target import BACKENDS
 from lang.targets import FAMILIES
 
@@ -83,7 +82,16 @@ def test_every_back_end_folder_is_a_family_and_every_part_family_registers_its_b
     assert set(BACKENDS) == {key for key, family in FAMILIES.items() if family.parts}
     for family, backend in BACKENDS.items():
         assert backend.family == family and backend.delay_loop_cycles > 0
-    assert set(compiler._BACKEND_MODULES) == {f"compiler.{family}" for family in BACKENDS}
+        assert type(backend).__module__.split(".")[:2] == ["compiler", family]
+        assert backend.flow.__name__ == f"compiler.{family}.flow" and backend.flow.CLOCKS_PER_CYCLE > 0
+
+
+def test_the_scan_budget_reaches_a_family_only_through_its_back_end():
+    # the decoder of a family's program memory comes with its back end (Backend.flow): budget.py names no family
+    path = ROOT / "compiler" / "budget.py"
+    imported = _imports(path, "compiler")
+    assert "importlib" not in imported
+    assert not [m for m in imported for family in FAMILIES if m.startswith(f"compiler.{family}")]
 
 
 def _runtime_imports(path: Path, package: str) -> set[str]:

@@ -10,6 +10,7 @@ from ..analysis import loop_labels, uses_uart
 from ..errors import FLASH_FULL, fail
 from ..image import Image, Symbol
 from ..target import Machine, register
+from . import flow as avr_flow
 from .asm import Assembler, Data, Label, compress_skips
 from .emit import Emitter
 from .memory import RegBit, allocate
@@ -23,6 +24,7 @@ from .select import DELAY_LOOP_CYCLES, Context
 class AvrBackend:
     family = "avr"
     delay_loop_cycles = DELAY_LOOP_CYCLES
+    flow = avr_flow
 
     def compile(self, code: ir.Code, machine: Machine) -> Image:
         part = Part.of(machine.device)

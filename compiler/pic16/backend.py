@@ -7,6 +7,7 @@ from lang.semantics import ir
 
 from ..errors import FLASH_FULL, fail
 from . import asm as a
+from . import flow as pic16_flow
 from .emit import Emitter, compress_skips
 from .memory import allocate
 from .part import Part
@@ -52,6 +53,7 @@ def _write_tables(cx: Context) -> None:
 class Pic16Backend:
     family = "pic16"
     delay_loop_cycles = DELAY_LOOP_CYCLES
+    flow = pic16_flow
 
     def compile(self, code: ir.Code, machine):
         from ..image import Image
