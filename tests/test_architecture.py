@@ -114,6 +114,32 @@ def _runtime_imports(path: Path, package: str) -> set[str]:
     return found
 
 
+def _function_imports(path: Path, package: str) -> set[str]:
+    """The modules a file imports inside its functions."""
+    functions = [node for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+                 if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+    found = set()
+    for function in functions:
+        for node in ast.walk(function):
+            if isinstance(node, ast.ImportFrom):
+                base = package.split(".")[:len(package.split(".")) - node.level + 1] if node.level else []
+                found.add(".".join(base + ([node.module] if node.module else [])))
+            elif isinstance(node, ast.Import):
+                found.update(alias.name for alias in node.names)
+    return found
+
+
+def test_the_pic16_routines_build_on_its_integer_patterns_and_not_the_other_way_round():
+    # routines.py writes the subroutines with integers.py's byte arithmetic; integers.py calls them by name
+    folder = ROOT / "compiler" / "pic16"
+    integers, routines = folder / "integers.py", folder / "routines.py"
+    assert "compiler.pic16.routines" not in _runtime_imports(integers, "compiler.pic16")
+    assert "compiler.pic16.integers" in _imports(routines, "compiler.pic16")
+    for path in folder.glob("*.py"):
+        inside = _function_imports(path, "compiler.pic16")
+        assert not inside & {"compiler.pic16.integers", "compiler.pic16.routines"}, path.name
+
+
 def test_the_language_server_has_no_import_cycles():
     modules = {f"lsp.{p.stem}": p for p in (ROOT / "lsp").glob("*.py") if p.stem != "__init__"}
     edges = {name: {m for m in _runtime_imports(path, "lsp") if m in modules} - {name}

@@ -28,7 +28,7 @@ from .. import analysis
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits
-from .emit import STATUS, C, Emitter, F, W, Z
+from .emit import FSR, INDF, IRP, STATUS, C, Emitter, F, W, Z
 from .memory import FileBit
 
 
@@ -120,9 +120,17 @@ def copy_out(cx, regs, target) -> None:
         put(cx.e, Byte("mem", reg), address)
 
 
+class Scratch:
+    """The scratch bytes by name: A, B and C (4 each) the operands and results of the routines
+    (routines.py), the counter D and the spare E."""
+
+    def __init__(self, addresses: tuple[int, ...]):
+        self.A, self.B, self.C = list(addresses[0:4]), list(addresses[4:8]), list(addresses[8:12])
+        self.D, self.E = addresses[12], addresses[13]
+
+
 def scratch(cx, which: str, n: int) -> list[int]:
-    base = {"A": 0, "B": 4, "C": 8}[which]
-    return list(cx.layout.scratch[base:base + n])
+    return getattr(Scratch(cx.layout.scratch), which)[:n]
 
 
 def move(cx, op: ir.Move) -> None:
@@ -271,8 +279,6 @@ def _logic(e: Emitter, kind: str, regs: list[int], b: list[Byte]) -> None:
 
 
 def arith(cx, op: ir.Arith) -> None:
-    from .routines import multiply
-
     if op.op == "mul":
         multiply(cx, op)
         return
@@ -304,6 +310,28 @@ def arith(cx, op: ir.Arith) -> None:
         _overflow(cx, op.op, regs, n, op.overflow)
     if place is None:
         copy_out(cx, regs, op.dst)
+
+
+def multiply(cx, op: ir.Arith) -> None:
+    n = target_size(cx, op.dst)
+    s = Scratch(cx.layout.scratch)
+    copy_in(cx, op.a, s.A[:n])
+    copy_in(cx, op.b, s.B[:n])
+    cx.e.call(cx.routine(f"mul{n}"))
+    copy_out(cx, s.C[:n], op.dst)
+
+
+def divide(cx, op: ir.Divide) -> None:
+    n = target_size(cx, op.dst)
+    widest = max(n, size(cx, op.a), size(cx, op.b), target_size(cx, op.remainder) if op.remainder else 1)
+    width = min(widest, 4)
+    s = Scratch(cx.layout.scratch)
+    copy_in(cx, op.a, s.A[:width])
+    copy_in(cx, op.b, s.B[:width])
+    cx.e.call(cx.routine(f"divmod{width}"))
+    if op.remainder is not None:
+        copy_out(cx, s.C, op.remainder)
+    copy_out(cx, s.A if op.op == "div" else s.C, op.dst)
 
 
 def _overflow(cx, kind: str, regs: list[int], n: int, flag: ir.Bit) -> None:
@@ -485,8 +513,6 @@ def _repeat(cx, kind: str, regs: list[int]) -> None:
 def _count(cx, count, bits_: int, rotate: bool) -> None:
     """D = the number of one-bit shifts a variable count asks for: none when
     it is negative, at most bits_, modulo bits_ for a rotation."""
-    from .routines import Scratch
-
     e = cx.e
     s = Scratch(cx.layout.scratch)
     negative, have = e.new_label("shift"), e.new_label("shift")
@@ -563,8 +589,6 @@ def _base(cx, operand) -> int:
 
 def _within(cx, index, limit: int, outside: str) -> None:
     """B = the index; to `outside` unless 0 <= index < limit (unsigned compare)."""
-    from .routines import Scratch
-
     e = cx.e
     s = Scratch(cx.layout.scratch)
     copy_in(cx, index, s.B)
@@ -580,9 +604,6 @@ def _within(cx, index, limit: int, outside: str) -> None:
 
 
 def change_bit(cx, op: ir.ChangeBitOf) -> None:
-    from .emit import FSR, INDF, IRP
-    from .routines import Scratch
-
     e = cx.e
     n = target_size(cx, op.dst)
     base = _base(cx, op.dst)
@@ -627,8 +648,6 @@ def change_bit(cx, op: ir.ChangeBitOf) -> None:
 
 
 def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
-    from .routines import Scratch
-
     e = cx.e
     if isinstance(op.index, ir.Const) and not isinstance(op.a, ir.Const):
         found = analysis.constant_bit(op.a, op.index.value, lambda var: storage(cx, var).size)
@@ -685,13 +704,15 @@ def _count_bits(cx, s) -> None:
 
 def convert(cx, op: ir.Convert) -> None:
     """The results are unsigned: zero-extended to the destination."""
-    from .routines import Scratch, convert_bcd
-
     e = cx.e
     s = Scratch(cx.layout.scratch)
     w, n = op.width, target_size(cx, op.dst)
     if op.op in ("bin2bcd", "bcd2bin"):
-        result, width = convert_bcd(cx, op), 4 if op.op == "bin2bcd" else 2
+        copy_in(cx, op.src, s.A[:w])
+        for reg in s.A[w:]:
+            e.ins("clrf", reg)
+        e.call(cx.routine(op.op))
+        result, width = s.A, 4 if op.op == "bin2bcd" else 2
     elif op.op == "swap":
         result, width = s.B, w
         # one byte: its nibbles; more: the bytes reversed (3 bytes: 0 and 2 swapped)
@@ -715,8 +736,6 @@ def convert(cx, op: ir.Convert) -> None:
 
 def table(cx, op: ir.Table) -> None:
     """dst = values[index], one RETLW table per byte of the destination."""
-    from .routines import Scratch
-
     e = cx.e
     s = Scratch(cx.layout.scratch)
     n = target_size(cx, op.dst)
@@ -728,8 +747,6 @@ def table(cx, op: ir.Table) -> None:
 
 
 def permute(cx, op: ir.Permute) -> None:
-    from .routines import Scratch
-
     e = cx.e
     s = Scratch(cx.layout.scratch)
     w, n = size(cx, op.src), target_size(cx, op.dst)

@@ -77,10 +77,8 @@ def _spin(cx, cycles: int, what: str) -> None:
 
 def delay(cx, op: ir.Delay) -> None:
     """A loop of DELAY_LOOP_CYCLES clock cycles per count, clearing the watchdog."""
-    from .routines import Scratch
-
     e = cx.e
-    s = Scratch(cx.layout.scratch)
+    s = ints.Scratch(cx.layout.scratch)
     done = e.new_label("delay")
     count = None
     if op.loops:
@@ -185,10 +183,8 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
 def set_pwm(cx, op: ir.SetPwm) -> None:
     """0 or less: the CCP off and its pin low; full or more: off and high;
     else duty * 4 * period / full tenths of a Timer2 count (10 bits)."""
-    from .routines import Scratch
-
     e, part = cx.e, cx.part
-    s = Scratch(cx.layout.scratch)
+    s = ints.Scratch(cx.layout.scratch)
     setting = pwm_setting(part.device, op.unit, cx.machine.crystal_hz, op.freq)
     off, on, done = e.new_label("pwm"), e.new_label("pwm"), e.new_label("pwm")
     width = max(2, ints.size(cx, op.duty))

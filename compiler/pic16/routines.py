@@ -14,18 +14,10 @@ Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
 
 from __future__ import annotations
 
-from lang.semantics import ir
-
 from ..image import LoopBound
 from . import integers as ints
 from .emit import STATUS, C, Emitter, F, W, Z
-from .integers import Byte
-
-
-class Scratch:
-    def __init__(self, addresses: tuple[int, ...]):
-        self.A, self.B, self.C = list(addresses[0:4]), list(addresses[4:8]), list(addresses[8:12])
-        self.D, self.E = addresses[12], addresses[13]
+from .integers import Byte, Scratch
 
 
 def negate(e: Emitter, regs: list[int]) -> None:
@@ -188,36 +180,3 @@ def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str]) -> No
         else:
             fn(e, s, n)
         e.end_path()
-
-
-def multiply(cx, op: ir.Arith) -> None:
-    n = ints.target_size(cx, op.dst)
-    s = Scratch(cx.layout.scratch)
-    ints.copy_in(cx, op.a, s.A[:n])
-    ints.copy_in(cx, op.b, s.B[:n])
-    cx.e.call(cx.routine(f"mul{n}"))
-    ints.copy_out(cx, s.C[:n], op.dst)
-
-
-def divide(cx, op: ir.Divide) -> None:
-    n = ints.target_size(cx, op.dst)
-    widest = max(n, ints.size(cx, op.a), ints.size(cx, op.b),
-                 ints.target_size(cx, op.remainder) if op.remainder else 1)
-    width = min(widest, 4)
-    s = Scratch(cx.layout.scratch)
-    ints.copy_in(cx, op.a, s.A[:width])
-    ints.copy_in(cx, op.b, s.B[:width])
-    cx.e.call(cx.routine(f"divmod{width}"))
-    if op.remainder is not None:
-        ints.copy_out(cx, s.C, op.remainder)
-    ints.copy_out(cx, s.A if op.op == "div" else s.C, op.dst)
-
-
-def convert_bcd(cx, op: ir.Convert) -> list[int]:
-    """The routine's result registers, for convert()."""
-    s = Scratch(cx.layout.scratch)
-    ints.copy_in(cx, op.src, s.A[:op.width])
-    for reg in s.A[op.width:]:
-        cx.e.ins("clrf", reg)
-    cx.e.call(cx.routine(op.op))
-    return s.A

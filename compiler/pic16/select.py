@@ -1,6 +1,7 @@
 """Instruction selection: each intermediate op, by its class, to the pattern
-that writes its PIC16 code (bits.py, integers.py, routines.py and
-peripherals.py hold the patterns; the few that fit in a line are here)."""
+that writes its PIC16 code (bits.py, integers.py and peripherals.py hold
+the patterns, which call the subroutines of routines.py by name; the few that
+fit in a line are here)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from lang.semantics import ir
 
 from ..analysis import loop_labels
 from ..image import LoopBound
-from . import bits, integers, peripherals, routines
+from . import bits, integers, peripherals
 from .emit import Emitter
 from .memory import FileBit, Layout
 from .part import Part
@@ -80,7 +81,7 @@ PATTERNS = {
     ir.Move: integers.move,
     ir.Arith: integers.arith,
     ir.ChangeBitOf: integers.change_bit,
-    ir.Divide: routines.divide,
+    ir.Divide: integers.divide,
     ir.Unary: integers.unary,
     ir.Shift: integers.shift,
     ir.Convert: integers.convert,
