@@ -159,6 +159,158 @@ def parse_log(text: str) -> list[tuple[int, str, int]]:
     return writes
 
 
+@dataclass
+class _Plan:
+    """What a run drives, watches and reads, in instruction cycles."""
+
+    end: int  # the cycle the run stops at
+    modules: dict[tuple[str, int], str]  # (port, bit) -> its input module's name
+    drives: list[tuple[int, int, str, float]]  # (cycle, order given, module, volts)
+    reads: list[tuple[int, str]]  # (cycle, register)
+    watched: list[tuple[str, int]]  # (port, bit)
+
+    @property
+    def ports(self) -> list[str]:
+        return sorted({port for port, _ in self.watched})
+
+
+def _plan(freq_hz: int, until_ms: float, inputs: Iterable[tuple[float, str, int]],
+          analog: Iterable[tuple[float, str, float]], reads: Iterable[tuple[float, str]],
+          watch: Iterable[str]) -> _Plan:
+    per_ms = freq_hz / 4000.0  # instruction cycles per millisecond
+
+    def at(ms: float) -> int:
+        if ms < 0:
+            raise ValueError("negative time")
+        return round(ms * per_ms)
+
+    end = at(until_ms)
+    if end <= 0:
+        raise ValueError("until_ms must be positive")
+    plan = _Plan(end, {}, [], [(at(t), reg.lower()) for t, reg in reads], [parse_pin(p) for p in watch])
+    # digital drives are the modules at 0 or 5 V; analog ones at any voltage
+    voltages = [(t, pin, 5.0 if level else 0.0) for t, pin, level in inputs]
+    voltages += [(t, pin, float(volts)) for t, pin, volts in analog]
+    for seq, (t, pin, volts) in enumerate(voltages):
+        port, bit = parse_pin(pin)
+        module = plan.modules.setdefault((port, bit), f"in_r{port}{bit}")
+        plan.drives.append((at(t), seq, module, volts))
+    return plan
+
+
+def _script(plan: _Plan, processor: str, hex_file: Path, freq_hz: int, log: Path,
+            uart: bool | None) -> tuple[str, int, list[tuple[int, str]]]:
+    """The command script, the number of cycle breaks it sets and the registers it prints
+    (cycle, register) in order."""
+    s: list[str] = [f"processor {processor}", f"load {hex_file}", f"frequency {int(freq_hz)}"]
+    if plan.modules:
+        s.append("module library libgpsim_modules")
+        for (port, bit), mod in sorted(plan.modules.items()):
+            s += [f"module load pullup {mod}", f"{mod}.resistance = {DRIVE_OHMS}", f"node n_{mod}",
+                  f"attach n_{mod} {mod}.pin {_registers(port)[0]}{bit}"]
+    s.append(f"log on {log}")
+    for port in plan.ports:
+        s += [f"log w {register}" for register in _registers(port)]
+    if uart is None or uart:
+        s.append("log w txreg")
+    timeline: dict[int, list[str]] = {}
+    for cyc, _, mod, volts in sorted(plan.drives):
+        if cyc <= plan.end:
+            timeline.setdefault(cyc, []).append(f"{mod}.voltage = {volts:g}")
+    for cyc, reg in plan.reads:
+        timeline.setdefault(min(cyc, plan.end), []).append(f"__read__ {reg}")
+    read_order: list[tuple[int, str]] = []
+    breaks = 0
+    for cyc in sorted(set(timeline) | {plan.end}):
+        if cyc > 0:
+            s += [f"break c {cyc}", "run"]
+            breaks += 1
+        for cmd in timeline.get(cyc, []):
+            if cmd.startswith("__read__ "):
+                reg = cmd.split()[1]
+                read_order.append((cyc, reg))
+                s.append(reg)
+            else:
+                s.append(cmd)
+    s += ["log off", f"echo {END_MARK}", "quit"]
+    return "\n".join(s) + "\n", breaks, read_order
+
+
+def _gpsim(folder: Path, script: str, timeout: float) -> str:
+    """gpsim's output for the script, run in the folder."""
+    (folder / "script.stc").write_text(script)
+    # output to a file: gpsim stuck at its prompt on an empty stdin prints prompts
+    # endlessly until the timeout
+    out_path = folder / "out.txt"
+    try:
+        with open(out_path, "wb") as out_f:
+            subprocess.run(["gpsim", "-i", "-I", str(folder / "script.stc")],
+                           stdin=subprocess.DEVNULL, stdout=out_f, stderr=subprocess.STDOUT,
+                           timeout=timeout, cwd=folder)
+    except subprocess.TimeoutExpired as e:
+        with open(out_path, "rb") as f:
+            f.seek(max(0, out_path.stat().st_size - 3000))
+            tail = f.read().decode(errors="replace")
+        raise GpsimError(f"gpsim timed out after {timeout} s (script error or endless "
+                         f"run?)\n--- script ---\n{script}--- output tail ---\n{tail}") from e
+    return out_path.read_text(errors="replace")
+
+
+def _check_output(out: str, script: str, uart: bool | None, breaks: int, end: int) -> None:
+    """GpsimError unless gpsim ran the whole script without complaint."""
+    problems = [ln for ln in out.splitlines() if _ERROR_PATTERNS.search(ln)]
+    if uart is None:
+        problems = [ln for ln in problems if _TXREG_MISSING not in ln]
+    if problems:
+        raise GpsimError("gpsim reported: " + " | ".join(problems)
+                         + f"\n--- script ---\n{script}")
+    if END_MARK not in out:
+        raise GpsimError(f"gpsim did not reach the end of the script\n{out[-2000:]}")
+    hits = re.findall(r"cycle break: 0x[0-9A-Fa-f]+ = (\d+)", out)
+    if len(hits) != breaks or (hits and int(hits[-1]) != end):
+        raise GpsimError(f"gpsim stopped early: {len(hits)} of {breaks} cycle breaks reached"
+                         f"\n{out[-2000:]}")
+
+
+def _record_writes(run: PicRun, watched: list[tuple[str, int]], ports: list[str]) -> None:
+    """The watched pins' edges and the UART's bytes, from the logged writes."""
+    # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0)
+    latch = {p: 0 for p in ports}
+    tris = {p: 0xFF for p in ports}
+    pin_level = {(p, b): 0 for p, b in watched}
+    for p, b in watched:
+        run.levels[_pin_label(p, b)] = 0
+    for cyc, reg, val in run.writes:
+        if reg == "txreg":
+            run.uart_cycles.append((cyc, val & 0xFF))
+            continue
+        found = _port_of(reg)
+        if found is None or found[0] not in latch:
+            continue
+        p, kind = found
+        (latch if kind == "data" else tris)[p] = val
+        for (wp, wb), old in pin_level.items():
+            if wp != p:
+                continue
+            new = 0 if (tris[p] >> wb) & 1 else (latch[p] >> wb) & 1
+            if new != old:
+                pin_level[(wp, wb)] = new
+                run.edge_cycles.append((cyc, _pin_label(wp, wb), new))
+
+
+def _record_reads(run: PicRun, read_order: list[tuple[int, str]]) -> None:
+    """The registers the script printed: gpsim answers "portc = 0x3" in script order."""
+    values = [m for m in (_READ_VALUE.search(ln) for ln in run.output.splitlines()) if m]
+    vi = 0
+    for cyc, reg in read_order:
+        while vi < len(values) and values[vi].group(1).lower() != reg:
+            vi += 1
+        if vi == len(values):
+            raise GpsimError(f"no value printed for register {reg}")
+        run.reads.append((run.ms(cyc), reg, int(values[vi].group(2), 0)))
+        vi += 1
+
+
 def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
             inputs: Iterable[tuple[float, str, int]] = (), watch: Iterable[str] = (),
             until_ms: float = 1000.0, analog: Iterable[tuple[float, str, float]] = (),
@@ -179,143 +331,18 @@ def run_pic(hex_path: str | os.PathLike, processor: str, freq_hz: int,
     if not hex_path.is_file():
         raise GpsimError(f"no HEX file {hex_path}")
     proc_name = processor_name(processor)
-    per_ms = freq_hz / 4000.0  # instruction cycles per millisecond
-
-    def at(ms: float) -> int:
-        if ms < 0:
-            raise ValueError("negative time")
-        return round(ms * per_ms)
-
-    end = at(until_ms)
-    if end <= 0:
-        raise ValueError("until_ms must be positive")
-
-    # events per cycle: voltage settings and register reads
-    drives: list[tuple[int, int, str, float]] = []
-    seq = 0
-    modules: dict[tuple[str, int], str] = {}
-    for t, pin, level in inputs:
-        port, bit = parse_pin(pin)
-        modules.setdefault((port, bit), f"in_r{port}{bit}")
-        drives.append((at(t), seq, modules[(port, bit)], 5.0 if level else 0.0))
-        seq += 1
-    for t, pin, volts in analog:
-        port, bit = parse_pin(pin)
-        modules.setdefault((port, bit), f"in_r{port}{bit}")
-        drives.append((at(t), seq, modules[(port, bit)], float(volts)))
-        seq += 1
-    read_events = [(at(t), reg.lower()) for t, reg in reads]
-    watched = [parse_pin(p) for p in watch]
-    ports = sorted({p for p, _ in watched})
-
+    plan = _plan(freq_hz, until_ms, inputs, analog, reads, watch)
     with tempfile.TemporaryDirectory(prefix="textladder-gpsim-") as tmp:
-        tmpd = Path(tmp)
-        fw = tmpd / "fw.hex"   # a plain path: gpsim's parser does not take quoted names
+        folder = Path(tmp)
+        fw = folder / "fw.hex"   # a plain path: gpsim's parser does not take quoted names
         shutil.copyfile(hex_path, fw)
-        log = tmpd / "run.log"
-        s: list[str] = [
-            f"processor {proc_name}",
-            f"load {fw}",
-            f"frequency {int(freq_hz)}",
-        ]
-        if modules:
-            s.append("module library libgpsim_modules")
-            for (port, bit), mod in sorted(modules.items()):
-                s += [f"module load pullup {mod}", f"{mod}.resistance = {DRIVE_OHMS}", f"node n_{mod}",
-                      f"attach n_{mod} {mod}.pin {_registers(port)[0]}{bit}"]
-        s.append(f"log on {log}")
-        for port in ports:
-            s += [f"log w {register}" for register in _registers(port)]
-        if uart is None or uart:
-            s.append("log w txreg")
-        # timeline
-        timeline: dict[int, list[str]] = {}
-        for cyc, _, mod, volts in sorted(drives):
-            if cyc <= end:
-                timeline.setdefault(cyc, []).append(f"{mod}.voltage = {volts:g}")
-        for cyc, reg in read_events:
-            timeline.setdefault(min(cyc, end), []).append(f"__read__ {reg}")
-        read_order: list[tuple[int, str]] = []
-        breaks = 0
-        for cyc in sorted(set(timeline) | {end}):
-            if cyc > 0:
-                s += [f"break c {cyc}", "run"]
-                breaks += 1
-            for cmd in timeline.get(cyc, []):
-                if cmd.startswith("__read__ "):
-                    reg = cmd.split()[1]
-                    read_order.append((cyc, reg))
-                    s.append(reg)
-                else:
-                    s.append(cmd)
-        s += ["log off", f"echo {END_MARK}", "quit"]
-        script = "\n".join(s) + "\n"
-        (tmpd / "script.stc").write_text(script)
-        # output to a file: gpsim stuck at its prompt on an empty stdin prints prompts
-        # endlessly until the timeout
-        out_path = tmpd / "out.txt"
-        try:
-            with open(out_path, "wb") as out_f:
-                subprocess.run(["gpsim", "-i", "-I", str(tmpd / "script.stc")],
-                               stdin=subprocess.DEVNULL, stdout=out_f, stderr=subprocess.STDOUT,
-                               timeout=timeout, cwd=tmpd)
-        except subprocess.TimeoutExpired as e:
-            with open(out_path, "rb") as f:
-                f.seek(max(0, out_path.stat().st_size - 3000))
-                tail = f.read().decode(errors="replace")
-            raise GpsimError(f"gpsim timed out after {timeout} s (script error or endless "
-                             f"run?)\n--- script ---\n{script}--- output tail ---\n{tail}") from e
-        out = out_path.read_text(errors="replace")
+        log = folder / "run.log"
+        script, breaks, read_order = _script(plan, proc_name, fw, freq_hz, log, uart)
+        out = _gpsim(folder, script, timeout)
         log_text = log.read_text(errors="replace") if log.exists() else ""
-
-    problems = [ln for ln in out.splitlines() if _ERROR_PATTERNS.search(ln)]
-    if uart is None:
-        problems = [ln for ln in problems if _TXREG_MISSING not in ln]
-    if problems:
-        raise GpsimError("gpsim reported: " + " | ".join(problems)
-                         + f"\n--- script ---\n{script}")
-    if END_MARK not in out:
-        raise GpsimError(f"gpsim did not reach the end of the script\n{out[-2000:]}")
-    hits = re.findall(r"cycle break: 0x[0-9A-Fa-f]+ = (\d+)", out)
-    if len(hits) != breaks or (hits and int(hits[-1]) != end):
-        raise GpsimError(f"gpsim stopped early: {len(hits)} of {breaks} cycle breaks reached"
-                         f"\n{out[-2000:]}")
-
-    run = PicRun(processor=proc_name, freq_hz=int(freq_hz), end_cycle=end, output=out,
-                 script=script)
-    writes = parse_log(log_text)
-    run.writes = writes
-    # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0)
-    latch = {p: 0 for p in ports}
-    tris = {p: 0xFF for p in ports}
-    pin_level = {(p, b): 0 for p, b in watched}
-    for p, b in watched:
-        run.levels[_pin_label(p, b)] = 0
-    for cyc, reg, val in writes:
-        if reg == "txreg":
-            run.uart_cycles.append((cyc, val & 0xFF))
-            continue
-        found = _port_of(reg)
-        if found is None or found[0] not in latch:
-            continue
-        p, kind = found
-        (latch if kind == "data" else tris)[p] = val
-        for (wp, wb), old in pin_level.items():
-            if wp != p:
-                continue
-            new = 0 if (tris[p] >> wb) & 1 else (latch[p] >> wb) & 1
-            if new != old:
-                pin_level[(wp, wb)] = new
-                run.edge_cycles.append((cyc, _pin_label(wp, wb), new))
-    # register reads: gpsim answers "portc = 0x3" in script order
-    if read_order:
-        values = [m for m in (_READ_VALUE.search(ln) for ln in out.splitlines()) if m]
-        vi = 0
-        for cyc, reg in read_order:
-            while vi < len(values) and values[vi].group(1).lower() != reg:
-                vi += 1
-            if vi == len(values):
-                raise GpsimError(f"no value printed for register {reg}")
-            run.reads.append((run.ms(cyc), reg, int(values[vi].group(2), 0)))
-            vi += 1
+    _check_output(out, script, uart, breaks, plan.end)
+    run = PicRun(processor=proc_name, freq_hz=int(freq_hz), end_cycle=plan.end, output=out,
+                 script=script, writes=parse_log(log_text))
+    _record_writes(run, plan.watched, plan.ports)
+    _record_reads(run, read_order)
     return run
