@@ -42,7 +42,11 @@ class Machine:
 class Backend(Protocol):
     family: str  # its key in lang.targets.FAMILIES
     delay_loop_cycles: int  # CPU cycles one count of a variable DELAY takes (T2DLY converts with it)
-    flow: Decoder  # reads the family's program memory for the scan budget (its module compiler.<family>.flow)
+
+    @property
+    def flow(self) -> Decoder:
+        """Reads the family's program memory for the scan budget: its module compiler.<family>.flow."""
+        ...
 
     def compile(self, code: ir.Code, machine: Machine) -> Image: ...
 
