@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import copy
 import os
 import random
 import re
@@ -57,7 +58,8 @@ from lsprotocol import types
 from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol
 from pytest_lsp import client_capabilities, make_test_lsp_client
 
-from lang.loader import parse
+from lang.loader import TEXT_KIND, load_path, parse
+from lang.textform.details import NAME_KINDS
 from lang.textform.writer import render_program
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -66,6 +68,12 @@ URI = "file:///tmp/lsp-bench/bench.ladder"
 DOC = types.TextDocumentIdentifier(uri=URI)
 SHAPES = {"chain-timers-parallels": shapes.chain_timers_parallels, "long-comments": shapes.long_comments,
           "wide-rungs": shapes.wide_rungs}
+# a real LDmicro program of each old dialect with timers (each timer has a DETAILS line once
+# converted), from the corpus beside the checkout as the tests read it (tests/corpus.py)
+CORPUS = ROOT.parent / "shared" / "corpus" / "ldmicro"
+CONVERTED = {"converted-0.1": CORPUS / "reg" / "tests" / "timers-counters.ld",
+             "converted-0.2": CORPUS / "Tests" / "test-uart.ld"}
+IDENTIFIER = re.compile(r"[A-Za-z_]\w*")
 NAME = re.compile(r"\b[A-Z]\w*\d\b")  # the generated programs' names: R12, T5, TF7
 TYPED = "abcdefghijklmnopqrstuvwxyz"  # the characters typed over a name's last one
 LATE_MS = 100
@@ -73,6 +81,34 @@ LATE_MS = 100
 TARGETS = {"open": [("median", 250)], "1-character edit": [("median", 20), ("p90", 40)],
            "line added/removed": [("median", 30)], "hover": [("median", 10)], "completion": [("median", 10)],
            "storm replies": [("worst", LATE_MS)]}
+
+
+def converted(path: Path, rungs: int) -> str:
+    """The `.ld` file converted to the text form, its rungs repeated up to
+    `rungs` with every name of the n-th copy ending in n (so DETAILS has a
+    line per renamed timer, after the renamed rungs)."""
+    program, problems = load_path(path)
+    assert not problems, problems
+    original = program.rungs
+    program.rungs = []
+    for copy_number in range(-(-rungs // len(original))):
+        for rung in copy.deepcopy(original):
+            for element in rung.elements():
+                for f in element.spec.fields:
+                    value = element.args.get(f.name)
+                    if f.kind in NAME_KINDS and isinstance(value, str) and IDENTIFIER.fullmatch(value):
+                        element.args[f.name] = f"{value}{copy_number}"
+            program.rungs.append(rung)
+    del program.rungs[rungs:]
+    return render_program(program)
+
+
+def shape_text(shape: str, rungs: int) -> str:
+    if shape in CONVERTED:
+        return converted(CONVERTED[shape], rungs)
+    program, problems = parse(SHAPES[shape](rungs), "ld")
+    assert not problems, problems
+    return render_program(program)
 
 
 def position_params(cls):
@@ -325,9 +361,8 @@ def report_all(all_samples: list[dict[str, list[float]]]) -> None:
 
 
 async def bench_shape(shape: str, args) -> None:
-    program, problems = parse(SHAPES[shape](args.rungs), "ld")
-    assert not problems, problems
-    text = render_program(program)
+    text = shape_text(shape, args.rungs)
+    program, _ = parse(text, TEXT_KIND)
     delay = "shipped default (adaptive)" if args.delay_ms is None else f"{args.delay_ms} ms"
     print(f"\n{shape}: {len(text.splitlines())} lines, {len(text.encode()) / 1e6:.2f} MB, {len(program.rungs)} rungs; "
           f"diagnosticsDelayMs {delay}, {args.runs} run(s) of {args.edits} edits, storm {args.storm_seconds:g} s")
@@ -360,7 +395,7 @@ async def bench_shape(shape: str, args) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--shape", choices=[*SHAPES, "all"], default="chain-timers-parallels")
+    parser.add_argument("--shape", choices=[*SHAPES, *CONVERTED, "all"], default="chain-timers-parallels")
     parser.add_argument("--rungs", type=int, default=2000)
     parser.add_argument("--runs", type=int, default=3, help="fresh server each run")
     parser.add_argument("--edits", "--rounds", type=int, default=30, help="edits (and requests) timed per measure, >= 30")
@@ -370,7 +405,7 @@ def main() -> None:
     args = parser.parse_args()
     if args.edits < 30:
         parser.error("--edits must be at least 30")
-    for shape in SHAPES if args.shape == "all" else [args.shape]:
+    for shape in [*SHAPES, *CONVERTED] if args.shape == "all" else [args.shape]:
         asyncio.run(bench_shape(shape, args))
 
 

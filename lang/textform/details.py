@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import copy
 import re
+from collections.abc import Callable
 from dataclasses import fields as dataclass_fields
-from itertools import islice
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS, Instruction
-from ..model import Element, PinAssignment, Program, Settings, Span
+from ..model import Element, PinAssignment, Program, Rung, Settings, Span
 from .rungs import UnreadRung
 from .sections import Section
 
@@ -35,7 +35,7 @@ PULLUP_PREFIX = "pull-ups "
 MODBUS_PREFIX = "Modbus "
 _MODBUS_RE = re.compile(r"slave (\d+), address (\d+)")
 
-_NAME_KINDS = ("var", "bit", "label", "token", "name")
+NAME_KINDS = ("var", "bit", "label", "token", "name")
 
 
 # --- SETTINGS ----------------------------------------------------------------
@@ -121,7 +121,7 @@ def identity(element: Element) -> str:
     instruction = element.spec
     drawn = [f for f in instruction.fields if f.drawn]
     for f in drawn:
-        if f.kind in _NAME_KINDS:
+        if f.kind in NAME_KINDS:
             return str(element.args[f.name])
     return str(element.args[drawn[0].name]) if drawn and drawn[0].kind != "text" else ""
 
@@ -171,13 +171,25 @@ _DETAIL_RE = re.compile(
     r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?!#\d+\s*:)(?P<name>.*?))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
 
 
-def read_details(section: Section, program: Program, problems: list[Diagnostic]) -> None:
-    # (rung, position in the rung) of each element, by instruction and name
+ElementNames = list[tuple[tuple[str, str], int]]
+# where DETAILS puts values in one rung: (element's position in the rung, (field, value) pairs), in DETAILS order
+Placed = tuple[tuple[int, tuple[tuple[str, object], ...]], ...]
+
+
+def element_names(rung: Rung) -> ElementNames:
+    """((instruction, identity), position in the rung) of each element: what a DETAILS line names."""
+    return [((element.kind, identity(element)), position) for position, element in enumerate(rung.elements())]
+
+
+def plan_details(section: Section, rungs: list[Rung], problems: list[Diagnostic],
+                 names: Callable[[Rung], ElementNames] = element_names) -> dict[int, Placed]:
+    """What the DETAILS section puts on each rung it names, by rung index;
+    `names` may answer from a cache (the reader keeps each rung's names)."""
     groups: dict[tuple[str, str], list[tuple[int, int]]] = {}
-    for index, rung in enumerate(program.rungs):
-        for position, element in enumerate(rung.elements()):
-            groups.setdefault((element.kind, identity(element)), []).append((index, position))
-    copied: set[int] = set()
+    for index, rung in enumerate(rungs):
+        for key, position in names(rung):
+            groups.setdefault(key, []).append((index, position))
+    plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
     for number, text in section.lines:
         if not text.strip():
             continue
@@ -192,23 +204,28 @@ def read_details(section: Section, program: Program, problems: list[Diagnostic])
             occurrence = int(match.group("n"))
             targets = targets[occurrence - 1:occurrence]
         if not targets:
-            if not any(isinstance(rung, UnreadRung) for rung in program.rungs):
+            if not any(isinstance(rung, UnreadRung) for rung in rungs):
                 problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
             # else its element may be in a rung that could not be read: that rung's errors say so
             continue
         try:
-            values = _parse_values(instruction, match.group("rest"))
+            values = tuple(_parse_values(instruction, match.group("rest")).items())
         except ValueError as problem:
             problems.append(error(codes.SECTION, str(problem), span))
             continue
         for index, position in targets:
-            if index not in copied:
-                # rungs come from the reader's cache, shared with earlier reads:
-                # the details of this text go on a copy
-                program.rungs[index] = copy.deepcopy(program.rungs[index])
-                copied.add(index)
-            element = next(islice(program.rungs[index].elements(), position, None))
-            element.args.update(values)
+            plan.setdefault(index, []).append((position, values))
+    return {index: tuple(placed) for index, placed in plan.items()}
+
+
+def with_details(rung: Rung, placed: Placed) -> Rung:
+    """A copy of the rung with its DETAILS values set: read rungs come from
+    the reader's cache, shared with earlier versions, which must not keep them."""
+    detailed = copy.deepcopy(rung)
+    elements = list(detailed.elements())
+    for position, values in placed:
+        elements[position].args.update(values)
+    return detailed
 
 
 def _parse_values(instruction: Instruction, rest: str) -> dict[str, object]:

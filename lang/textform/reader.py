@@ -260,9 +260,11 @@ class TextReader:
     * Rungs are also cached by their text, whatever their line: a rung that
       moved is not read again, only its positions are shifted.
     * The sections after the diagram are small and are read again every time.
-      DETAILS sets element parameters on copies of the rungs it changes
+      DETAILS sets element parameters on copies of the rungs it names
       (lang/textform/details.py): a cached rung never keeps what an earlier
-      version's DETAILS set."""
+      version's DETAILS set. A copy is made again only for a rung whose
+      drawing or details changed; otherwise the previous version's detailed
+      rung is kept (moved with its rung, and in `moved` in its place)."""
 
     def __init__(self, cache_size: int = CACHE_SIZE):
         self.cache_size = cache_size
@@ -276,6 +278,11 @@ class TextReader:
         # the last text read, split in lines and in sections, for the editor's helpers to share
         self.lines: list[str] = []
         self.sections: list[Section] = []
+        # the last read's DETAILS, by id of a read rung's circuit (kept in place when its rung
+        # moves): (circuit, its elements' names) and (circuit, its details, the detailed rung)
+        self._names: dict[int, tuple[Series, details.ElementNames]] = {}
+        self._detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
+        self.details_copied = 0  # rungs given their details afresh, over all reads (tests)
 
     def read(self, text: str) -> tuple[Program, list[Diagnostic]]:
         lines = self.lines = text.splitlines()
@@ -345,7 +352,7 @@ class TextReader:
             elif section.title == SETTINGS:
                 details.read_settings(section, program, problems)
             elif section.title == DETAILS:
-                details.read_details(section, program, problems)
+                self._attach_details(section, program, problems)
             else:
                 problems.append(error(codes.SECTION, f"unknown section {section.title!r}",
                                       Span.at(section.title_line, 0, len(section.title) + 1)))
@@ -353,6 +360,33 @@ class TextReader:
             problems.append(error(codes.UNREADABLE, "no LADDER DIAGRAM section: this is not a ladder text file",
                                   Span.at(0, 0)))
         return program, problems
+
+    def _attach_details(self, section: Section, program: Program, problems: list[Diagnostic]) -> None:
+        names: dict[int, tuple[Series, details.ElementNames]] = {}
+        detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
+
+        def named(rung: Rung) -> details.ElementNames:
+            known = self._names.get(id(rung.circuit))
+            if known is None or known[0] is not rung.circuit:
+                known = (rung.circuit, details.element_names(rung))
+            names[id(rung.circuit)] = known
+            return known[1]
+
+        for index, placed in details.plan_details(section, program.rungs, problems, named).items():
+            rung = program.rungs[index]
+            step = self.moved.pop(id(rung), None)
+            kept = self._detailed.get(id(rung.circuit))
+            if kept is not None and kept[0] is rung.circuit and kept[1] == placed:
+                result = kept[2]
+                if step is not None:  # the read rung moved: its detailed copy moves with it
+                    result = _moved_rung(result, step[1])
+                    self.moved[id(result)] = (kept[2], step[1])
+            else:
+                result = details.with_details(rung, placed)
+                self.details_copied += 1
+            detailed[id(rung.circuit)] = (rung.circuit, placed, result)
+            program.rungs[index] = result
+        self._names, self._detailed = names, detailed
 
     def _full(self, lines: list[str], diagram: Section) -> _State:
         raw_problems: list[Diagnostic] = []
@@ -408,8 +442,7 @@ class TextReader:
         their identity and get their new positions in place (so that a symbol
         table built on them stays true: lang/checks/incremental.py), in a new
         Rung at the new place; the rung cache follows it."""
-        _move_circuit(block.rung.circuit, delta)
-        rung = type(block.rung)(block.rung.circuit, shift_span(block.rung.span, delta))
+        rung = _moved_rung(block.rung, delta)
         problems = [shifted(p, delta) for p in block.problems]
         moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.key)
         if block.key is not None:
@@ -610,6 +643,12 @@ def shift_rung(rung: Rung, delta: int) -> Rung:
     circuit = _shift_node(rung.circuit, delta)
     assert isinstance(circuit, Series)  # a series is moved as a series
     return type(rung)(circuit, shift_span(rung.span, delta))
+
+
+def _moved_rung(rung: Rung, delta: int) -> Rung:
+    """The rung `delta` lines further down, a new Rung around the same circuit moved in place."""
+    _move_circuit(rung.circuit, delta)
+    return type(rung)(rung.circuit, shift_span(rung.span, delta))
 
 
 def _move_circuit(node: Node, delta: int) -> None:
