@@ -6,6 +6,7 @@ from __future__ import annotations
 from lang.semantics import ir
 
 from ..errors import FLASH_FULL, fail
+from ..image import Image, Symbol
 from . import asm as a
 from . import flow as pic16_flow
 from .emit import Emitter, compress_skips
@@ -55,9 +56,7 @@ class Pic16Backend:
     delay_loop_cycles = DELAY_LOOP_CYCLES
     flow = pic16_flow
 
-    def compile(self, code: ir.Code, machine):
-        from ..image import Image
-
+    def compile(self, code: ir.Code, machine) -> Image:
         part = Part.of(machine.device)
         layout = allocate(code, part, machine, free_running(code, part, machine))
         # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
@@ -102,8 +101,6 @@ def _config(part: Part, setting: int | None) -> dict[int, int]:
 
 
 def _symbols(layout) -> dict:
-    from ..image import Symbol
-
     found = {name: Symbol(loc.addr, 1, loc.bit) for name, loc in layout.bits.items()}
     found.update((name, Symbol(st.addr, st.size)) for name, st in layout.vars.items())
     return found
