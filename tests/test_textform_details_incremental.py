@@ -4,11 +4,12 @@ an edit must give each rung its details again only where it changed."""
 
 from __future__ import annotations
 
+import random
 import sys
 from pathlib import Path
 
 import pytest
-from test_lsp_incremental import fresh, snapshot
+from test_lsp_incremental import EDIT_CHARS, apply, fresh, snapshot
 
 from lang.textform.reader import TextReader
 
@@ -65,3 +66,22 @@ def test_a_changed_detail_gives_only_its_rung_its_details_again(text):
     changed = [index for index, (a, b) in enumerate(zip(before.rungs, after.rungs)) if a is not b]
     assert len(changed) == 1
     assert 3 in [e.args.get("adjust") for e in after.rungs[changed[0]].elements()]
+
+
+def test_random_edits_read_as_a_fresh_reader_does():
+    rng = random.Random(21)
+    start = converted(CONVERTED["converted-0.1"], 40)
+    for _ in range(30):
+        text, reader = start, TextReader()
+        for _ in range(6):
+            text = apply(text, (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]),
+                                rng.randrange(10**6), rng.randrange(10**6), rng.choice(EDIT_CHARS)))
+            assert snapshot(reader.read(text)) == snapshot(fresh(text))
+
+
+def test_a_rung_removed_and_another_repeated_moves_the_details_with_their_rungs(text):
+    lines = text.splitlines(keepends=True)
+    numbered = [i for i, line in enumerate(lines) if line[:4].isdigit() and line[4] == "|"]
+    rung = lines[numbered[10] - 2:numbered[11] - 2]  # a rung, from the blank line above its names
+    edited = lines[:numbered[10] - 2] + lines[numbered[11] - 2:numbered[20] - 2] + rung + lines[numbered[20] - 2:]
+    read_twice(text, "".join(edited))

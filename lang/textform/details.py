@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import copy
 import re
-from collections.abc import Callable
 from dataclasses import fields as dataclass_fields
+from functools import lru_cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -172,6 +172,7 @@ _DETAIL_RE = re.compile(
 
 
 ElementNames = list[tuple[tuple[str, str], int]]
+Groups = dict[tuple[str, str], list[tuple[int, int]]]
 # where DETAILS puts values in one rung: (element's position in the rung, (field, value) pairs), in DETAILS order
 Placed = tuple[tuple[int, tuple[tuple[str, object], ...]], ...]
 
@@ -181,41 +182,62 @@ def element_names(rung: Rung) -> ElementNames:
     return [((element.kind, identity(element)), position) for position, element in enumerate(rung.elements())]
 
 
-def plan_details(section: Section, rungs: list[Rung], problems: list[Diagnostic],
-                 names: Callable[[Rung], ElementNames] = element_names) -> dict[int, Placed]:
-    """What the DETAILS section puts on each rung it names, by rung index;
-    `names` may answer from a cache (the reader keeps each rung's names)."""
-    groups: dict[tuple[str, str], list[tuple[int, int]]] = {}
+def element_groups(rungs: list[Rung]) -> Groups:
+    """(rung index, position in the rung) of each element, by what a DETAILS line names it."""
+    groups: Groups = {}
     for index, rung in enumerate(rungs):
-        for key, position in names(rung):
+        for key, position in element_names(rung):
             groups.setdefault(key, []).append((index, position))
+    return groups
+
+
+def plan_details(section: Section, rungs: list[Rung], problems: list[Diagnostic],
+                 groups: Groups | None = None) -> dict[int, Placed]:
+    """What the DETAILS section puts on each rung it names, by rung index;
+    `groups` are the rungs' `element_groups` (the reader keeps them up to date)."""
+    if groups is None:
+        groups = element_groups(rungs)
     plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
     for number, text in section.lines:
         if not text.strip():
             continue
         span = Span.at(number, 0, len(text))
-        match = _DETAIL_RE.match(text)
-        if not match or match.group("kind") not in INSTRUCTIONS:
+        parsed = _parse_line(text)
+        if parsed is None:
             problems.append(error(codes.SECTION, "expected `<INSTRUCTION> <name>: <field> <value>, ...`", span))
             continue
-        instruction = INSTRUCTIONS[match.group("kind")]
-        targets = groups.get((instruction.key, match.group("name") or ""), [])
-        if match.group("n"):
-            occurrence = int(match.group("n"))
+        key, occurrence, values = parsed
+        targets = groups.get(key, [])
+        if occurrence is not None:
             targets = targets[occurrence - 1:occurrence]
         if not targets:
             if not any(isinstance(rung, UnreadRung) for rung in rungs):
                 problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
             # else its element may be in a rung that could not be read: that rung's errors say so
             continue
-        try:
-            values = tuple(_parse_values(instruction, match.group("rest")).items())
-        except ValueError as problem:
-            problems.append(error(codes.SECTION, str(problem), span))
+        if isinstance(values, str):
+            problems.append(error(codes.SECTION, values, span))
             continue
         for index, position in targets:
             plan.setdefault(index, []).append((position, values))
     return {index: tuple(placed) for index, placed in plan.items()}
+
+
+# a DETAILS line is parsed again only when its text changes (each edit reads the whole section)
+@lru_cache(maxsize=16384)
+def _parse_line(text: str) -> tuple[tuple[str, str], int | None, tuple[tuple[str, object], ...] | str] | None:
+    """((instruction, name), occurrence, the values or what is wrong with
+    them) of a DETAILS line, None when it is not one."""
+    match = _DETAIL_RE.match(text)
+    if not match or match.group("kind") not in INSTRUCTIONS:
+        return None
+    instruction = INSTRUCTIONS[match.group("kind")]
+    occurrence = int(match.group("n")) if match.group("n") else None
+    try:
+        values: tuple[tuple[str, object], ...] | str = tuple(_parse_values(instruction, match.group("rest")).items())
+    except ValueError as problem:
+        values = str(problem)
+    return (instruction.key, match.group("name") or ""), occurrence, values
 
 
 def with_details(rung: Rung, placed: Placed) -> Rung:

@@ -6,6 +6,7 @@ edit touches."""
 from __future__ import annotations
 
 import re
+from bisect import insort
 from collections import Counter, OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
@@ -278,9 +279,12 @@ class TextReader:
         # the last text read, split in lines and in sections, for the editor's helpers to share
         self.lines: list[str] = []
         self.sections: list[Section] = []
-        # the last read's DETAILS, by id of a read rung's circuit (kept in place when its rung
-        # moves): (circuit, its elements' names) and (circuit, its details, the detailed rung)
-        self._names: dict[int, tuple[Series, details.ElementNames]] = {}
+        # for DETAILS, kept from one read to the next: the read rungs' circuits (a circuit stays
+        # when its rung moves), each circuit's element names by id(circuit), the groups of
+        # details.element_groups, and by id(circuit) (circuit, its details, the detailed rung)
+        self._circuits: list[Series] = []
+        self._names: dict[int, details.ElementNames] = {}
+        self._groups: details.Groups = {}
         self._detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
         self.details_copied = 0  # rungs given their details afresh, over all reads (tests)
 
@@ -362,17 +366,9 @@ class TextReader:
         return program, problems
 
     def _attach_details(self, section: Section, program: Program, problems: list[Diagnostic]) -> None:
-        names: dict[int, tuple[Series, details.ElementNames]] = {}
+        plan = details.plan_details(section, program.rungs, problems, self._element_groups(program.rungs))
         detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
-
-        def named(rung: Rung) -> details.ElementNames:
-            known = self._names.get(id(rung.circuit))
-            if known is None or known[0] is not rung.circuit:
-                known = (rung.circuit, details.element_names(rung))
-            names[id(rung.circuit)] = known
-            return known[1]
-
-        for index, placed in details.plan_details(section, program.rungs, problems, named).items():
+        for index, placed in plan.items():
             rung = program.rungs[index]
             step = self.moved.pop(id(rung), None)
             kept = self._detailed.get(id(rung.circuit))
@@ -386,7 +382,31 @@ class TextReader:
                 self.details_copied += 1
             detailed[id(rung.circuit)] = (rung.circuit, placed, result)
             program.rungs[index] = result
-        self._names, self._detailed = names, detailed
+        self._detailed = detailed
+
+    def _element_groups(self, rungs: list[Rung]) -> details.Groups:
+        """details.element_groups, brought up to date for the rungs whose
+        circuit changed since the last read (all of them when rungs were
+        added or removed)."""
+        circuits = [rung.circuit for rung in rungs]
+        if len(circuits) != len(self._circuits):
+            self._groups = details.element_groups(rungs)
+            self._names = {id(rung.circuit): details.element_names(rung) for rung in rungs}
+        else:
+            changed = [index for index, (old, new) in enumerate(zip(self._circuits, circuits)) if old is not new]
+            # all gone before any comes: a circuit may have moved to another index
+            for index in changed:
+                for key, position in self._names.pop(id(self._circuits[index])):
+                    group = self._groups[key]
+                    group.remove((index, position))
+                    if not group:
+                        del self._groups[key]
+            for index in changed:
+                names = self._names[id(circuits[index])] = details.element_names(rungs[index])
+                for key, position in names:
+                    insort(self._groups.setdefault(key, []), (index, position))
+        self._circuits = circuits
+        return self._groups
 
     def _full(self, lines: list[str], diagram: Section) -> _State:
         raw_problems: list[Diagnostic] = []
