@@ -11,6 +11,7 @@ from collections import Counter, OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
+from functools import lru_cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -174,35 +175,47 @@ def _fix_right_rail(block: list[Line]) -> None:
 
 def _read_io(section: Section, program: Program, problems: list[Diagnostic]) -> None:
     for number, text in section.lines:
-        cells = [cell.strip() for cell in text.split("|")]
-        if len(cells) < 3 or not cells[0] or cells[0] == "Name" or set(cells[0]) <= set("-"):
+        row = _io_row(text)
+        if row is None:
             continue
-        if "UART" in cells[1]:
-            continue  # LDmicro lists the UART's fixed pins here, not an assignment
-        name, pin_text = cells[0], cells[2]
-        port_text = cells[3] if len(cells) > 3 else ""
-        pin: int | str | None = None
-        if pin_text.isdigit():
-            pin = int(pin_text)
-        elif re.fullmatch(r"[A-Za-z]{1,2}\d{1,2}", pin_text):
-            pin = pin_text.upper()
-        elif not pin_text or pin_text.startswith("(not assigned"):
-            if re.fullmatch(r"[A-Za-z]{1,2}\d{1,2}", port_text):
-                pin = port_text.upper()
-        else:
-            column = text.find(pin_text)
-            problems.append(error(codes.SECTION, f"{pin_text!r} is not a pin number or port bit (e.g. 4 or PD2)",
-                                  Span.at(number, column, column + len(pin_text))))
+        name, pin, column, width = row
+        if name is None:  # `pin` says what is wrong with it
+            problems.append(error(codes.SECTION, str(pin), Span.at(number, column, column + width)))
             continue
         known = program.pins.get(name)
         if pin in (None, 0) or (known is not None and known.assigned):
             continue
-        column = text.find(name)
-        span = Span.at(number, column, column + len(name))
+        span = Span.at(number, column, column + width)
         if known is None:
             program.pins[name] = PinAssignment(name, pin, span=span)
         else:  # its Modbus address came first, in SETTINGS
             known.pin, known.span = pin, span
+
+
+# an I/O row is parsed again only when its text changes (each edit reads the whole table)
+@lru_cache(maxsize=16384)
+def _io_row(text: str) -> tuple[str | None, int | str | None, int, int] | None:
+    """(name, pin, column and width of the name) of an I/O table row, None
+    for a line that assigns nothing, (None, the problem, its column and width)
+    for a pin that is none."""
+    cells = [cell.strip() for cell in text.split("|")]
+    if len(cells) < 3 or not cells[0] or cells[0] == "Name" or set(cells[0]) <= set("-"):
+        return None
+    if "UART" in cells[1]:
+        return None  # LDmicro lists the UART's fixed pins here, not an assignment
+    name, pin_text = cells[0], cells[2]
+    port_text = cells[3] if len(cells) > 3 else ""
+    pin: int | str | None = None
+    if pin_text.isdigit():
+        pin = int(pin_text)
+    elif re.fullmatch(r"[A-Za-z]{1,2}\d{1,2}", pin_text):
+        pin = pin_text.upper()
+    elif not pin_text or pin_text.startswith("(not assigned"):
+        if re.fullmatch(r"[A-Za-z]{1,2}\d{1,2}", port_text):
+            pin = port_text.upper()
+    else:
+        return None, f"{pin_text!r} is not a pin number or port bit (e.g. 4 or PD2)", text.find(pin_text), len(pin_text)
+    return name, pin, text.find(name), len(name)
 
 
 def _read_vars(section: Section, program: Program, problems: list[Diagnostic]) -> None:
