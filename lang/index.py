@@ -94,7 +94,7 @@ class Literal(NamedTuple):
 _new = tuple.__new__  # builds a NamedTuple without its Python-level __new__ (hot loop)
 
 
-def shift_register_names(element: Element) -> list[tuple[str, str, str]]:
+def _stages(element: Element) -> list[tuple[str, str, str]]:
     """The names a shift register uses: name0 is the input the program
     writes; the register reads name0..name(n-2) and writes name1..name(n-1)."""
     args = element.args
@@ -221,7 +221,7 @@ class ProgramIndex:
                     else:
                         marked.append(mark)
             if kind == "SHIFT_REGISTER":
-                names = shift_register_names(element)
+                names = _stages(element)
             else:
                 for field, access in plans.get(kind, ()):
                     value = args.get(field)

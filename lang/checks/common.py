@@ -25,6 +25,8 @@ from ..values import format_delay, is_literal, literal_value
 # NAMES: each is a function of one name's uses and marks, whole, so the rule runs
 #   on the index of the names the changed rungs use;
 # PROGRAM (a module without SCOPE): anything else; it runs on the whole index.
+# A rule whose diagnostics fall in two scopes has `CHECKS`, its check function
+# for each scope, instead of `check` and `SCOPE`.
 RUNGS = "rungs"
 NAMES = "names"
 PROGRAM = "program"

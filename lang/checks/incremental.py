@@ -29,8 +29,9 @@ from __future__ import annotations
 
 from bisect import bisect_right
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
+from types import ModuleType
 
 from ..config import NONE, Severities
 from ..diagnostics import Diagnostic, Related
@@ -39,14 +40,21 @@ from ..model import Program, Rung, Span
 from . import RULES
 from .common import NAMES, PROGRAM, RUNGS, offering
 
-BY_SCOPE = {scope: tuple(rule for rule in RULES if getattr(rule, "SCOPE", PROGRAM) == scope)
+
+def checks_of(rule: ModuleType) -> dict[str, Callable[[Program, ProgramIndex], list[Diagnostic]]]:
+    """A rule's check functions by scope: its `check` at its `SCOPE`, or, for a
+    rule whose diagnostics depend on different things, its `CHECKS`."""
+    return getattr(rule, "CHECKS", None) or {getattr(rule, "SCOPE", PROGRAM): rule.check}
+
+
+BY_SCOPE = {scope: tuple(check for rule in RULES for at, check in checks_of(rule).items() if at == scope)
             for scope in (RUNGS, NAMES, PROGRAM)}
 
 
 def run(scope: str, program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found: list[Diagnostic] = []
-    for rule in BY_SCOPE[scope]:
-        found.extend(rule.check(program, index))
+    for check in BY_SCOPE[scope]:
+        found.extend(check(program, index))
     return found
 
 

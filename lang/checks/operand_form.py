@@ -7,12 +7,12 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
-from ..index import ProgramIndex, shift_register_names
+from ..index import ProgramIndex
 from ..model import Program
-from ..semantics.operands import INTEGER_FIELDS_OF, REFUSALS, bit_refusal, integer_operand, operand_refusal
+from ..semantics.operands import REFUSALS, bit_refusal, integer_operand, operand_refusal
 from ..storage import BIT_FIELDS, OVERFLOW, bit_operand
 from ..targets import compiled
-from .common import variable_of_uses
+from .common import NAMES, PROGRAM, variable_of_uses
 
 CODE = rule_code(__name__)
 
@@ -28,37 +28,37 @@ def _a_bit(name: str, uses) -> bool:
     return name[:1] == "P" and any(bit_operand(use.element, use.field) for use in uses)
 
 
-def _in_integer_fields(index: ProgramIndex) -> set[str]:
-    """The names held in an operand `integer_operand` may accept: a superset
-    of those it accepts, gathered from the elements of those instructions
-    alone, so that an edit does not scan every use of every name."""
-    found: set[str] = set()
-    by_kind = index.by_kind
-    for kind, fields in INTEGER_FIELDS_OF.items():
-        for _, element in by_kind.get(kind, ()):
-            if kind == "SHIFT_REGISTER":
-                found.update(name for name, _, _ in shift_register_names(element))
-                continue
-            args = element.args
-            found.update(value for value in map(args.get, fields) if isinstance(value, str))
-    return found
-
-
-def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
-    device = index.device
-    if index.family is None and (device is None or not compiled(device)):
+def check_operands(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    """The forms an instruction refuses, some of them by another name's size."""
+    if not _compiled(index):
         return []
     found = []
     for _, element in index.of_kind(*REFUSALS):
         refused = operand_refusal(element, lambda name: variable_of_uses(program, index, name)[1])
         if refused:
             found.append(report(CODE, refused, element.span))
-    candidates = _in_integer_fields(index)
+    return found
+
+
+def check_bits(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    """A bit where an integer variable is needed: a function of the name's
+    uses alone, so an edit checks again only the names it touched."""
+    if not _compiled(index):
+        return []
+    found = []
     for name, uses in index.uses.items():
-        if name not in candidates or not _a_bit(name, uses):
+        if not _a_bit(name, uses):
             continue
         # the lowering refuses a bit at the first element that needs it as an integer
         first = next((use for use in uses if integer_operand(use.element, use.field)), None)
         if first is not None:
             found.append(report(CODE, bit_refusal(name), first.element.span))
     return found
+
+
+def _compiled(index: ProgramIndex) -> bool:
+    device = index.device
+    return index.family is not None or (device is not None and compiled(device))
+
+
+CHECKS = {PROGRAM: check_operands, NAMES: check_bits}

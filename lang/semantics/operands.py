@@ -87,11 +87,6 @@ _INTEGER_FIELDS = frozenset(
     if f.kind in ("var", "operand", "delay") and f.io != "pwm" and (key, f.name) != ("SEED_RANDOM", "name"))
 
 
-# instruction -> its fields in _INTEGER_FIELDS
-INTEGER_FIELDS_OF = {key: tuple(name for kind, name in sorted(_INTEGER_FIELDS) if kind == key)
-                     for key in {kind for kind, _ in _INTEGER_FIELDS}}
-
-
 def integer_operand(element: Element, field: str) -> bool:
     """Whether the lowering keeps the name in this operand as an integer
     variable (a bit name there is refused): the table's variable, operand
