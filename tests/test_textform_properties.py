@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from lang.diagnostics import ERROR
 from lang.ldfile import read_ld, write_ld
-from lang.model import Element, Program, Rung, Series, rung_circuit
+from lang.model import Element, Parallel, Program, Rung, Series, rung_circuit
 from lang.textform.formatter import format_text
 from lang.textform.reader import read_text
 from lang.textform.writer import render_program
@@ -66,3 +66,22 @@ def test_every_field_of_every_element_survives_ldmicros_own_drawing(instruction,
     read = next(e for _, e in program.elements() if e.kind == instruction.key)
     assert {k: v for k, v in read.args.items() if k in drawn} == \
         {k: v for k, v in element.args.items() if k in drawn}
+
+
+def test_a_program_of_more_than_9999_rungs_reads_back():
+    """Rung numbers of five digits widen the margin of every line, so each
+    rung's rail stays in one column (LDmicro never writes them: it loads 9,999)."""
+    from builders import coil, contact, el
+
+    def branched(n):
+        return Rung(Series([Parallel([contact(f"X{n}"), contact(f"Y{n}", negated=1)]), coil(f"Y{n}")]))
+
+    rungs = [branched(n) for n in range(10_003)]
+    rungs[9_998] = Rung(Series([]))  # an empty rung shows its number on the next line
+    rungs[10_001] = Rung(Series([el("COMMENT", text="after\nten thousand")]))
+    program = Program(rungs=rungs)
+    text = render_program(program)
+    read, problems = read_text(text)
+    assert not _errors(problems), problems[:3]
+    assert read == program
+    assert format_text(text)[0] == text

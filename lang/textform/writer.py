@@ -58,10 +58,18 @@ def comment_text(rung: Rung) -> str:
     return str(comment.args.get("text", ""))
 
 
-def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
-    """The lines of one rung, without the separator line after it."""
+def margin_width(rungs: int) -> int:
+    """The width of the rung numbers' margin: LDmicro's four digits, wider
+    for a program of 10,000 rungs or more (LDmicro loads 9,999), so that every
+    line of the diagram keeps its left rail in one column."""
+    return max(4, len(str(rungs)))
+
+
+def render_rung(rung: Rung, number: int, columns: int, margin: int = 4) -> list[str]:
+    """The lines of one rung, without the separator line after it; `margin`:
+    `margin_width` of the program's rungs."""
     if rung.is_comment:
-        return _render_comment(comment_text(rung), number, columns)
+        return _render_comment(comment_text(rung), number, columns, margin)
     grid = layout(rung.circuit, max(columns, natural_width(rung.circuit)))
     widths = _column_widths(grid)
     offsets = [0]
@@ -101,7 +109,7 @@ def render_rung(rung: Rung, number: int, columns: int) -> list[str]:
         write(3 * row, x, "|")
     result = []
     for index, chars in enumerate(lines):
-        label = f"{number:04d}" if index == 1 else "    "
+        label = f"{number:0{margin}d}" if index == 1 else " " * margin
         rail = "|+" if index % 3 == 1 and index // 3 in rail_junction_rows else "||"
         result.append(label + rail + "".join(chars) + "||")
     return result
@@ -128,14 +136,14 @@ def _column_widths(grid: Grid) -> list[int]:
     return widths
 
 
-def _render_comment(text: str, number: int, columns: int) -> list[str]:
+def _render_comment(text: str, number: int, columns: int, margin: int) -> list[str]:
     parts = [" ; " + part for part in text.split("\n")]
     width = max([CELL * columns] + [len(p) + COMMENT_MARGIN for p in parts])
     rows = max(1, -(-len(parts) // 3)) if len(parts) > 2 else 1
     lines = []
     for index in range(3 * rows):
         body = parts[index] if index < len(parts) else ""
-        label = f"{number:04d}" if index == 1 else "    "
+        label = f"{number:0{margin}d}" if index == 1 else " " * margin
         lines.append(label + "||" + body.ljust(width) + "||")
     return lines
 
@@ -146,21 +154,22 @@ def render_diagram(program: Program, columns: int | None = None) -> list[str]:
     # a file narrower than its widest rung (typed by hand) gets the width that rung needs
     columns = max(columns or 0, diagram_width(program))
     width = CELL * columns
-    blank = "    ||" + " " * width + "||"
+    margin = margin_width(len(program.rungs))
+    blank = " " * margin + "||" + " " * width + "||"
     lines = [blank]
     pending = None  # the number of an empty rung, shown on the next line
     for number, rung in enumerate(program.rungs, 1):
-        drawn = render_rung(rung, number, columns) if rung.circuit.items else []
+        drawn = render_rung(rung, number, columns, margin) if rung.circuit.items else []
         if pending is not None:
             drawn = drawn or [blank]
-            drawn[0] = pending + drawn[0][4:]
+            drawn[0] = pending + drawn[0][margin:]
             pending = None
         lines.extend(drawn)
         lines.append(blank)
         if not rung.circuit.items:
-            pending = f"{number:04d}"
+            pending = f"{number:0{margin}d}"
     end = with_wires("[END]", CELL) + "-" * (width - CELL)
-    lines += [(pending or "    ") + blank[4:], f"{len(program.rungs):4d}||{end}||", blank, blank]
+    lines += [(pending or " " * margin) + blank[margin:], f"{len(program.rungs):{margin}d}||{end}||", blank, blank]
     return lines
 
 
