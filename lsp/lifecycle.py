@@ -45,6 +45,7 @@ def register(server) -> None:
     def did_close(ls, params: types.DidCloseTextDocumentParams):
         ls.emit("closed", params.text_document.uri)
         ls.documents.forget(params.text_document.uri)
+        ls.idle.released()
 
 
 def apply_settings(ls, section) -> None:
