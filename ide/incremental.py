@@ -9,7 +9,7 @@ from __future__ import annotations
 from lang.diagnostics import Diagnostic
 from lang.loader import LD_KIND, parse
 from lang.model import Program, Rung
-from lang.textform.reader import TextReader
+from lang.textform.reader import Edited, TextReader
 
 
 class IncrementalReader:
@@ -39,10 +39,12 @@ class IncrementalReader:
             return None
         return self._text.lines, [(s.title, s.title_line) for s in self._text.sections]
 
-    def read(self, text: str) -> tuple[Program, list[Diagnostic]]:
+    def read(self, text: str, edited: Edited | None = None) -> tuple[Program, list[Diagnostic]]:
+        """`edited`: what the editor knows of the lines untouched since the
+        last read (lang.textform.reader.Edited), or None."""
         if self.kind == LD_KIND:
             return parse(text, self.kind)
-        return self._text.read(text)
+        return self._text.read(text, edited)
 
 
 def format_read(text: str, program: Program, problems: list[Diagnostic], reflow: bool = False) -> str | None:

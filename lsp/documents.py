@@ -32,6 +32,7 @@ from lang.loader import checkable, checked
 from lang.model import Program, Rung, Span
 
 from .positions import Positions
+from .text import LineDocument
 
 log = logging.getLogger(__name__)
 
@@ -278,6 +279,8 @@ class Documents:
             cached.text = text
             cached.version = document.version  # an edit that changed nothing still has a new version
             return cached
+        # the lines untouched since the text was read last (every read takes them)
+        edited = document.take_edited() if isinstance(document, LineDocument) else None
         kind = language_of(uri, text, getattr(document, "language_id", None))
         if kind is None:
             self._analyses.pop(uri, None)
@@ -297,7 +300,7 @@ class Documents:
         if reader is None or reader.kind != kind:
             reader = self._readers[uri] = IncrementalReader(kind)
             self._checkers[uri] = Checker()
-        program, problems = reader.read(text)
+        program, problems = reader.read(text, edited)
         moved = reader.moved
         if cached is not None and not cached.checked and cached.moved is not moved:
             moved = moved_since(cached.moved, program, moved)  # the version before was read, not checked

@@ -31,10 +31,12 @@ import os
 import stat
 from typing import TYPE_CHECKING, cast
 
+from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInvalidRequest
-from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol
+from pygls.protocol import JsonRPCResponseMessage, LanguageServerProtocol, lsp_method
 
 from .protocol import Encoded, UserError
+from .text import LineWorkspace
 
 if TYPE_CHECKING:
     from .server import LadderServer
@@ -60,6 +62,14 @@ class LadderProtocol(LanguageServerProtocol):
         super().__init__(*args, **kwargs)
         # id(params) of a request read, not yet worked out -> the revision of its document then
         self.arrivals: dict[int, int] = {}
+
+    @lsp_method(types.INITIALIZE)
+    def lsp_initialize(self, params: types.InitializeParams):
+        result = yield from super().lsp_initialize(params)
+        # documents kept as lines, an edit changing the lines it touches (lsp/text.py)
+        if self._workspace is not None:
+            self._workspace = LineWorkspace.like(self._workspace)
+        return result
 
     def _send_handler_result(self, future, *, msg_id):
         # pygls logs every error answer with a traceback: not these, which are answers, not bugs

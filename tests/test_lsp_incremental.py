@@ -12,10 +12,12 @@ import pytest
 from generators import programs
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from lsprotocol import types
 
 from ide.incremental import IncrementalReader
-from lang.textform.reader import TextReader
+from lang.textform.reader import Edited, TextReader
 from lang.textform.writer import render_program
+from lsp.text import LineDocument
 
 ROOT = Path(__file__).resolve().parents[1]
 EXPORTS = sorted((ROOT.parent / "shared" / "corpus" / "ldmicro-export").glob("*.txt"))
@@ -38,8 +40,8 @@ def fresh(text: str):
     return TextReader(cache_size=0).read(text)  # no state, nothing cached
 
 
-def same(incremental: IncrementalReader, text: str) -> None:
-    program, problems = incremental.read(text)
+def same(incremental: IncrementalReader, text: str, edited: Edited | None = None) -> None:
+    program, problems = incremental.read(text, edited)
     expected_program, expected_problems = fresh(text)
     assert snapshot(problems) == snapshot(expected_problems)
     assert snapshot(program) == snapshot(expected_program)
@@ -110,6 +112,41 @@ def test_edits_of_generated_programs(program, data):
     for step in data.draw(edits(text)):
         text = apply(text, step)
         same(incremental, text)
+
+
+def change_of(document: LineDocument, step) -> types.TextDocumentContentChangePartial:
+    """`apply`'s edit as an editor sends it."""
+    kind, a, b, ch = step
+    lines = document.lines
+    line = a % len(lines) if lines else 0
+    col = b % max(1, len(lines[line].rstrip("\r\n"))) if lines else 0
+    start, end, text = (line, col), (line, col + 1), ch
+    if kind == "line-dup":
+        start, end, text = (line, 0), (line, 0), lines[line] if lines else ch
+    elif kind == "line-del":
+        start, end, text = (line, 0), (line + 1, 0), ""
+    elif kind == "type":
+        end = start
+    elif kind == "delete":
+        text = ""
+    return types.TextDocumentContentChangePartial(
+        range=types.Range(start=types.Position(*start), end=types.Position(*end)), text=text)
+
+
+@settings(max_examples=150, suppress_health_check=[HealthCheck.too_slow], deadline=None)
+@given(data=st.data())
+def test_edits_the_editor_reports_read_as_a_fresh_reader_does(data):
+    """The language server tells the reader which lines no edit touched
+    (lsp/text.py); a read may follow several edits."""
+    text = EXAMPLE + "\nDETAILS:\n  TON Twarn: adjust -1\n"
+    document = LineDocument("file:///t.ladder", text)
+    incremental = IncrementalReader("ladder")
+    same(incremental, document.source, document.take_edited())
+    for step in data.draw(edits(text)):
+        document.apply_change(change_of(document, step))
+        if data.draw(st.booleans()):
+            same(incremental, document.source, document.take_edited())
+    same(incremental, document.source, document.take_edited())
 
 
 def big_text(rungs: int = 200) -> str:

@@ -31,6 +31,8 @@ from bisect import bisect_right
 from collections import Counter
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
+from itertools import compress, count
+from operator import is_not
 from types import ModuleType
 
 from ..config import NONE, Severities
@@ -160,9 +162,9 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
     if not same_context(old, new):
         return None
     edit = _Edit()
-    for number, (rung, was) in enumerate(zip(new.rungs, old.rungs)):
-        if rung is was:
-            continue
+    # the rungs that are not the same objects, found without a Python loop over all of them
+    for number in compress(count(), map(is_not, new.rungs, old.rungs)):
+        rung, was = new.rungs[number], old.rungs[number]
         origin = moved.get(id(rung))
         if origin is not None and origin[0] is was and rung.circuit is was.circuit and was.span is not None:
             edit.starts.append(was.span.line)

@@ -6,12 +6,14 @@ edit touches."""
 from __future__ import annotations
 
 import re
-from bisect import insort
+from bisect import bisect_left, bisect_right, insort
 from collections import Counter, OrderedDict
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
+from itertools import chain
+from operator import attrgetter
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -247,6 +249,12 @@ class _Block:
     key: tuple | None = None  # in the rung cache
 
 
+_first_line = attrgetter("first")
+_last_line = attrgetter("last")
+_block_rung = attrgetter("rung")
+_block_problems = attrgetter("problems")
+
+
 @dataclass
 class _State:
     lines: list[str]
@@ -255,7 +263,20 @@ class _State:
     end_line: int | None  # the [END] line
     blocks: list[_Block]
     raw_problems: list[Diagnostic]
+    # the blocks' rungs and problems, in order, and the block of each problem: kept
+    # from one version to the next, where an edit changes them (`_update`)
+    rungs: list[Rung] = field(default_factory=list)
+    block_problems: list[Diagnostic] = field(default_factory=list)
+    problem_blocks: list[int] = field(default_factory=list)
     sections: list[Section] = field(default_factory=list)
+
+    def gather(self) -> _State:
+        """Works out `rungs`, `block_problems` and `problem_blocks` from the blocks."""
+        self.rungs = list(map(_block_rung, self.blocks))
+        self.block_problems = list(chain.from_iterable(map(_block_problems, self.blocks)))
+        self.problem_blocks = [number for number, block in enumerate(self.blocks) if block.problems
+                               for _ in block.problems]
+        return self
 
 
 class TextReader:
@@ -301,15 +322,23 @@ class TextReader:
         self._detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
         self.details_copied = 0  # rungs given their details afresh, over all reads (tests)
 
-    def read(self, text: str) -> tuple[Program, list[Diagnostic]]:
-        lines = self.lines = text.splitlines()
+    def read(self, text: str, edited: Edited | None = None) -> tuple[Program, list[Diagnostic]]:
+        """The program and the problems of `text`. `edited`, when the caller
+        knows it, says which lines of the text read last no edit has touched
+        since: then the text is neither split nor compared whole."""
         previous = self._state
+        change: tuple[int, int, int] | None = None
+        if previous is not None and edited is not None and edited.fits(previous.lines):
+            lines, change = edited.apply(previous.lines)
+        else:
+            lines = text.splitlines()
+            if previous is not None:
+                change = _difference(previous.lines, lines)
+        self.lines = lines
         self.moved = {}
         state = None
         sections = None
-        change = None
         if previous is not None:
-            change = _difference(previous.lines, lines)
             if change is None:
                 self.last_mode = "same"
                 state = replace(previous, lines=lines)
@@ -337,13 +366,11 @@ class TextReader:
             state.sections = sections
         self._state = state
         self.sections = sections
-        if state is None:
-            return self._assemble(lines, sections, None, None)
-        return self._assemble(lines, sections, state.blocks, state.raw_problems)
+        return self._assemble(lines, sections, state)
 
     # --- the whole file, as read_text does ----------------------------------------------
 
-    def _assemble(self, lines, sections, blocks, raw_problems) -> tuple[Program, list[Diagnostic]]:
+    def _assemble(self, lines, sections, diagram: _State | None) -> tuple[Program, list[Diagnostic]]:
         program = Program()
         problems: list[Diagnostic] = []
         titles = {s.title for s in sections}
@@ -351,17 +378,11 @@ class TextReader:
             if section.title == "header":
                 _read_header(section, program.settings, problems, has_diagram=DIAGRAM in titles)
             elif section.title == DIAGRAM:
-                if blocks is None:  # several diagrams: each read in full, the last one counts
-                    state = self._full(lines, section)
-                    section_blocks, section_raw = state.blocks, state.raw_problems
-                else:
-                    section_blocks, section_raw = blocks, raw_problems
-                problems.extend(section_raw)
-                rungs = []
-                for block in section_blocks:
-                    problems.extend(block.problems)
-                    rungs.append(block.rung)
-                program.rungs = rungs
+                # several diagrams: each read in full, the last one counts
+                state = diagram if diagram is not None else self._full(lines, section)
+                problems.extend(state.raw_problems)
+                problems.extend(state.block_problems)
+                program.rungs = list(state.rungs)  # DETAILS replaces some
             elif section.title == IO:
                 _read_io(section, program, problems)
             elif section.title == VARS:
@@ -426,7 +447,7 @@ class TextReader:
         raw = _raw_blocks(diagram, raw_problems)
         blocks = self._blocks(raw)
         body_last = diagram.lines[-1][0] if diagram.lines else diagram.title_line
-        return _State(lines, diagram.title_line, body_last, _end_line(diagram.lines), blocks, raw_problems)
+        return _State(lines, diagram.title_line, body_last, _end_line(diagram.lines), blocks, raw_problems).gather()
 
     # --- rungs ------------------------------------------------------------------------
 
@@ -504,12 +525,8 @@ class TextReader:
         blocks = state.blocks
         # blocks touching the changed lines or the lines just around them
         low, high = p - 1, old_end
-        i0 = 0
-        while i0 < len(blocks) and blocks[i0].last < low:
-            i0 += 1
-        i1 = i0 - 1
-        while i1 + 1 < len(blocks) and blocks[i1 + 1].first <= high:
-            i1 += 1
+        i0 = bisect_left(blocks, low, key=_last_line)
+        i1 = bisect_right(blocks, high, lo=i0, key=_first_line) - 1
         start = blocks[i0 - 1].last + 1 if i0 > 0 else state.title_line + 1
         end = blocks[i1 + 1].first if i1 + 1 < len(blocks) else stop  # old coordinates, exclusive
         if start > p or end < old_end:
@@ -549,7 +566,44 @@ class TextReader:
         self.last_mode = "window"
         self.last_window = (start, new_end)
         end_line = state.end_line + delta if state.end_line is not None else None
-        return _State(lines, state.title_line, body_last, end_line, blocks[:i0] + new_blocks + kept_after, problems)
+        updated = _State(lines, state.title_line, body_last, end_line, blocks[:i0] + new_blocks + kept_after, problems)
+        # the rungs and problems of the blocks before the change stay, those after it
+        # move with their blocks: only the changed ones are gathered again
+        grown = len(new_blocks) - (i1 + 1 - i0)
+        before = bisect_left(state.problem_blocks, i0)
+        after = bisect_left(state.problem_blocks, i1 + 1)
+        updated.rungs = state.rungs[:i0] + list(map(_block_rung, new_blocks)) + (
+            list(map(_block_rung, kept_after)) if delta else state.rungs[i1 + 1:])
+        updated.block_problems = state.block_problems[:before] + list(
+            chain.from_iterable(map(_block_problems, new_blocks))) + (
+            list(chain.from_iterable(map(_block_problems, kept_after))) if delta else state.block_problems[after:])
+        updated.problem_blocks = state.problem_blocks[:before] + [
+            i0 + number for number, block in enumerate(new_blocks) for _ in block.problems] + [
+            number + grown for number in state.problem_blocks[after:]]
+        return updated
+
+
+@dataclass(frozen=True)
+class Edited:
+    """What an editor knows of the text since the reader last read it: its
+    `start` lines and its last `tail` lines are untouched, and `lines` is the
+    whole new text's lines, with their line breaks (an editor's document)."""
+
+    start: int
+    tail: int
+    lines: Sequence[str]
+
+    def fits(self, old: list[str]) -> bool:
+        return self.start + self.tail <= min(len(old), len(self.lines))
+
+    def apply(self, old: list[str]) -> tuple[list[str], tuple[int, int, int] | None]:
+        """The new text's lines (without their breaks), and the change as
+        `_difference` gives it (None: no line differs)."""
+        old_end, new_end = len(old) - self.tail, len(self.lines) - self.tail
+        window = [(line.splitlines() or [""])[0] for line in self.lines[self.start:new_end]]
+        if old_end - self.start == len(window) and old[self.start:old_end] == window:
+            return old, None
+        return old[:self.start] + window + old[old_end:], (self.start, old_end, new_end - old_end)
 
 
 def _difference(old: list[str], new: list[str]) -> tuple[int, int, int] | None:
