@@ -16,7 +16,7 @@ import logging
 from collections.abc import Callable
 from functools import cached_property
 from pathlib import Path, PurePath, PureWindowsPath
-from typing import Any, TypeVar, overload
+from typing import TYPE_CHECKING, Any, TypeVar, cast, overload
 
 from lsprotocol import types
 from pygls import uris
@@ -33,6 +33,11 @@ from lang.model import Program, Rung, Span
 
 from .positions import Positions
 
+if TYPE_CHECKING:
+    from pygls.workspace import PositionCodec, TextDocument
+
+    from .server import LadderServer
+
 log = logging.getLogger(__name__)
 
 LADDER = "ladder"  # the text form: .ladder, LDmicro export .txt
@@ -45,6 +50,7 @@ TOO_LARGE = "lsp-too-large"
 
 
 P = TypeVar("P", bound=PurePath)
+T = TypeVar("T")
 
 
 @overload
@@ -101,18 +107,19 @@ class RungResults:
         self.values: dict[tuple[str, int], tuple[Rung, object]] = {}
         self.shifters = shifters
 
-    def get(self, feature: str, rung: Rung, origin: tuple[Rung, int] | None, compute):
+    def get(self, feature: str, rung: Rung, origin: tuple[Rung, int] | None, compute: Callable[[], T]) -> T:
+        """The feature's result for the rung: kept, the shifted one of the rung it was moved from, or computed."""
         key = (feature, id(rung))
         found = self.values.get(key)
         if found is not None and found[0] is rung:
-            return found[1]
+            return cast(T, found[1])
         shift = self.shifters.get(feature)
         if origin is not None and shift is not None:
             before = self.values.get((feature, id(origin[0])))
             if before is not None and before[0] is origin[0]:
-                value = shift(before[1], origin[1])
-                self.values[key] = (rung, value)
-                return value
+                shifted: T = shift(before[1], origin[1])
+                self.values[key] = (rung, shifted)
+                return shifted
         value = compute()
         self.values[key] = (rung, value)
         return value
@@ -131,7 +138,7 @@ class Analysis:
     """Everything known about one version of one document."""
 
     def __init__(self, uri: str, version: int | None, kind: str, text: str, program: Program,
-                 problems: list[Diagnostic], codec, checker: Checker | None = None,
+                 problems: list[Diagnostic], codec: PositionCodec | None, checker: Checker | None = None,
                  moved: dict[int, tuple[Rung, int]] | None = None):
         self.uri = uri
         self.version = version
@@ -156,15 +163,16 @@ class Analysis:
         # moved since: the rungs' lines carry over
         self._previous_locator: tuple[Locator, dict[int, tuple[Rung, int]]] | None = None
 
-    def per_rung(self, feature: str, index: int, compute):
+    def per_rung(self, feature: str, index: int, compute: Callable[[int], T]) -> T:
+        """The feature's result for rung `index`, kept while the rung is unchanged."""
         rung = self.program.rungs[index]
         return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
 
-    def once(self, feature: str, compute):
+    def once(self, feature: str, compute: Callable[[], T]) -> T:
         """A whole-document result, computed once per text."""
         if feature not in self.results:
             self.results[feature] = compute()
-        return self.results[feature]
+        return cast(T, self.results[feature])
 
     @cached_property
     def lines(self) -> list[str]:
@@ -220,7 +228,7 @@ class Analysis:
 
 
 class Documents:
-    def __init__(self, server):
+    def __init__(self, server: LadderServer):
         self.server = server
         self._analyses: dict[str, Analysis] = {}
         self._readers: dict[str, IncrementalReader] = {}
@@ -230,7 +238,7 @@ class Documents:
         self.shifters: dict[str, Callable[[Any, int], Any]] = {}
         self._config_errors: set[str] = set()
 
-    def _document(self, uri: str):
+    def _document(self, uri: str) -> TextDocument | None:
         try:
             return self.server.workspace.get_text_document(uri)
         except Exception:  # no workspace yet, or a bad URI
