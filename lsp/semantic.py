@@ -128,7 +128,7 @@ def full_text(analysis: Analysis) -> str:
 
 
 def _shift(found: list[Token], delta: int) -> list[Token]:
-    return [t._replace(line=t.line + delta) for t in found]
+    return [Token(t.line + delta, t.col, t.length, t.type, t.writes) for t in found]
 
 
 def _shift_encoded(part: EncodedRung | None, delta: int) -> EncodedRung | None:
