@@ -5,48 +5,25 @@ would."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
 
 from ide import completion, edits
+from ide.analysis import Analysis
 from ide.formatting import format_edits, line_edits
-from ide.locate import Locator
 from ide.session import SessionError, Simulation
 from ide.tokens import TokenType, rung_tokens
-from lang.checks import check_program
-from lang.diagnostics import ERROR, Diagnostic
-from lang.index import ProgramIndex
+from lang.diagnostics import ERROR
 from lang.loader import TEXT_KIND, parse
-from lang.model import Program
 from lang.textform.formatter import format_text
 
 CONVEYOR = (Path(__file__).resolve().parents[1] / "examples" / "conveyor.ladder").read_text()
 
 
-@dataclass
-class Text:
-    """A document read whole (ide.document.Document)."""
-
-    text: str
-    kind: str = TEXT_KIND
-    program: Program = field(init=False)
-    problems: list[Diagnostic] = field(init=False)
-
-    def __post_init__(self) -> None:
-        self.program, self.problems = parse(self.text, self.kind)
-        self.lines = self.text.splitlines()
-        self.index = ProgramIndex(self.program)
-        self.locator = Locator(self.program, self.lines, self.kind)
-        self.checks = check_program(self.program)
-
-    @property
-    def has_errors(self) -> bool:
-        return any(p.severity == ERROR for p in self.problems)
-
-    def line(self, number: int) -> str:
-        return self.lines[number] if 0 <= number < len(self.lines) else ""
+def read(text: str) -> Analysis:
+    """A document read whole, as the language server's first read of it."""
+    return Analysis(TEXT_KIND, text, *parse(text, TEXT_KIND))
 
 
 def apply(text: str, changes: list[edits.RangeEdit]) -> str:
@@ -84,7 +61,7 @@ def test_the_formatters_line_edits_make_the_new_text_and_stay_inside_the_buffer(
 
 def test_formatting_a_misaligned_program_gives_what_ladder_fmt_gives():
     misaligned = CONVEYOR.replace("  Xstart                     | digital in", "  Xstart | digital in")
-    document = Text(misaligned)
+    document = read(misaligned)
     found = format_edits(document.text, document.program, document.problems)
     assert found and apply(misaligned, found) == format_text(misaligned)[0] == CONVEYOR
     broken = misaligned.replace("( )", "( ", 1)
@@ -100,7 +77,7 @@ def _rung_kinds(text: str, index: int) -> list[str]:
 
 
 def test_each_element_inserted_on_a_wire_redraws_the_rung_around_the_cursors_line():
-    document = Text(CONVEYOR)
+    document = read(CONVEYOR)
     line = next(n for n, text in enumerate(document.lines) if text.startswith("0002"))
     col = document.line(line).index("] [") + 6  # on the wire after Xstart, in the first of the rung's rows
     found = completion.complete(document, line, col, snippets=False)
@@ -119,16 +96,16 @@ def test_each_element_inserted_on_a_wire_redraws_the_rung_around_the_cursors_lin
 # --- the simulation session ------------------------------------------------------------------
 
 def test_a_session_runs_toggles_and_reloads_an_edit_keeping_the_values():
-    simulation = Simulation(Text(CONVEYOR))
+    simulation = Simulation(read(CONVEYOR))
     assert simulation.state().scan == 1
     simulation.toggle("Xstart")
     simulation.step(1)
     assert simulation.value("Rrun") == 1 and simulation.value("Xnone") is None
     state = simulation.state()
     assert state.values["Rrun"] == 1 and state.energized and state.error is None
-    simulation.reload(Text(CONVEYOR.replace("( )", "( ", 1)))
+    simulation.reload(read(CONVEYOR.replace("( )", "( ", 1)))
     assert simulation.error is not None and simulation.value("Rrun") == 1  # did not read: the last one runs
-    edited = Text(CONVEYOR.replace("[TON 2 s]", "[TON 3 s]"))
+    edited = read(CONVEYOR.replace("[TON 2 s]", "[TON 3 s]"))
     simulation.reload(edited)
     assert simulation.error is None and simulation.document is edited
     assert simulation.value("Rrun") == 1  # sealed in, kept
@@ -141,7 +118,7 @@ def test_a_session_runs_toggles_and_reloads_an_edit_keeping_the_values():
 
 
 def test_running_until_a_condition_stops_at_the_limit_or_when_it_holds():
-    simulation = Simulation(Text(CONVEYOR))
+    simulation = Simulation(read(CONVEYOR))
     simulation.toggle("Xstart")
     reached = simulation.run_until(simulation.condition("Ymotor = 1"), 10_000.0, 5.0)
     assert reached and 2000 <= simulation.state().time_ms <= 2100  # the 2 s horn, then the motor
@@ -151,7 +128,7 @@ def test_running_until_a_condition_stops_at_the_limit_or_when_it_holds():
 
 
 def test_a_session_shows_the_values_after_each_line_a_name_is_on():
-    document = Text(CONVEYOR)
+    document = read(CONVEYOR)
     simulation = Simulation(document)
     hints = simulation.hints(document, 0, len(document.lines))
     lines = [h.line for h in hints]
@@ -163,13 +140,13 @@ def test_a_session_shows_the_values_after_each_line_a_name_is_on():
 
 def test_a_program_with_errors_is_not_simulated():
     with pytest.raises(SessionError, match="errors"):
-        Simulation(Text(CONVEYOR.replace("( )", "( ", 1)))
+        Simulation(read(CONVEYOR.replace("( )", "( ", 1)))
 
 
 # --- semantic tokens --------------------------------------------------------------------------
 
 def test_a_rungs_tokens_are_in_order_apart_and_mark_the_names_it_writes():
-    document = Text(CONVEYOR)
+    document = read(CONVEYOR)
     for index in range(len(document.program.rungs)):
         found = rung_tokens(document, index)
         assert found == sorted(found)
