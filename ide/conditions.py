@@ -6,13 +6,18 @@ scenarios (docs/testing.md)."""
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from lang.values import is_literal, literal_value
 
+if TYPE_CHECKING:
+    from lang.sim import Simulator
+
 _CONDITION = re.compile(r"\s*(?P<name>[A-Za-z_$#@][\w$#@.\[\]]*)\s*(?P<op>==|=|!=|<=|>=|<|>)\s*"
                         r"(?P<value>\S+)\s*\Z")
-_OPS = {
+_OPS: dict[str, Callable[[int, int], bool]] = {
     "=": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b,
 }
@@ -24,7 +29,7 @@ class Condition:
     op: str
     value: int | str  # a number, or the name of another signal
 
-    def holds(self, sim) -> bool:
+    def holds(self, sim: Simulator) -> bool:
         """KeyError when a name is not in the program."""
         actual = sim.value(self.name)
         expected = sim.value(self.value) if isinstance(self.value, str) else self.value

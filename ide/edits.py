@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 
 from lang.instructions import INSTRUCTIONS
-from lang.model import Element, Node, Parallel, Program, Rung, Series, rung_circuit
+from lang.model import Element, Node, Parallel, Program, Rung, Series, Span, rung_circuit
 from lang.textform.formatter import existing_width
 from lang.textform.sections import DETAILS, IO, VARS
 from lang.textform.writer import diagram_width, render_rung
@@ -47,12 +47,20 @@ class TextEdit:
     text: str
 
 
+@dataclass(frozen=True)
+class RangeEdit:
+    """Replace the text from (span.line, span.col) to (span.end_line, span.end_col)."""
+
+    span: Span
+    text: str
+
+
 # what completion and the code actions offer, in menu order
 COMMON = ("CONTACTS", "COIL", "TON", "TOF", "RTO", "CTU", "CTD", "RES", "OSR", "OSF", "MOVE", "ADD", "SUB",
           "EQU", "GEQ", "LES", "SHORT", "OPEN")
 
 
-def new_element(kind: str, **args) -> Element:
+def new_element(kind: str, **args: object) -> Element:
     """A new element with LDmicro's defaults (as its editor inserts it)."""
     if kind not in INSTRUCTIONS or kind in ("COMMENT",):
         raise EditError(f"no instruction {kind!r}")
@@ -104,7 +112,10 @@ def redraw(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit:
 
 # --- finding an element in its circuit -------------------------------------------------------
 
-def _path(node: Node, target: Element, trail: list) -> list | None:
+Trail = list[tuple[Series | Parallel, int]]
+
+
+def _path(node: Node, target: Element, trail: Trail) -> Trail | None:
     """[(container, index), ...] from the rung's series down to the element."""
     if isinstance(node, Element):
         return trail if node is target else None
@@ -118,9 +129,11 @@ def _path(node: Node, target: Element, trail: list) -> list | None:
 
 def _copy_with(rung: Rung, element: Element) -> tuple[Rung, Element]:
     """A deep copy of the rung and the copy of `element` in it."""
-    memo: dict = {}
+    memo: dict[int, object] = {}
     copied = copy.deepcopy(rung, memo)
-    return copied, memo[id(element)]
+    found = memo[id(element)]
+    assert isinstance(found, Element)
+    return copied, found
 
 
 def _series_of(rung: Rung, element: Element) -> tuple[Series, int]:
@@ -261,7 +274,7 @@ def insert_rung(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit
 _NAME_CHARS = r"[\w$#@.\[\]]"
 
 
-def _word_re(name: str) -> re.Pattern:
+def _word_re(name: str) -> re.Pattern[str]:
     return re.compile(rf"(?<!{_NAME_CHARS}){re.escape(name)}(?!{_NAME_CHARS})")
 
 

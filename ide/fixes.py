@@ -5,10 +5,11 @@ from __future__ import annotations
 
 from lang.checks import check_program
 from lang.config import NONE, Severities
-from lang.diagnostics import ERROR, Fix, Rename, Replace, SetPart
+from lang.diagnostics import ERROR, Diagnostic, Fix, Rename, Replace, SetPart
 from lang.loader import parse
 from lang.model import Program
 
+from .document import newline
 from .edits import EditError, LineEdit, TextEdit, rename
 from .locate import Locator
 
@@ -32,14 +33,14 @@ def fix_edits(fix: Fix, program: Program, text: str, kind: str) -> tuple[list[Li
 
 def apply_edits(text: str, line_edits: list[LineEdit], text_edits: list[TextEdit]) -> str:
     """The text with the edits made (they do not overlap; line endings kept)."""
-    newline = "\r\n" if "\r\n" in text[:4096] else "\n"
+    nl = newline(text)
     lines = text.splitlines()
     for edit in sorted(text_edits, key=lambda e: (e.line, e.col), reverse=True):
         line = lines[edit.line]
         lines[edit.line] = line[:edit.col] + edit.text + line[edit.end_col:]
     for line_edit in sorted(line_edits, key=lambda e: e.first, reverse=True):
         lines[line_edit.first:line_edit.last] = list(line_edit.lines)
-    return newline.join(lines) + (newline if text.endswith(("\n", "\r")) else "")
+    return nl.join(lines) + (nl if text.endswith(("\n", "\r")) else "")
 
 
 def fix_all(text: str, kind: str, severities: Severities = NONE) -> tuple[str, list[str]]:
@@ -64,7 +65,7 @@ def fix_all(text: str, kind: str, severities: Severities = NONE) -> tuple[str, l
     return text, applied
 
 
-def _first_fix(text: str, kind: str, program: Program, diagnostics) -> tuple[str, str] | None:
+def _first_fix(text: str, kind: str, program: Program, diagnostics: list[Diagnostic]) -> tuple[str, str] | None:
     for diagnostic in diagnostics:
         if len(diagnostic.fixes) != 1:
             continue

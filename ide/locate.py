@@ -96,7 +96,7 @@ class Locator:
         self._lines_of = {index: (first, last) for first, last, index in extents}
 
     @staticmethod
-    def _extent(rung) -> tuple[int, int] | None:
+    def _extent(rung: Rung) -> tuple[int, int] | None:
         first = rung.span.line if rung.span else None
         last = rung.span.end_line if rung.span else None
         for element in rung.elements():

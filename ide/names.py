@@ -63,6 +63,11 @@ def uses_of(index: ProgramIndex, name: str) -> NameUses:
                     tuple(u for u in uses if u.reads), uses)
 
 
+def known(program: Program, index: ProgramIndex, word: str) -> bool:
+    """A name the program uses, assigns a pin or gives a size."""
+    return word in index.uses or word in program.pins or word in program.var_sizes
+
+
 def describe_use(use: Use) -> str:
     """"rung 3 (TON 'Tdly')"."""
     return f"rung {use.rung + 1} ({describe(use.element)})"

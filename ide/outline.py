@@ -1,6 +1,7 @@
 """A rung in one line of text, and the outline of a program: what the
-language server shows when hovering a rung, in document symbols and in
-folding. `rung_logic` writes the power flow as a Boolean expression, e.g.
+language server shows when hovering a rung, in document symbols (`Symbol`:
+the sections of a text file, each rung with its comment or logic, the names
+it writes) and in folding (`Fold`: per rung, per section). `rung_logic` writes the power flow as a Boolean expression, e.g.
 `Ymotor := (Xstart | Rrun) & !Xstop`.
 
 Notation: `&` series, `|` parallel, `!` a normally closed contact; an element
@@ -10,11 +11,17 @@ that transforms its input is written like a function of it (`TON[Tdly, 2 s](Xa)`
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from enum import Enum
+
 from lang.instructions import RELATIONS
 from lang.labels import label as instruction_label
-from lang.model import Element, Node, Program, Rung, Series
+from lang.loader import TEXT_KIND
+from lang.model import Element, Node, Program, Rung, Series, Span
 from lang.textform.writer import comment_text
 from lang.values import format_delay
+
+from .document import Document
 
 MAX_LENGTH = 400
 
@@ -177,4 +184,101 @@ def outputs(rung: Rung) -> list[Element]:
             if f.access in ("write", "rw") and element.args.get(f.name):
                 found.append(element)
                 break
+    return found
+
+
+# --- symbols and folding ---------------------------------------------------------------------
+
+class Kind(Enum):
+    SECTION = "section"
+    RUNG = "rung"
+    COMMENT = "comment"  # a comment rung
+    COIL = "coil"  # a name a coil writes
+    OUTPUT = "output"  # a name another element writes (MOV, RES...)
+
+
+@dataclass(frozen=True)
+class Symbol:
+    name: str
+    detail: str | None
+    kind: Kind
+    span: Span  # all of it
+    selection: Span  # what names it
+    children: tuple[Symbol, ...] = ()
+
+
+@dataclass(frozen=True)
+class Fold:
+    first: int
+    last: int  # lines
+    comment: bool  # a comment rung (else a region)
+
+
+SECTION_NAMES = {"header": "Header"}
+
+
+def _lines(document: Document, first: int, last: int) -> Span:
+    return Span(first, 0, last, len(document.line(last)))
+
+
+def _written(element: Element) -> str:
+    for f in element.spec.fields:
+        if f.access in ("write", "rw") and element.args.get(f.name):
+            return str(element.args[f.name])
+    return element.kind
+
+
+def rung_symbol(document: Document, index: int) -> Symbol | None:
+    """A drawn rung's symbol, with the names it writes (None: not drawn)."""
+    extent = document.locator.rung_lines(index)
+    if extent is None:
+        return None
+    first, last = extent
+    rung = document.program.rungs[index]
+    children = []
+    for element in outputs(rung):
+        span = element.span
+        if span is None:
+            continue
+        name_span = next((element.arg_spans[f.name] for f in element.spec.fields
+                          if f.access in ("write", "rw") and f.name in element.arg_spans), span)
+        children.append(Symbol(_written(element), element.spec.title,
+                               Kind.COIL if element.kind == "COIL" else Kind.OUTPUT, span, name_span))
+    return Symbol(rung_title(document.program, index), "comment" if rung.is_comment else rung_logic(rung),
+                  Kind.COMMENT if rung.is_comment else Kind.RUNG, _lines(document, first, last),
+                  Span.at(first, 0, len(document.line(first))), tuple(children))
+
+
+def section_symbols(document: Document) -> list[Symbol]:
+    """The sections of a text file (none for a .ld file), the header if it
+    holds anything, without children: the rungs go into the one whose lines
+    hold them."""
+    if document.kind != TEXT_KIND:
+        return []
+    found = []
+    for title, first, last in document.locator.sections:
+        if title == "header" and not any(document.line(n).strip() for n in range(first, last + 1)):
+            continue
+        found.append(Symbol(SECTION_NAMES.get(title, title), None, Kind.SECTION, _lines(document, first, last),
+                            Span.at(first, 0, len(document.line(first)))))
+    return found
+
+
+def rung_fold(document: Document, index: int) -> Fold | None:
+    """A drawn rung's folding range (None: one line, or not drawn)."""
+    extent = document.locator.rung_lines(index)
+    if extent is None or extent[1] <= extent[0]:
+        return None
+    return Fold(extent[0], extent[1], document.program.rungs[index].is_comment)
+
+
+def section_folds(document: Document) -> list[Fold]:
+    """One per section of a text file but the header, without its blank lines at the end."""
+    found = []
+    if document.kind == TEXT_KIND:
+        for title, first, last in document.locator.sections:
+            while last > first and not document.line(last).strip():
+                last -= 1
+            if title != "header" and last > first:
+                found.append(Fold(first, last, False))
     return found

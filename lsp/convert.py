@@ -1,6 +1,6 @@
 """The `ladder.convert` and `ladder.build` commands (docs/lsp-protocol.md),
 and `ladder.compileOnSave`: convert the document between the text form and
-LDmicro's `.ld`, writing the file beside the source; compile it with the
+LDmicro's `.ld` (ide.convert), writing the file beside the source; compile it with the
 compiler (`ladder build`), the HEX file beside the source: on request, or on
 save when `lang.targets` says a back end compiles the program's part. The
 compiler's errors and warnings (LD501 is an error there; LD712 when a scan
@@ -10,87 +10,56 @@ case (`scan: at most N cycles = T µs of the C ms cycle (P%)`)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
 from lsprotocol import types
 
+from ide.convert import ConvertError, convert
 from lang.devices import find_device
-from lang.files import write_whole
-from lang.loader import load_file
 from lang.targets import compiled
-from lang.values import encode_text
 
 from .documents import file_path
 from .protocol import UserError
 
+if TYPE_CHECKING:
+    from .server import LadderServer
 
-def _uri_argument(args) -> str:
+
+def _uri_argument(args: Sequence[object]) -> str:
     if not args or not isinstance(args[0], str):
         raise UserError("the first argument must be the document's URI")
     return args[0]
 
 
-def convert(ls, uri: str, target: object) -> dict:
-    if target not in ("ladder", "ld"):
-        raise UserError(f"target must be \"ladder\" or \"ld\", not {target!r}")
-    source = file_path(uri)
-    if source is None:
-        raise UserError("save the document to a file first: the converted file is written beside it")
+def convert_document(ls: LadderServer, uri: str, target: object) -> dict[str, str]:
     analysis = ls.documents.analysis(uri)
-    if analysis is not None:
-        program, problems = analysis.program, analysis.problems
-    else:
-        try:
-            loaded = load_file(source, ls.settings.encoding if source.suffix.lower() != ".ladder" else None)
-        except OSError as problem:
-            raise UserError(f"cannot read {source}: {problem.strerror or problem}") from problem
-        program, problems = loaded.program, loaded.diagnostics
-    if any(p.severity == "error" for p in problems):
-        raise UserError(f"{source.name} has errors; fix them before converting")
-    if target == "ld":
-        from lang.ldfile import write_ld
-
-        out = source.with_suffix(".ld")
-        long_lines: list = []
-        text = write_ld(program, diagnostics=long_lines)
-        refused = [d.message for d in long_lines if d.severity == "error"]
-        if refused:  # a pin the .ld cannot hold: no file LDmicro would refuse
-            raise UserError("; ".join(refused))
-        try:
-            data = encode_text(text.replace("\n", "\r\n"), ls.settings.encoding)
-        except UnicodeEncodeError as problem:
-            raise UserError(f"{problem.object[problem.start]!r} cannot be written in {ls.settings.encoding}, "
-                            "the code page of the .ld file; rename it or choose another ladder.encoding") from None
-        if long_lines:
-            ls.window_show_message(types.ShowMessageParams(
-                type=types.MessageType.Warning, message="; ".join(d.message for d in long_lines)))
-    else:
-        from lang.textform.writer import render_program
-
-        out = source.with_suffix(".ladder")
-        data = encode_text(render_program(program), "utf-8")
-    if out == source:
-        raise UserError(f"{source.name} is already a {'.ld' if target == 'ld' else '.ladder'} file")
     try:
-        write_whole(out, data)
-    except OSError as problem:
-        raise UserError(f"cannot write {out}: {problem.strerror or problem}") from problem
-    return {"path": str(out)}
+        done = convert(file_path(uri), target, ls.settings.encoding,
+                       (analysis.program, analysis.problems) if analysis is not None else None)
+    except ConvertError as problem:
+        raise UserError(str(problem)) from problem
+    if done.warnings:
+        ls.window_show_message(types.ShowMessageParams(type=types.MessageType.Warning,
+                                                       message="; ".join(done.warnings)))
+    return {"path": str(done.path)}
 
 
-def register(server) -> None:
+def register(server: LadderServer) -> None:
     @server.on_command("ladder.convert")
-    def convert_command(ls, *args):
+    def convert_command(ls: LadderServer, *args: object) -> dict[str, str]:
         uri = _uri_argument(args)
         target = args[1] if len(args) > 1 else None
         if isinstance(target, dict):  # {"target": "ld"} is accepted too
             target = target.get("target")
-        return convert(ls, uri, target)
+        return convert_document(ls, uri, target)
 
     @server.on_command("ladder.build")
-    def build_command(ls, *args):
+    def build_command(ls: LadderServer, *args: object) -> dict[str, Any]:
         return build(ls, _uri_argument(args))
 
-    def saved(ls, uri):
-        if not ls.settings.compile_on_save:
+    def saved(ls: LadderServer, uri: str | None) -> None:
+        if not ls.settings.compile_on_save or uri is None:
             return
         analysis = ls.documents.analysis(uri)
         if analysis is None or analysis.has_errors or not analysis.program.settings.mcu:
@@ -105,7 +74,7 @@ def register(server) -> None:
     server.subscribe("saved", saved)
 
 
-def build(ls, uri: str) -> dict:
+def build(ls: LadderServer, uri: str) -> dict[str, Any]:
     """Compile the document's program to a HEX file beside it (`ladder build`)."""
     analysis = ls.documents.analysis(uri)
     if analysis is None:

@@ -10,18 +10,24 @@ from __future__ import annotations
 import asyncio
 import json
 import time
+from typing import TYPE_CHECKING
 
 from lsprotocol import types
 
+from ide.diagnostics import shown
 from lang.diagnostics import ERROR, Diagnostic
 
+from .documents import Analysis
 from .protocol import Encoded
+
+if TYPE_CHECKING:
+    from .server import LadderServer
 
 SOURCE = "ladder"
 
 
 class Publisher:
-    def __init__(self, server):
+    def __init__(self, server: LadderServer):
         self.server = server
         self.pending: dict[str, asyncio.Handle] = {}
         self.published: dict[str, int | None] = {}
@@ -92,15 +98,7 @@ class Publisher:
         self.server.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
 
-def shown(checked: list[Diagnostic], compiled: list[Diagnostic]) -> list[Diagnostic]:
-    """The document's diagnostics and the last build's; where the build
-    reports what the checks do (LD501: a warning while editing, an error
-    when compiling), only the build's."""
-    replaced = {(d.code, d.span) for d in compiled}
-    return [d for d in checked if (d.code, d.span) not in replaced] + compiled
-
-
-def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
+def to_lsp(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic) -> types.Diagnostic:
     positions = analysis.positions
     related = None
     if diagnostic.related and server.client_supports("text_document", "publish_diagnostics",
@@ -118,23 +116,26 @@ def to_lsp(server, analysis, diagnostic: Diagnostic) -> types.Diagnostic:
     )
 
 
-def register(server) -> None:
+def register(server: LadderServer) -> None:
     publisher = server.diagnostics = Publisher(server)
 
-    def opened(ls, uri):
+    def opened(ls: LadderServer, uri: str | None) -> None:
+        assert uri is not None  # a document event
         publisher.cancel(uri)
         with ls.idle.reading():
             publisher.publish(uri)
 
-    def changed(ls, uri):
+    def changed(ls: LadderServer, uri: str | None) -> None:
+        assert uri is not None
         publisher.extra.pop(uri, None)
         publisher.schedule(uri)
 
-    def closed(ls, uri):
+    def closed(ls: LadderServer, uri: str | None) -> None:
+        assert uri is not None
         publisher.extra.pop(uri, None)
         publisher.clear(uri)
 
-    def configured(ls, _):
+    def configured(ls: LadderServer, _: str | None) -> None:
         ls.documents.reconfigure()
         for uri in list(publisher.published):
             publisher.schedule(uri)

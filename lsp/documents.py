@@ -1,4 +1,5 @@
-"""Open documents and their analysis: which language a document is, its
+"""Open documents and their analysis (ide.analysis, with the document's URI,
+version and position conversion): which language a document is, its
 program, the reader's and the checks' diagnostics, and the lazily built
 helpers the features share (locator, name index, position conversion).
 
@@ -16,23 +17,27 @@ import logging
 from collections.abc import Callable
 from functools import cached_property
 from pathlib import Path, PurePath, PureWindowsPath
-from typing import Any, TypeVar, overload
+from typing import TYPE_CHECKING, Any, TypeVar, overload
 
 from lsprotocol import types
 from pygls import uris
 
+import ide.analysis
+from ide.analysis import RungResults, moved_since, still_moved
 from ide.incremental import IncrementalReader
-from ide.locate import Locator
-from lang import codes, config
+from lang import config
 from lang.checks import Checker
 from lang.config import NONE, Severities
-from lang.diagnostics import ERROR, WARNING, Diagnostic
-from lang.index import ProgramIndex
-from lang.loader import checkable, checked
+from lang.diagnostics import WARNING, Diagnostic
 from lang.model import Program, Rung, Span
 
 from .positions import Positions
 from .text import LineDocument
+
+if TYPE_CHECKING:
+    from pygls.workspace import PositionCodec, TextDocument
+
+    from .server import LadderServer
 
 log = logging.getLogger(__name__)
 
@@ -87,142 +92,25 @@ def language_of(uri: str, text: str, language_id: str | None = None) -> str | No
     return LANGUAGE_IDS.get(language_id or "")
 
 
-class RungResults:
-    """The per-rung results of one document's features (semantic tokens,
-    symbols, folding), shared by all its versions: (feature, id(rung)) ->
-    (rung, value), valid while that rung object is in the program (the reader
-    keeps a rung's object while its lines stay as they are, where they are).
-    A rung the reader moved up or down is a new object; its result is the old
-    one's shifted, worked out when a feature first asks for it, so an edit
-    that moves a thousand rungs costs nothing until then."""
-
-    # results kept per rung of the program before the dead ones are dropped
-    SLACK = 8
-
-    def __init__(self, shifters: dict[str, Callable[[Any, int], Any]]):
-        self.values: dict[tuple[str, int], tuple[Rung, object]] = {}
-        self.shifters = shifters
-
-    def get(self, feature: str, rung: Rung, origin: tuple[Rung, int] | None, compute):
-        key = (feature, id(rung))
-        found = self.values.get(key)
-        if found is not None and found[0] is rung:
-            return found[1]
-        shift = self.shifters.get(feature)
-        if origin is not None and shift is not None:
-            before = self.values.get((feature, id(origin[0])))
-            if before is not None and before[0] is origin[0]:
-                value = shift(before[1], origin[1])
-                self.values[key] = (rung, value)
-                return value
-        value = compute()
-        self.values[key] = (rung, value)
-        return value
-
-    def prune(self, program: Program, keep: dict[int, tuple[Rung, int]]) -> None:
-        """Drops the results of rungs gone (but those a moved rung still
-        takes its result from), once there are many."""
-        if len(self.values) <= self.SLACK * (len(program.rungs) + 100):
-            return
-        live = {id(rung): rung for rung in program.rungs}
-        live.update((id(old), old) for old, _ in keep.values())
-        self.values = {key: value for key, value in self.values.items() if live.get(key[1]) is value[0]}
-
-
-class Analysis:
-    """Everything known about one version of one document."""
+class Analysis(ide.analysis.Analysis):
+    """One version of one open document: its analysis, its URI and version,
+    and positions in the client's encoding."""
 
     def __init__(self, uri: str, version: int | None, kind: str, text: str, program: Program,
-                 problems: list[Diagnostic], codec, checker: Checker | None = None,
+                 problems: list[Diagnostic], codec: PositionCodec | None, checker: Checker | None = None,
                  moved: dict[int, tuple[Rung, int]] | None = None):
+        super().__init__(kind, text, program, problems, checker, moved)
         self.uri = uri
         self.version = version
-        self.kind = kind
-        self.text = text
-        self.program = program
-        self.problems = problems  # the reader's
         self._codec = codec
-        self.too_large = False
-        self.severities = NONE  # the project's and the editor's choices (lang/config.py)
-        self.memo = RungResults({})  # the document's, shared with its other versions
-        # rung id -> (the rung of an earlier version it was moved from, by how many lines), for
-        # the rungs whose results have not followed them yet
-        self.moved_from: dict[int, tuple[Rung, int]] = {}
-        # the text's lines and its sections' titles, as the reader split it (None: split here)
-        self.split: tuple[list[str], list[tuple[str, int]]] | None = None
-        self.results: dict[str, object] = {}  # whole-document results for this exact text
-        self._checker = checker or Checker()  # the document's: it knows the program checked last
-        # rungs moved since the program the checker checked last (ide.incremental's `moved`)
-        self.moved = moved or {}
-        # the locator of the version read before, if it had one, and the rungs the reader
-        # moved since: the rungs' lines carry over
-        self._previous_locator: tuple[Locator, dict[int, tuple[Rung, int]]] | None = None
-
-    def per_rung(self, feature: str, index: int, compute):
-        rung = self.program.rungs[index]
-        return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
-
-    def once(self, feature: str, compute):
-        """A whole-document result, computed once per text."""
-        if feature not in self.results:
-            self.results[feature] = compute()
-        return self.results[feature]
-
-    @cached_property
-    def lines(self) -> list[str]:
-        return self.split[0] if self.split is not None else self.text.splitlines()
-
-    @property
-    def has_errors(self) -> bool:
-        return any(p.severity == ERROR for p in self.problems)
-
-    @cached_property
-    def checks(self) -> list[Diagnostic]:
-        """The checks' diagnostics, as `ladder check` gives them: for a
-        program read without errors, or whose only errors are in rungs that
-        could not be read (lang.loader.checkable)."""
-        if self.too_large or any(p.code == codes.UNREADABLE for p in self.problems) or \
-                not checkable(self.program, self.problems):
-            return []
-        found = self._checker.check(self.program, self.moved, self.severities)
-        return checked(self.program, found) if self.has_errors else found
-
-    @property
-    def checked(self) -> bool:
-        return "checks" in self.__dict__
-
-    @property
-    def diagnostics(self) -> list[Diagnostic]:
-        return self.problems + self.checks
-
-    @cached_property
-    def index(self) -> ProgramIndex:
-        """The symbol table: the checker's when it has checked this program
-        (it is brought up to date in place by the next check: use it at once)."""
-        index = self._checker.index
-        if index is not None and index.program is self.program:
-            return index
-        return ProgramIndex(self.program)
-
-    @cached_property
-    def locator(self) -> Locator:
-        previous, self._previous_locator = self._previous_locator, None
-        titles = self.split[1] if self.split is not None else None
-        if previous is None:
-            return Locator(self.program, self.lines, self.kind, titles=titles)
-        return Locator(self.program, self.lines, self.kind, *previous, titles=titles)
 
     @cached_property
     def positions(self) -> Positions:
         return Positions(self.lines, self._codec, self.text.isascii())
 
-    def line(self, number: int) -> str:
-        lines = self.lines
-        return lines[number] if 0 <= number < len(lines) else ""
-
 
 class Documents:
-    def __init__(self, server):
+    def __init__(self, server: LadderServer):
         self.server = server
         self._analyses: dict[str, Analysis] = {}
         self._readers: dict[str, IncrementalReader] = {}
@@ -232,7 +120,7 @@ class Documents:
         self.shifters: dict[str, Callable[[Any, int], Any]] = {}
         self._config_errors: set[str] = set()
 
-    def _document(self, uri: str):
+    def _document(self, uri: str) -> TextDocument | None:
         try:
             return self.server.workspace.get_text_document(uri)
         except Exception:  # no workspace yet, or a bad URI
@@ -310,7 +198,7 @@ class Documents:
         analysis.split = reader.split()
         analysis.memo = self._results.setdefault(uri, RungResults(self.shifters))
         if cached is not None:
-            analysis.moved_from = _still_moved(cached.moved_from, program, reader.moved)
+            analysis.moved_from = still_moved(cached.moved_from, program, reader.moved)
         analysis.memo.prune(program, analysis.moved_from)
         if cached is not None and cached.kind == kind and "locator" in cached.__dict__:
             analysis._previous_locator = (cached.locator, reader.moved)
@@ -346,41 +234,3 @@ class Documents:
 
     def uris(self) -> list[str]:
         return list(self._analyses)
-
-
-def _still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,
-                 moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
-    """Where each rung of `program` whose results have not followed it comes
-    from: the rungs the reader just moved (from wherever their rung of the
-    version before came from), and those the version before had still to
-    follow and that stayed as they were."""
-    found = {}
-    if earlier:
-        for rung in program.rungs:
-            origin = earlier.get(id(rung))
-            if origin is not None:
-                found[id(rung)] = origin
-    for new, (old, delta) in moved.items():
-        before = earlier.get(id(old))
-        found[new] = (before[0], before[1] + delta) if before is not None else (old, delta)
-    return found
-
-
-def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,
-                moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
-    """The rungs of `program` moved since the program checked last, given
-    those the previous version (read, never checked) had moved, `earlier`, and
-    those the reader moved since it."""
-    if not earlier:
-        return moved
-    found = {}
-    for rung in program.rungs:
-        step = moved.get(id(rung))
-        if step is None:
-            origin = earlier.get(id(rung))  # the same rung as in the previous version
-        else:
-            before = earlier.get(id(step[0]))
-            origin = (before[0], before[1] + step[1]) if before is not None else step
-        if origin is not None:
-            found[id(rung)] = origin
-    return found

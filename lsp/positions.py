@@ -4,13 +4,18 @@ otherwise). An ASCII document needs no conversion, which is the common case."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lsprotocol import types
 
 from lang.model import Span
 
+if TYPE_CHECKING:
+    from pygls.workspace import PositionCodec
+
 
 class Positions:
-    def __init__(self, lines: list[str], codec, ascii_text: bool):
+    def __init__(self, lines: list[str], codec: PositionCodec | None, ascii_text: bool):
         self.lines = lines
         self.codec = codec
         self.ascii = ascii_text or codec is None or codec.encoding == types.PositionEncodingKind.Utf32
@@ -21,7 +26,7 @@ class Positions:
     def to_client(self, line: int, col: int) -> types.Position:
         line = max(0, line)
         col = max(0, col)
-        if self.ascii:
+        if self.ascii or self.codec is None:
             return types.Position(line=line, character=col)
         text = self._line(line)
         if text.isascii():
@@ -35,7 +40,7 @@ class Positions:
         col = max(0, position.character)
         if line >= len(self.lines):
             return max(0, len(self.lines) - 1) if self.lines else 0, col
-        if self.ascii:
+        if self.ascii or self.codec is None:
             return line, col
         text = self.lines[line]
         if text.isascii():

@@ -23,7 +23,7 @@ class Raw:
 
     __slots__ = ("value",)
 
-    def __init__(self, value):
+    def __init__(self, value: object):
         self.value = value
 
 

@@ -1,192 +1,75 @@
-"""Semantic tokens: instructions, names coloured by their role (inputs,
-outputs, relays, timers and counters, variables), constants, labels,
-comments, rung numbers and section titles. Positions come from the model's
-spans (ide.locate for the glyphs)."""
+"""Semantic tokens (ide.tokens) in LSP's encoding: each token type by its
+index in the legend, columns in the client's units, positions relative to
+the token before. Each rung's tokens, and their encoding, are kept while the
+rung is unchanged (`Analysis.per_rung`)."""
 
 from __future__ import annotations
 
-import re
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from lsprotocol import types
 
-from lang.model import Span
-from lang.values import format_delay, is_literal
+from ide.tokens import Token, TokenType, clean, other_tokens, rung_tokens
 
-from .documents import LADDER, LD
+from .documents import Analysis
 from .protocol import Encoded
 
-TOKEN_TYPES = ["keyword", "parameter", "property", "variable", "function", "number", "string", "label",
-               "comment", "namespace", "macro", "enumMember"]
+if TYPE_CHECKING:
+    from .server import LadderServer
+
+LSP_TYPES = {TokenType.KEYWORD: "keyword", TokenType.PARAMETER: "parameter", TokenType.PROPERTY: "property",
+             TokenType.VARIABLE: "variable", TokenType.FUNCTION: "function", TokenType.NUMBER: "number",
+             TokenType.STRING: "string", TokenType.LABEL: "label", TokenType.COMMENT: "comment",
+             TokenType.NAMESPACE: "namespace", TokenType.MACRO: "macro", TokenType.ENUM_MEMBER: "enumMember"}
+TOKEN_TYPES = [LSP_TYPES[kind] for kind in sorted(TokenType)]
 TOKEN_MODIFIERS = ["declaration", "modification", "readonly"]
 LEGEND = types.SemanticTokensLegend(token_types=TOKEN_TYPES, token_modifiers=TOKEN_MODIFIERS)
-_TYPE = {name: index for index, name in enumerate(TOKEN_TYPES)}
+_INDEX = {kind: TOKEN_TYPES.index(LSP_TYPES[kind]) for kind in TokenType}
 MODIFICATION = 1 << TOKEN_MODIFIERS.index("modification")
 
-# first letter -> token type: inputs are parameters, outputs properties, relays
-# and plain variables variables, timers and counters functions
-ROLE_TYPE = {"X": "parameter", "I": "parameter", "A": "parameter", "Y": "property", "M": "property",
-             "P": "property", "R": "variable", "T": "function", "C": "function", "#": "macro"}
-_LD_KEYWORD = re.compile(r"\s*([A-Z0-9_]+)")
+# (line, start, length, type, modifiers): a token as LSP counts it
+Encodable = tuple[int, int, int, int, int]
+# a rung's tokens encoded: (first line, first column, last line, last column, the JSON numbers of
+# its tokens after the first's line and column)
+EncodedRung = tuple[int, int, int, int, str]
 
 
-def _role(value: str) -> str:
-    return ROLE_TYPE.get(value[:1], "variable")
+def _rung_tokens(analysis: Analysis, index: int) -> list[Token]:
+    return analysis.per_rung("semantic", index, lambda i: rung_tokens(analysis, i))
 
 
-def _rung_tokens(analysis, index: int) -> list[tuple[int, int, int, int, int]]:
-    """The tokens of one rung, in code point columns, sorted."""
-    found: list[tuple[int, int, int, int, int]] = []
-
-    def add(span: Span | None, kind: str, modifiers: int = 0) -> None:
-        if span is None or span.line != span.end_line or span.end_col <= span.col:
-            return
-        found.append((span.line, span.col, span.end_col - span.col, _TYPE[kind], modifiers))
-
-    locator = analysis.locator
-    rung = analysis.program.rungs[index]
-    for element in rung.elements():
-        if element.kind == "COMMENT":
-            span = element.span
-            if span is not None:
-                for number in range(span.line, span.end_line + 1):
-                    text = analysis.line(number)
-                    start = text.find(";")
-                    if start >= 0:
-                        end = len(text.rstrip().rstrip("|").rstrip())
-                        add(Span.at(number, start, max(end, start + 1)), "comment")
-            continue
-        operand_spans = []
-        for f in element.spec.fields:
-            span = element.arg_spans.get(f.name)
-            value = element.args.get(f.name)
-            if span is None or not isinstance(value, (str, int)):
-                continue
-            operand_spans.append(span)
-            if f.kind == "label":
-                add(span, "label")
-            elif f.kind == "text":
-                add(span, "string")
-            elif f.kind in ("bit", "var", "operand", "delay") and isinstance(value, str) \
-                    and value and not is_literal(value):
-                add(span, _role(value), MODIFICATION if f.access in ("write", "rw") else 0)
-            elif f.kind in ("operand", "delay", "int") or isinstance(value, int):
-                add(span, "number")
-        if analysis.kind == LD:
-            text = analysis.line(element.span.line) if element.span else ""
-            match = _LD_KEYWORD.match(text)
-            if match:
-                add(Span.at(element.span.line, match.start(1), match.end(1)), "keyword")
-            continue
-        glyph = locator.glyph_span(element)
-        # values the reader parsed to numbers carry no span: find their text in the glyph
-        for f in element.spec.fields:
-            value = element.args.get(f.name)
-            if f.drawn and f.name not in element.arg_spans and f.kind == "delay" and isinstance(value, int):
-                shown = format_delay(value)
-                at = analysis.line(glyph.line).find(shown, glyph.col, glyph.end_col)
-                if at >= 0:
-                    span = Span.at(glyph.line, at, at + len(shown))
-                    operand_spans.append(span)
-                    add(span, "number")
-        # the glyph, less the operands drawn inside it
-        pieces = [(glyph.col, glyph.end_col)]
-        for span in operand_spans:
-            if span.line != glyph.line:
-                continue
-            next_pieces = []
-            for a, b in pieces:
-                if span.end_col <= a or span.col >= b:
-                    next_pieces.append((a, b))
-                    continue
-                if a < span.col:
-                    next_pieces.append((a, span.col))
-                if span.end_col < b:
-                    next_pieces.append((span.end_col, b))
-            pieces = next_pieces
-        for a, b in pieces:
-            piece = analysis.line(glyph.line)[a:b]
-            stripped = piece.strip()
-            if stripped:
-                offset = piece.index(stripped[0])
-                add(Span.at(glyph.line, a + offset, a + offset + len(stripped)), "keyword")
-    extent = locator.rung_lines(index)
-    if extent is not None:
-        first, last = extent
-        if analysis.kind == LADDER:
-            for number in range(first, last + 1):
-                label = analysis.line(number)[:4]
-                if label.strip().isdigit():
-                    start = len(label) - len(label.lstrip())
-                    add(Span.at(number, start, len(label.rstrip())), "number")
-        elif analysis.kind == LD:
-            text = analysis.line(first)
-            if text.strip().startswith("RUNG"):
-                start = text.index("RUNG")
-                add(Span.at(first, start, start + 4), "keyword")
-    return _clean(found)
-
-
-def _clean(found):
-    found.sort()
-    result, end = [], (-1, -1)
-    for token in found:  # drop overlaps: the first token wins
-        if (token[0], token[1]) < end:
-            continue
-        result.append(token)
-        end = (token[0], token[1] + token[2])
-    return result
-
-
-def _extra(analysis, first_line: int, last_line: int) -> list[tuple[int, int, int, int, int]]:
-    """The tokens outside the rungs: section titles, the part, the pin list."""
-    extra: list[tuple[int, int, int, int, int]] = []
-
-    def add(span: Span | None, kind: str) -> None:
-        if span is not None and span.line == span.end_line and span.end_col > span.col \
-                and first_line <= span.line <= last_line:
-            extra.append((span.line, span.col, span.end_col - span.col, _TYPE[kind], 0))
-
-    if analysis.kind == LADDER:
-        for title, first, _ in analysis.locator.sections:
-            if title != "header":
-                add(Span.at(first, 0, len(analysis.line(first).rstrip())), "namespace")
-        add(getattr(analysis.program.settings, "mcu_span", None), "string")
-        for name, assignment in analysis.program.pins.items():
-            add(assignment.span, _role(name))
-    return extra
-
-
-def tokens(analysis, first_line: int = 0, last_line: int | None = None) -> list[tuple[int, int, int, int, int]]:
-    """(line, col, length, type, modifiers) in code point columns, sorted, not overlapping."""
+def tokens(analysis: Analysis, first_line: int = 0, last_line: int | None = None) -> list[Token]:
+    """The tokens between two lines, sorted, not overlapping."""
     last_line = len(analysis.lines) - 1 if last_line is None else last_line
-    found = _extra(analysis, first_line, last_line)
+    found = other_tokens(analysis, first_line, last_line)
     for first, last, index in analysis.locator.rung_extents():
         if last < first_line or first > last_line:
             continue
-        rung_tokens = analysis.per_rung("semantic", index, lambda i: _rung_tokens(analysis, i))
+        rung = _rung_tokens(analysis, index)
         if first_line <= first and last <= last_line:
-            found.extend(rung_tokens)
+            found.extend(rung)
         else:
-            found.extend(t for t in rung_tokens if first_line <= t[0] <= last_line)
-    return _clean(found)
+            found.extend(t for t in rung if first_line <= t.line <= last_line)
+    return clean(found)
 
 
-def _client(analysis, found) -> list[tuple[int, int, int, int, int]]:
-    """The tokens with their columns in the client's units."""
+def _client(analysis: Analysis, found: list[Token]) -> list[Encodable]:
+    """The tokens with their columns in the client's units, their types and modifiers as numbers."""
     positions, lines = analysis.positions, analysis.lines
-    if positions.ascii:
-        return found
     converted = []
-    for line, col, length, kind, modifiers in found:
-        if lines[line].isascii():
-            converted.append((line, col, length, kind, modifiers))
+    for line, col, length, kind, writes in found:
+        modifiers = MODIFICATION if writes else 0
+        if positions.ascii or lines[line].isascii():
+            converted.append((line, col, length, _INDEX[kind], modifiers))
         else:
             start = positions.to_client(line, col).character
-            converted.append((line, start, positions.to_client(line, col + length).character - start, kind, modifiers))
+            converted.append((line, start, positions.to_client(line, col + length).character - start, _INDEX[kind],
+                              modifiers))
     return converted
 
 
-def encode(found, previous: tuple[int, int] = (0, 0)) -> list[int]:
+def encode(found: Sequence[Encodable], previous: tuple[int, int] = (0, 0)) -> list[int]:
     """LSP's relative encoding of tokens in the client's units, from the token
     at `previous` (line, column)."""
     data: list[int] = []
@@ -199,15 +82,13 @@ def encode(found, previous: tuple[int, int] = (0, 0)) -> list[int]:
     return data
 
 
-def encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None:
+def encoded_rung(analysis: Analysis, index: int) -> EncodedRung | None:
     """A rung's tokens encoded, kept while the rung is unchanged."""
     return analysis.per_rung("semantic-encoded", index, lambda i: _encoded_rung(analysis, i))
 
 
-def _encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None:
-    """A rung's tokens kept encoded: (first line, first column, last line, last
-    column, the JSON numbers of its tokens after the first's line and column)."""
-    found = _client(analysis, _clean(list(analysis.per_rung("semantic", index, lambda i: _rung_tokens(analysis, i)))))
+def _encoded_rung(analysis: Analysis, index: int) -> EncodedRung | None:
+    found = _client(analysis, _rung_tokens(analysis, index))
     if not found:
         return None
     first, last = found[0], found[-1]
@@ -215,19 +96,19 @@ def _encoded_rung(analysis, index: int) -> tuple[int, int, int, int, str] | None
     return first[0], first[1], last[0], last[1], ",".join(map(str, rest))
 
 
-def full_text(analysis) -> str:
+def full_text(analysis: Analysis) -> str:
     """The whole document's tokens as the JSON of SemanticTokens, from each
     rung's encoded part (an edit encodes only the rungs it changed)."""
-    extra = _client(analysis, _clean(_extra(analysis, 0, len(analysis.lines) - 1)))
+    extra = _client(analysis, other_tokens(analysis, 0, len(analysis.lines) - 1))
     parts: list[str] = []
     previous = (0, 0)
     position = 0
 
-    def emit(tokens) -> None:
+    def emit(found: list[Encodable]) -> None:
         nonlocal previous
-        if tokens:
-            parts.append(",".join(map(str, encode(tokens, previous))))
-            previous = (tokens[-1][0], tokens[-1][1])
+        if found:
+            parts.append(",".join(map(str, encode(found, previous))))
+            previous = (found[-1][0], found[-1][1])
 
     for _, _, index in analysis.locator.rung_extents():
         part = encoded_rung(analysis, index)
@@ -246,30 +127,31 @@ def full_text(analysis) -> str:
     return '{"data":[' + ",".join(parts) + "]}"
 
 
-def _shift(found, delta: int):
-    return [(t[0] + delta,) + t[1:] for t in found]
+def _shift(found: list[Token], delta: int) -> list[Token]:
+    return [Token(t.line + delta, t.col, t.length, t.type, t.writes) for t in found]
 
 
-def _shift_encoded(part, delta: int):
+def _shift_encoded(part: EncodedRung | None, delta: int) -> EncodedRung | None:
     if part is None:
         return None
     first_line, first_col, last_line, last_col, rest = part
     return first_line + delta, first_col, last_line + delta, last_col, rest
 
 
-def register(server) -> None:
+def register(server: LadderServer) -> None:
     server.documents.shifters["semantic"] = _shift
     server.documents.shifters["semantic-encoded"] = _shift_encoded
+
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
                types.SemanticTokensRegistrationOptions(legend=LEGEND, full=True, range=True))
-    def full(ls, params: types.SemanticTokensParams):
+    def full(ls: LadderServer, params: types.SemanticTokensParams) -> Encoded | None:
         analysis = ls.documents.analysis(params.text_document.uri)
         if analysis is None:
             return None
         return Encoded(analysis.once("semantic", lambda: full_text(analysis)))
 
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE)
-    def ranged(ls, params: types.SemanticTokensRangeParams):
+    def ranged(ls: LadderServer, params: types.SemanticTokensRangeParams) -> types.SemanticTokens | None:
         analysis = ls.documents.analysis(params.text_document.uri)
         if analysis is None:
             return None

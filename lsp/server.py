@@ -13,7 +13,8 @@ import os
 import sys
 import threading
 import traceback
-from typing import TYPE_CHECKING, cast
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, BinaryIO, TypeVar, cast
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInternalError
@@ -31,6 +32,10 @@ if TYPE_CHECKING:
 
 log = logging.getLogger("ladder.lsp")
 
+F = TypeVar("F", bound=Callable[..., Any])
+# what a feature does on a document event: fn(server, uri)
+Listener = Callable[["LadderServer", "str | None"], None]
+
 VERSION = "0.1.0"
 # For the robustness tests: LSP methods or command names listed here (comma
 # separated) raise inside the feature, as a bug would.
@@ -42,7 +47,7 @@ class InjectedFault(RuntimeError):
 
 
 class LadderServer(LanguageServer):
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
                          protocol_cls=LadderProtocol)
         self._reader: ResyncReader | None = None
@@ -54,7 +59,7 @@ class LadderServer(LanguageServer):
         # so that one feature reaches another's through an attribute, not a string key)
         self.diagnostics: Publisher | None = None
         self.simulations: Simulations | None = None
-        self._listeners: dict[str, list] = {}
+        self._listeners: dict[str, list[Listener]] = {}
         # requests about one document, answered ContentModified once an edit of it was read
         # after them (lsp/transport.py); each document's revision counts the events that change it
         self.sheddable: set[str] = set()
@@ -65,7 +70,7 @@ class LadderServer(LanguageServer):
 
     # --- document events, shared by the features --------------------------------------
 
-    def subscribe(self, event: str, fn) -> None:
+    def subscribe(self, event: str, fn: Listener) -> None:
         """Call `fn(server, uri)` on "opened", "changed", "saved", "closed";
         `fn(server, None)` on "configured"."""
         self._listeners.setdefault(event, []).append(fn)
@@ -85,11 +90,13 @@ class LadderServer(LanguageServer):
 
     # --- registering features ----------------------------------------------------
 
-    def on(self, method: str, options=None):
+    def on(self, method: str, options: object = None) -> Callable[[F], F]:
         """Register a feature handler `fn(server, params)`, sync or async."""
 
-        def decorator(fn):
-            def run(params):
+        def decorator(fn: F) -> F:
+            handler: Callable[[Any], Any]
+
+            def run(params: Any) -> Any:
                 self.idle.touch()
                 try:
                     self._maybe_fail(method)
@@ -100,7 +107,7 @@ class LadderServer(LanguageServer):
                     raise self._failure(method, problem) from problem
 
             if asyncio.iscoroutinefunction(fn):
-                async def run_async(params):
+                async def run_async(params: Any) -> Any:
                     self.idle.touch()
                     self._maybe_fail(method)
                     try:
@@ -113,7 +120,7 @@ class LadderServer(LanguageServer):
             elif _about_a_document(method):
                 self.sheddable.add(method)
 
-                async def run_request(params):
+                async def run_request(params: Any) -> Any:
                     arrived = cast(LadderProtocol, self.protocol).arrivals.pop(id(params), None)
                     if arrived is not None and self.revision(params.text_document.uri) != arrived:
                         raise JsonRpcContentModified(message="the document changed: ask again")
@@ -128,12 +135,13 @@ class LadderServer(LanguageServer):
 
         return decorator
 
-    def on_command(self, name: str):
+    def on_command(self, name: str) -> Callable[[F], F]:
         """Register a `workspace/executeCommand` command `fn(server, *arguments)`."""
 
-        def decorator(fn):
+        def decorator(fn: F) -> F:
+            handler: Callable[..., Any]
             if asyncio.iscoroutinefunction(fn):
-                async def run_async(*args):
+                async def run_async(*args: Any) -> Any:
                     self._maybe_fail(name)
                     try:
                         return await fn(self, *args)
@@ -143,7 +151,7 @@ class LadderServer(LanguageServer):
                         raise self._failure(name, problem) from problem
                 handler = run_async
             else:
-                def run(*args):
+                def run(*args: Any) -> Any:
                     try:
                         self._maybe_fail(name)
                         return fn(self, *args)
@@ -176,10 +184,10 @@ class LadderServer(LanguageServer):
         except Exception:  # no client yet, or the pipe is gone
             log.debug("could not send a log message", exc_info=True)
 
-    def notify(self, method: str, params) -> None:
+    def notify(self, method: str, params: object) -> None:
         self.protocol.notify(method, params)
 
-    def report_server_error(self, error: Exception, source) -> None:
+    def report_server_error(self, error: Exception, source: Any) -> None:
         """pygls calls this for a failed notification handler or a message it
         could not read: log it, never pop up a dialog for each keystroke."""
         from pygls.exceptions import FeatureRequestError
@@ -202,7 +210,7 @@ class LadderServer(LanguageServer):
         return bool(node)
 
 
-    def start_io(self, stdin=None, stdout=None):
+    def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
         """pygls's stdio loop with the resynchronising reader."""
         self._stop_event = threading.Event()
         stdin = stdin or sys.stdin.buffer
@@ -216,7 +224,7 @@ class LadderServer(LanguageServer):
         except (KeyboardInterrupt, SystemExit):
             pass
         finally:
-            self.shutdown()
+            self.shutdown()  # type: ignore[no-untyped-call]  # pygls 2 does not annotate it
 
 
 def _about_a_document(method: str) -> bool:

@@ -15,6 +15,7 @@ lines are exactly pygls's for the same changes (tests/test_lsp_text.py)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from lsprotocol import types
 from pygls.workspace import TextDocument, Workspace
@@ -28,7 +29,7 @@ def _ends_line(text: str) -> bool:
 
 
 class LineDocument(TextDocument):
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._lines: list[str] | None = None  # None: split from _source when asked
         # lines at the start and at the end untouched since take_edited (None: unknown)

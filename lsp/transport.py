@@ -24,12 +24,14 @@ document it was made on (`LadderServer.on` compares when it runs).
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import inspect
 import json
 import logging
 import os
 import stat
-from typing import TYPE_CHECKING, cast
+from collections.abc import Awaitable, Generator
+from typing import IO, TYPE_CHECKING, Any, cast
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInvalidRequest
@@ -39,6 +41,9 @@ from .protocol import Encoded, UserError
 from .text import LineWorkspace
 
 if TYPE_CHECKING:
+    from pygls.io_ import AsyncReader
+    from pygls.protocol.json_rpc import MsgId, RPCMessage
+
     from .server import LadderServer
 
 log = logging.getLogger("ladder.lsp")
@@ -52,49 +57,52 @@ class _Answered:
 ANSWERED = _Answered()
 
 
-def _request_id(data: dict) -> int | str | None:
+def _request_id(data: dict[str, Any]) -> int | str | None:
     ident = data.get("id")
     return ident if isinstance(ident, (int, str)) and not isinstance(ident, bool) else None
 
 
 class LadderProtocol(LanguageServerProtocol):
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         # id(params) of a request read, not yet worked out -> the revision of its document then
         self.arrivals: dict[int, int] = {}
 
     @lsp_method(types.INITIALIZE)
-    def lsp_initialize(self, params: types.InitializeParams):
+    def lsp_initialize(self, params: types.InitializeParams) -> Generator[Any, Any, Any]:
         result = yield from super().lsp_initialize(params)
         # documents kept as lines, an edit changing the lines it touches (lsp/text.py)
         if self._workspace is not None:
             self._workspace = LineWorkspace.like(self._workspace)
         return result
 
-    def _send_handler_result(self, future, *, msg_id):
+    def _send_handler_result(self, future: concurrent.futures.Future[Any], *, msg_id: MsgId) -> None:
         # pygls logs every error answer with a traceback: not these, which are answers, not bugs
         expected = not future.cancelled() and isinstance(future.exception(), (JsonRpcContentModified, UserError))
         if not expected:
-            return super()._send_handler_result(future, msg_id=msg_id)
+            super()._send_handler_result(future, msg_id=msg_id)
+            return
         self._request_futures.pop(msg_id, None)
-        self._send_response(msg_id, error=future.exception().to_response_error())
+        self._send_response(msg_id, error=cast(JsonRpcException, future.exception()).to_response_error())
 
-    def _send_data(self, data):
+    def _send_data(self, data: Any) -> None:
         result, params = getattr(data, "result", None), getattr(data, "params", None)
         if self.writer is None:
-            return super()._send_data(data)
+            super()._send_data(data)
+            return
         if isinstance(data, JsonRPCResponseMessage) and isinstance(result, Encoded):
             body = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": {result.text}}}'
         elif isinstance(params, Encoded):  # a notification
             body = f'{{"method": {json.dumps(data.method)}, "jsonrpc": "2.0", "params": {params.text}}}'
         else:
-            return super()._send_data(data)
+            super()._send_data(data)
+            return
         header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n"
         written = self.writer.write((header + body).encode(self.CHARSET))
         if inspect.isawaitable(written):
             asyncio.ensure_future(written)
 
-    def structure_message(self, data):
+    def structure_message(self, data: dict[str, Any]) -> Any:
         try:
             return super().structure_message(data)
         except JsonRpcException as error:
@@ -106,8 +114,8 @@ class LadderProtocol(LanguageServerProtocol):
             self._send_response(_request_id(data), error=error.to_response_error())  # type: ignore[arg-type]
             return ANSWERED
 
-    def handle_message(self, message):
-        if message is ANSWERED:
+    def handle_message(self, message: RPCMessage | dict[str, Any] | _Answered) -> None:
+        if isinstance(message, _Answered):
             return
         if isinstance(message, dict):
             # JSON without "jsonrpc": not a message; a request-shaped one still gets its answer
@@ -129,7 +137,7 @@ class ResyncReader:
     `Content-Length:` header (found anywhere in a line, since the rest of a
     short body runs into it)."""
 
-    def __init__(self, inner):
+    def __init__(self, inner: AsyncReader):
         self.inner = inner
         self._lost = False
 
@@ -146,11 +154,11 @@ class ResyncReader:
             line = await self.inner.readline()
         return line
 
-    def readexactly(self, n: int):
+    def readexactly(self, n: int) -> Awaitable[bytes]:
         return self.inner.readexactly(n)
 
 
-def _pollable(stdin) -> bool:
+def _pollable(stdin: IO[bytes]) -> bool:
     """Whether the event loop can watch `stdin`: a pipe or a socket. asyncio
     also takes a character device, but epoll refuses some (/dev/null), and
     only inside a callback, where the failure cannot be caught: the server
@@ -168,13 +176,13 @@ class PipeReader:
     lets a handler run in between; `fallback` (pygls's reader) for anything
     else."""
 
-    def __init__(self, stdin, fallback):
+    def __init__(self, stdin: IO[bytes], fallback: AsyncReader):
         self.stdin = stdin
         self.fallback = fallback
         self._stream: asyncio.StreamReader | None = None
         self._tried = False
 
-    async def _source(self):
+    async def _source(self) -> asyncio.StreamReader | None:
         if not self._tried:
             self._tried = True
             if not _pollable(self.stdin):

@@ -12,6 +12,7 @@ request or an edit waits one slice at most."""
 from __future__ import annotations
 
 import asyncio
+from typing import TYPE_CHECKING
 
 from .semantic import encoded_rung
 from .symbols import rung_fold, rung_symbol
@@ -19,8 +20,11 @@ from .symbols import rung_fold, rung_symbol
 SLICE = 8  # rungs worked out between two looks at the input: about a millisecond
 PARTS = (rung_symbol, encoded_rung, rung_fold)
 
+if TYPE_CHECKING:
+    from .server import LadderServer
 
-async def warm(server, uri: str) -> None:
+
+async def warm(server: LadderServer, uri: str) -> None:
     """Works the parts out on the version opened: the document's results are
     shared by its versions (`RungResults`), so a later version takes those of
     the rungs it kept, and an edit during the warm-up costs neither a new
@@ -38,23 +42,26 @@ async def warm(server, uri: str) -> None:
                 part(opened, index)
 
 
-def register(server) -> None:
-    tasks: dict[str, asyncio.Future] = {}
+def register(server: LadderServer) -> None:
+    tasks: dict[str, asyncio.Future[None]] = {}
 
-    def stop(ls, uri):
+    def stop(ls: LadderServer, uri: str | None) -> None:
+        assert uri is not None  # a document event
         task = tasks.pop(uri, None)
         if task is not None:
             task.cancel()
 
-    def opened(ls, uri):
+    def opened(ls: LadderServer, uri: str | None) -> None:
+        assert uri is not None
         stop(ls, uri)
         task = tasks[uri] = asyncio.ensure_future(warm(ls, uri))
 
-        def finished(_) -> None:
+        def finished(_: object) -> None:
             if tasks.get(uri) is task:
                 del tasks[uri]
-            if not task.cancelled() and task.exception() is not None:
-                ls._failure("the warm-up of the document's answers", task.exception())
+            problem = None if task.cancelled() else task.exception()
+            if isinstance(problem, Exception):
+                ls._failure("the warm-up of the document's answers", problem)
 
         task.add_done_callback(finished)
 

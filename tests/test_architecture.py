@@ -1,7 +1,7 @@
 """The layering (docs/architecture.md), checked on the imports of every
 module: `lang` never imports the compiler; a back end sees `ir.Code` and a
 `Machine` (the C back end a `Unit`), never the ladder program, the checks or
-the front end."""
+the front end; only the language server knows the protocol."""
 
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def back_end_folders() -> list[Path]:
 LAYERS = {
     "lang": ("compiler", "ide", "lsp", "ladder"),
     "compiler": ("ide", "lsp", "ladder"),
-    "ide": ("compiler", "lsp", "ladder", "pygls", "lsprotocol"),
+    "ide": ("compiler", "lsp", "ladder"),
     "lsp": ("ladder",),
 }
 
@@ -61,6 +61,12 @@ LAYERS = {
 def test_each_layer_imports_only_the_layers_below_it():
     for layer, above in LAYERS.items():
         assert _offenders(ROOT / layer, above) == {}, layer
+
+
+def test_only_the_language_server_knows_the_protocol():
+    # rust-analyzer's rule: one package speaks LSP; what an editor offers is ide/'s, on plain values
+    for package in ("lang", "compiler", "ide", "ladder"):
+        assert _offenders(ROOT / package, ("pygls", "lsprotocol")) == {}, package
 
 
 def test_the_command_line_reaches_the_language_server_only_to_start_it():

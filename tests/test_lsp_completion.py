@@ -105,8 +105,8 @@ async def test_pins_and_ports_in_the_io_table(client):
 async def test_a_big_program_offers_the_first_names_and_says_there_are_more(client):
     from builders import coil, contact, program
 
+    from ide.completion import MAX_NAMES
     from lang.textform.writer import render_program
-    from lsp.completion import MAX_NAMES
 
     relays = [f"Rr{number:03d}" for number in range(MAX_NAMES + 50)]
     doc = Doc(client, new_uri(), render_program(program(*([contact("Xa"), coil(name)] for name in relays))))

@@ -9,8 +9,9 @@ from types import SimpleNamespace
 
 import pytest
 
+from ide.analysis import RungResults
+from ide.analysis import still_moved as _still_moved
 from lang.model import Element, Program, Rung, Series
-from lsp.documents import RungResults, _still_moved
 from lsp.idle import IdleCollector
 
 

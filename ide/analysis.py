@@ -1,0 +1,195 @@
+"""The analysis of a document being edited, one version after another: the
+text read and checked, the symbol table and the locator built on it, and the
+features' results kept per rung while the rung is unchanged, shared by all
+the versions of a document. The language server keeps one per open
+document's version (lsp/documents.py, which adds the document's URI, version
+and positions in the client's encoding)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import cached_property
+from typing import Any, TypeVar, cast
+
+from lang import codes
+from lang.checks import Checker
+from lang.config import NONE
+from lang.diagnostics import ERROR, Diagnostic
+from lang.index import ProgramIndex
+from lang.loader import checkable, checked
+from lang.model import Program, Rung
+
+from .locate import Locator
+
+T = TypeVar("T")
+
+
+class RungResults:
+    """The per-rung results of one document's features (semantic tokens,
+    symbols, folding), shared by all its versions: (feature, id(rung)) ->
+    (rung, value), valid while that rung object is in the program (the reader
+    keeps a rung's object while its lines stay as they are, where they are).
+    A rung the reader moved up or down is a new object; its result is the old
+    one's shifted, worked out when a feature first asks for it, so an edit
+    that moves a thousand rungs costs nothing until then."""
+
+    # results kept per rung of the program before the dead ones are dropped
+    SLACK = 8
+
+    def __init__(self, shifters: dict[str, Callable[[Any, int], Any]]):
+        self.values: dict[tuple[str, int], tuple[Rung, object]] = {}
+        self.shifters = shifters
+
+    def get(self, feature: str, rung: Rung, origin: tuple[Rung, int] | None, compute: Callable[[], T]) -> T:
+        """The feature's result for the rung: kept, the shifted one of the rung it was moved from, or computed."""
+        key = (feature, id(rung))
+        found = self.values.get(key)
+        if found is not None and found[0] is rung:
+            return cast(T, found[1])
+        shift = self.shifters.get(feature)
+        if origin is not None and shift is not None:
+            before = self.values.get((feature, id(origin[0])))
+            if before is not None and before[0] is origin[0]:
+                shifted: T = shift(before[1], origin[1])
+                self.values[key] = (rung, shifted)
+                return shifted
+        value = compute()
+        self.values[key] = (rung, value)
+        return value
+
+    def prune(self, program: Program, keep: dict[int, tuple[Rung, int]]) -> None:
+        """Drops the results of rungs gone (but those a moved rung still
+        takes its result from), once there are many."""
+        if len(self.values) <= self.SLACK * (len(program.rungs) + 100):
+            return
+        live = {id(rung): rung for rung in program.rungs}
+        live.update((id(old), old) for old, _ in keep.values())
+        self.values = {key: value for key, value in self.values.items() if live.get(key[1]) is value[0]}
+
+
+class Analysis:
+    """Everything known about one version of one document: its text read
+    (by the document's `IncrementalReader`) and checked on demand (by the
+    document's `Checker`, which checks again only what changed since the
+    program it checked last), its symbol table and locator, and the results
+    the features keep per rung (`memo`, shared by the document's versions)
+    or for this exact text (`once`)."""
+
+    def __init__(self, kind: str, text: str, program: Program, problems: list[Diagnostic],
+                 checker: Checker | None = None, moved: dict[int, tuple[Rung, int]] | None = None):
+        self.kind = kind
+        self.text = text
+        self.program = program
+        self.problems = problems  # the reader's
+        self.too_large = False  # not analysed: no checks
+        self.severities = NONE  # the project's and the editor's choices (lang/config.py)
+        self.memo = RungResults({})  # the document's, shared with its other versions
+        # rung id -> (the rung of an earlier version it was moved from, by how many lines), for
+        # the rungs whose results have not followed them yet
+        self.moved_from: dict[int, tuple[Rung, int]] = {}
+        # the text's lines and its sections' titles, as the reader split it (None: split here)
+        self.split: tuple[list[str], list[tuple[str, int]]] | None = None
+        self.results: dict[str, object] = {}  # whole-document results for this exact text
+        self._checker = checker or Checker()  # the document's: it knows the program checked last
+        # rungs moved since the program the checker checked last (ide.incremental's `moved`)
+        self.moved = moved or {}
+        # the locator of the version read before, if it had one, and the rungs the reader
+        # moved since: the rungs' lines carry over
+        self._previous_locator: tuple[Locator, dict[int, tuple[Rung, int]]] | None = None
+
+    def per_rung(self, feature: str, index: int, compute: Callable[[int], T]) -> T:
+        """The feature's result for rung `index`, kept while the rung is unchanged."""
+        rung = self.program.rungs[index]
+        return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
+
+    def once(self, feature: str, compute: Callable[[], T]) -> T:
+        """A whole-document result, computed once per text."""
+        if feature not in self.results:
+            self.results[feature] = compute()
+        return cast(T, self.results[feature])
+
+    @cached_property
+    def lines(self) -> list[str]:
+        return self.split[0] if self.split is not None else self.text.splitlines()
+
+    @property
+    def has_errors(self) -> bool:
+        return any(p.severity == ERROR for p in self.problems)
+
+    @cached_property
+    def checks(self) -> list[Diagnostic]:
+        """The checks' diagnostics, as `ladder check` gives them: for a
+        program read without errors, or whose only errors are in rungs that
+        could not be read (lang.loader.checkable)."""
+        if self.too_large or any(p.code == codes.UNREADABLE for p in self.problems) or \
+                not checkable(self.program, self.problems):
+            return []
+        found = self._checker.check(self.program, self.moved, self.severities)
+        return checked(self.program, found) if self.has_errors else found
+
+    @property
+    def checked(self) -> bool:
+        return "checks" in self.__dict__
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return self.problems + self.checks
+
+    @cached_property
+    def index(self) -> ProgramIndex:
+        """The symbol table: the checker's when it has checked this program
+        (it is brought up to date in place by the next check: use it at once)."""
+        index = self._checker.index
+        if index is not None and index.program is self.program:
+            return index
+        return ProgramIndex(self.program)
+
+    @cached_property
+    def locator(self) -> Locator:
+        previous, self._previous_locator = self._previous_locator, None
+        titles = self.split[1] if self.split is not None else None
+        if previous is None:
+            return Locator(self.program, self.lines, self.kind, titles=titles)
+        return Locator(self.program, self.lines, self.kind, *previous, titles=titles)
+
+    def line(self, number: int) -> str:
+        lines = self.lines
+        return lines[number] if 0 <= number < len(lines) else ""
+
+
+def still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,
+                 moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+    """Where each rung of `program` whose results have not followed it comes
+    from: the rungs the reader just moved (from wherever their rung of the
+    version before came from), and those the version before had still to
+    follow and that stayed as they were."""
+    found = {}
+    if earlier:
+        for rung in program.rungs:
+            origin = earlier.get(id(rung))
+            if origin is not None:
+                found[id(rung)] = origin
+    for new, (old, delta) in moved.items():
+        before = earlier.get(id(old))
+        found[new] = (before[0], before[1] + delta) if before is not None else (old, delta)
+    return found
+
+
+def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,
+                moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+    """The rungs of `program` moved since the program checked last, given
+    those the previous version (read, never checked) had moved, `earlier`, and
+    those the reader moved since it."""
+    if not earlier:
+        return moved
+    found = {}
+    for rung in program.rungs:
+        step = moved.get(id(rung))
+        if step is None:
+            origin = earlier.get(id(rung))  # the same rung as in the previous version
+        else:
+            before = earlier.get(id(step[0]))
+            origin = (before[0], before[1] + step[1]) if before is not None else step
+        if origin is not None:
+            found[id(rung)] = origin
+    return found
