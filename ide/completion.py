@@ -157,8 +157,8 @@ def _blankish(text: str) -> bool:
 
 
 @lru_cache(maxsize=512)
-def _rung_snippet(kind: str, columns: int) -> tuple[tuple[str, ...], tuple[tuple[int, int, int], ...]]:
-    lines, places = edits.drawn_operands(edits.example_rung(kind), 1, columns)
+def _rung_snippet(kind: str, frame: edits.Frame) -> tuple[tuple[str, ...], tuple[tuple[int, int, int], ...]]:
+    lines, places = edits.drawn_operands(edits.example_rung(kind), 1, frame)
     return tuple(lines), tuple(places)
 
 
@@ -187,22 +187,22 @@ def snippet_text(lines: tuple[str, ...], places: tuple[tuple[int, int, int], ...
 
 
 def _rungs(document: Document, line: int, col: int, text: str, snippets: bool) -> list[Item]:
-    columns = edits.columns_of(document.text, document.program)
+    frame = edits.frame_of(document.text, document.program)
     nl = newline(document.text)
     number = sum(1 for first, _, _ in document.locator.rung_extents() if first < line) + 1
     span = Span.at(line, 0, len(text))
-    blank = ("    ||" + " " * (17 * columns) + "||").rstrip() if rail_column(text) >= 0 else ""
+    blank = frame.blank.rstrip() if rail_column(text) >= 0 else ""
     typed = text[:col]
     items = []
     for order, kind in enumerate(_menu()):
         try:
-            snippet, places = _rung_snippet(kind, columns)
+            snippet, places = _rung_snippet(kind, frame)
         except edits.EditError:
             continue
         lines = list(snippet)
         for index, drawn in enumerate(lines):
-            if drawn[:4].strip().isdigit():
-                lines[index] = f"{number:04d}" + drawn[4:]
+            if drawn[:frame.margin].strip().isdigit():
+                lines[index] = f"{number:0{frame.margin}d}" + drawn[frame.margin:]
         if snippets:
             body = snippet_text(tuple(lines), places, nl) + nl + _escape(blank) + nl + _escape(blank) + "$0"
         else:
@@ -243,7 +243,7 @@ def _insert_here(document: Document, line: int, col: int, rung_index: int) -> li
     extent = locator.rung_lines(rung_index)
     assert extent is not None  # the rung was found where it is drawn
     first, last = extent
-    columns = edits.columns_of(document.text, document.program)
+    frame = edits.frame_of(document.text, document.program)
     nl = newline(document.text)
     typed = document.line(line)[:col]
     end_of = len(document.line(line))
@@ -253,7 +253,7 @@ def _insert_here(document: Document, line: int, col: int, rung_index: int) -> li
             changed = edits.insert_element(rung, anchor, edits.new_element(kind), after=after)
         except edits.EditError:
             continue
-        lines = edits.drawn_lines(changed, rung_index + 1, columns)
+        lines = edits.drawn_lines(changed, rung_index + 1, frame)
         k = line - first
         if k >= len(lines):
             continue

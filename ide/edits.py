@@ -12,12 +12,14 @@ from __future__ import annotations
 import copy
 import re
 from dataclasses import dataclass
+from typing import NamedTuple
 
+from lang.drawing import CELL
 from lang.instructions import INSTRUCTIONS
 from lang.model import Element, Node, Parallel, Program, Rung, Series, Span, rung_circuit
 from lang.textform.formatter import existing_width
 from lang.textform.sections import DETAILS, IO, VARS
-from lang.textform.writer import diagram_width, render_rung
+from lang.textform.writer import diagram_width, margin_width, render_rung
 from lang.values import is_name
 
 from .locate import Locator
@@ -86,16 +88,32 @@ def insertable(kind: str) -> bool:
 
 # --- drawing a rung back into its place ---------------------------------------------------
 
-def columns_of(text: str, program: Program) -> int:
-    """The diagram width the file has (its END rung), as the formatter keeps it."""
-    return existing_width(text) or diagram_width(program)
+class Frame(NamedTuple):
+    """How a file draws its diagram: its width in cells (its END rung, as the
+    formatter keeps it) and the width of the rung numbers' margin."""
+
+    columns: int
+    margin: int = 4
+
+    @property
+    def blank(self) -> str:
+        """A diagram line with nothing drawn on it."""
+        return " " * self.margin + "||" + " " * (self.columns * CELL) + "||"
+
+    def empty(self, line: str) -> bool:
+        """Whether a diagram line has nothing drawn on it but the rails."""
+        return not line[self.margin + 2:].replace("|", "").strip()
 
 
-def drawn_lines(rung: Rung, number: int, columns: int) -> list[str]:
+def frame_of(text: str, program: Program) -> Frame:
+    return Frame(existing_width(text) or diagram_width(program), margin_width(len(program.rungs)))
+
+
+def drawn_lines(rung: Rung, number: int, frame: Frame) -> list[str]:
     """The rung's lines as the formatter draws them, without the blank lines
     after its last row (the source's rung ends there too)."""
-    lines = render_rung(rung, number, columns) if rung.circuit.items else []
-    while len(lines) > 2 and not lines[-1][6:].replace("|", "").strip():
+    lines = render_rung(rung, number, frame.columns, frame.margin) if rung.circuit.items else []
+    while len(lines) > 2 and frame.empty(lines[-1]):
         lines.pop()
     return [line.rstrip() for line in lines]
 
@@ -106,7 +124,7 @@ def redraw(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit:
     if extent is None:
         raise EditError(f"rung {index + 1} is not drawn in this file")
     first, last = extent
-    lines = drawn_lines(rung, index + 1, columns_of(text, locator.program))
+    lines = drawn_lines(rung, index + 1, frame_of(text, locator.program))
     return LineEdit(first, last + 1, tuple(lines))
 
 
@@ -253,9 +271,9 @@ def new_rung(kinds: tuple[str, ...] = ("CONTACTS", "COIL")) -> Rung:
 def insert_rung(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit:
     """A new rung drawn above rung `index` (or before the END line when
     `index` is the number of rungs)."""
-    columns = columns_of(text, locator.program)
-    lines = drawn_lines(rung, index + 1, columns)
-    blank = "    ||" + " " * (columns * 17) + "||"
+    frame = frame_of(text, locator.program)
+    lines = drawn_lines(rung, index + 1, frame)
+    blank = frame.blank
     if index < len(locator.program.rungs):
         extent = locator.rung_lines(index)
         if extent is None:
@@ -265,7 +283,7 @@ def insert_rung(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit
     if end is None:
         raise EditError("the diagram has no END rung")
     # the END line has a blank line above it; the new rung goes above that
-    at = end - 1 if end > 0 and not locator.lines[end - 1][6:].replace("|", "").strip() else end
+    at = end - 1 if end > 0 and frame.empty(locator.lines[end - 1]) else end
     return LineEdit(at, at, tuple([blank.rstrip()] + lines))
 
 
@@ -376,13 +394,13 @@ def example_rung(kind: str) -> Rung:
     return new_rung(kinds)
 
 
-def drawn_operands(rung: Rung, number: int, columns: int) -> tuple[list[str], list[tuple[int, int, int]]]:
+def drawn_operands(rung: Rung, number: int, frame: Frame) -> tuple[list[str], list[tuple[int, int, int]]]:
     """The rung's drawn lines and where its names and values stand in them
     ((line in the rung, column, end column), in reading order): the fields a
     snippet lets the user fill in."""
     from lang.textform.reader import read_text
 
-    lines = drawn_lines(rung, number, columns)
+    lines = drawn_lines(rung, number, frame)
     program, problems = read_text("LADDER DIAGRAM:\n" + "\n".join(lines) + "\n")
     places = []
     if not problems:

@@ -117,7 +117,7 @@ def test_a_rename_offered_follows_the_names_used_elsewhere():
 def test_versions_read_but_not_checked_in_between():
     """The server reads every version (a hover, the semantic tokens) but checks
     only some: the moves of the versions in between add up."""
-    from lsp.documents import moved_since
+    from ide.analysis import moved_since
 
     text = big_text(200)
     reader, checker = IncrementalReader("ladder"), Checker()

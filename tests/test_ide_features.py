@@ -157,3 +157,26 @@ def test_a_rungs_tokens_are_in_order_apart_and_mark_the_names_it_writes():
     tokens = [(document.line(t.line)[t.col:t.col + t.length], t.type, t.writes) for t in rung_tokens(document, 1)]
     assert ("Rrun", TokenType.VARIABLE, True) in tokens and ("Rrun", TokenType.VARIABLE, False) in tokens
     assert ("Xstart", TokenType.PARAMETER, False) in tokens and ("0002", TokenType.NUMBER, False) in tokens
+
+
+def test_edits_of_a_program_of_more_than_9999_rungs_keep_its_wider_margin():
+    """Redrawn and inserted rungs get the five-digit margin the formatter
+    gives such a program (lang.textform.writer.margin_width)."""
+    from builders import coil, contact
+
+    from ide.fixes import apply_edits
+    from ide.locate import Locator
+    from lang.model import Program, Rung, Series
+    from lang.textform.reader import read_text
+    from lang.textform.writer import render_program
+
+    text = render_program(Program(rungs=[Rung(Series([contact(f"X{n}"), coil(f"Y{n}")])) for n in range(10_000)]))
+    program, _ = read_text(text)
+    locator = Locator(program, text.splitlines())
+    changed = [edits.redraw(locator, text, 9_999, Rung(Series([contact("Xnew"), coil("Ynew")]))),
+               edits.insert_rung(locator, text, 10_000, edits.new_rung())]
+    for edit in changed:
+        after = apply_edits(text, [edit], [])
+        read, problems = read_text(after)
+        assert not problems, problems[:3]
+        assert len({line.index("||") for line in after.splitlines()[1:] if "||" in line}) == 1
