@@ -195,32 +195,69 @@ def plan_details(section: Section, rungs: list[Rung], problems: list[Diagnostic]
                  groups: Groups | None = None) -> dict[int, Placed]:
     """What the DETAILS section puts on each rung it names, by rung index;
     `groups` are the rungs' `element_groups` (the reader keeps them up to date)."""
-    if groups is None:
-        groups = element_groups(rungs)
-    plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
-    for number, text in section.lines:
-        if not text.strip():
-            continue
-        span = Span.at(number, 0, len(text))
-        parsed = _parse_line(text)
-        if parsed is None:
-            problems.append(error(codes.SECTION, "expected `<INSTRUCTION> <name>: <field> <value>, ...`", span))
-            continue
-        key, occurrence, values = parsed
-        targets = groups.get(key, [])
-        if occurrence is not None:
-            targets = targets[occurrence - 1:occurrence]
-        if not targets:
-            if not any(isinstance(rung, UnreadRung) for rung in rungs):
-                problems.append(error(codes.SECTION, "no element of the diagram matches this detail", span))
-            # else its element may be in a rung that could not be read: that rung's errors say so
-            continue
-        if isinstance(values, str):
-            problems.append(error(codes.SECTION, values, span))
-            continue
-        for index, position in targets:
-            plan.setdefault(index, []).append((position, values))
-    return {index: tuple(placed) for index, placed in plan.items()}
+    return Planner().plan(section, rungs, problems, groups if groups is not None else element_groups(rungs), None)
+
+
+# what one DETAILS line does: its text, the group it names (None: not a detail line),
+# the rungs and positions it reaches, its values or what is wrong with them
+_LinePlan = tuple[str, "tuple[str, str] | None", tuple[tuple[int, int], ...], "tuple[tuple[str, object], ...] | str"]
+
+
+class Planner:
+    """`plan_details` kept from one read to the next: a line is looked up
+    again only when its text changed or the group of elements it names did
+    (an edit of one rung changes the groups of that rung's elements)."""
+
+    def __init__(self) -> None:
+        self._lines: list[_LinePlan] = []
+
+    def plan(self, section: Section, rungs: list[Rung], problems: list[Diagnostic], groups: Groups,
+             changed: set[tuple[str, str]] | None) -> dict[int, Placed]:
+        """`changed`: the groups changed since the last plan (None: any may have)."""
+        old = self._lines if changed is not None and len(self._lines) == len(section.lines) else []
+        changed = changed or set()
+        lines: list[_LinePlan] = []
+        plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
+        unread = None
+        for at, (number, text) in enumerate(section.lines):
+            kept = old[at] if old else None
+            if kept is not None and kept[0] == text and kept[1] not in changed:
+                line = kept
+            else:
+                line = _line_plan(text, groups)
+            lines.append(line)
+            _, key, targets, values = line
+            if key is None:
+                if text.strip():
+                    problems.append(error(codes.SECTION, "expected `<INSTRUCTION> <name>: <field> <value>, ...`",
+                                          Span.at(number, 0, len(text))))
+                continue
+            if not targets:
+                if unread is None:
+                    unread = any(isinstance(rung, UnreadRung) for rung in rungs)
+                if not unread:
+                    problems.append(error(codes.SECTION, "no element of the diagram matches this detail",
+                                          Span.at(number, 0, len(text))))
+                # else its element may be in a rung that could not be read: that rung's errors say so
+                continue
+            if isinstance(values, str):
+                problems.append(error(codes.SECTION, values, Span.at(number, 0, len(text))))
+                continue
+            for index, position in targets:
+                plan.setdefault(index, []).append((position, values))
+        self._lines = lines
+        return {index: tuple(placed) for index, placed in plan.items()}
+
+
+def _line_plan(text: str, groups: Groups) -> _LinePlan:
+    parsed = _parse_line(text) if text.strip() else None
+    if parsed is None:
+        return text, None, (), ()
+    key, occurrence, values = parsed
+    targets = groups.get(key, [])
+    if occurrence is not None:
+        targets = targets[occurrence - 1:occurrence]
+    return text, key, tuple(targets), values
 
 
 # a DETAILS line is parsed again only when its text changes (each edit reads the whole section)

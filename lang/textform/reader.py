@@ -12,8 +12,8 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
-from itertools import chain
-from operator import attrgetter
+from itertools import chain, compress, count
+from operator import attrgetter, is_not
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -252,6 +252,7 @@ class _Block:
 _first_line = attrgetter("first")
 _last_line = attrgetter("last")
 _block_rung = attrgetter("rung")
+_rung_circuit = attrgetter("circuit")
 _block_problems = attrgetter("problems")
 
 
@@ -319,6 +320,7 @@ class TextReader:
         self._circuits: list[Series] = []
         self._names: dict[int, details.ElementNames] = {}
         self._groups: details.Groups = {}
+        self._planner = details.Planner()
         self._detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
         self.details_copied = 0  # rungs given their details afresh, over all reads (tests)
 
@@ -400,7 +402,8 @@ class TextReader:
         return program, problems
 
     def _attach_details(self, section: Section, program: Program, problems: list[Diagnostic]) -> None:
-        plan = details.plan_details(section, program.rungs, problems, self._element_groups(program.rungs))
+        groups, changed = self._element_groups(program.rungs)
+        plan = self._planner.plan(section, program.rungs, problems, groups, changed)
         detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
         for index, placed in plan.items():
             rung = program.rungs[index]
@@ -418,19 +421,23 @@ class TextReader:
             program.rungs[index] = result
         self._detailed = detailed
 
-    def _element_groups(self, rungs: list[Rung]) -> details.Groups:
+    def _element_groups(self, rungs: list[Rung]) -> tuple[details.Groups, set[tuple[str, str]] | None]:
         """details.element_groups, brought up to date for the rungs whose
         circuit changed since the last read (all of them when rungs were
-        added or removed)."""
-        circuits = [rung.circuit for rung in rungs]
+        added or removed), and the groups that changed (None: any may have)."""
+        circuits = list(map(_rung_circuit, rungs))
+        changed_groups: set[tuple[str, str]] = set()
         if len(circuits) != len(self._circuits):
             self._groups = details.element_groups(rungs)
             self._names = {id(rung.circuit): details.element_names(rung) for rung in rungs}
+            self._circuits = circuits
+            return self._groups, None
         else:
-            changed = [index for index, (old, new) in enumerate(zip(self._circuits, circuits)) if old is not new]
+            changed = list(compress(count(), map(is_not, self._circuits, circuits)))
             # all gone before any comes: a circuit may have moved to another index
             for index in changed:
                 for key, position in self._names.pop(id(self._circuits[index])):
+                    changed_groups.add(key)
                     group = self._groups[key]
                     group.remove((index, position))
                     if not group:
@@ -438,9 +445,10 @@ class TextReader:
             for index in changed:
                 names = self._names[id(circuits[index])] = details.element_names(rungs[index])
                 for key, position in names:
+                    changed_groups.add(key)
                     insort(self._groups.setdefault(key, []), (index, position))
         self._circuits = circuits
-        return self._groups
+        return self._groups, changed_groups
 
     def _full(self, lines: list[str], diagram: Section) -> _State:
         raw_problems: list[Diagnostic] = []
