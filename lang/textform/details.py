@@ -191,20 +191,14 @@ def element_groups(rungs: list[Rung]) -> Groups:
     return groups
 
 
-def plan_details(section: Section, rungs: list[Rung], problems: list[Diagnostic],
-                 groups: Groups | None = None) -> dict[int, Placed]:
-    """What the DETAILS section puts on each rung it names, by rung index;
-    `groups` are the rungs' `element_groups` (the reader keeps them up to date)."""
-    return Planner().plan(section, rungs, problems, groups if groups is not None else element_groups(rungs), None)
-
-
 # what one DETAILS line does: its text, the group it names (None: not a detail line),
 # the rungs and positions it reaches, its values or what is wrong with them
 _LinePlan = tuple[str, "tuple[str, str] | None", tuple[tuple[int, int], ...], "tuple[tuple[str, object], ...] | str"]
 
 
 class Planner:
-    """`plan_details` kept from one read to the next: a line is looked up
+    """What the DETAILS section puts on each rung it names, by rung index,
+    kept from one read to the next: a line is looked up
     again only when its text changed or the group of elements it names did
     (an edit of one rung changes the groups of that rung's elements)."""
 
@@ -213,7 +207,9 @@ class Planner:
 
     def plan(self, section: Section, rungs: list[Rung], problems: list[Diagnostic], groups: Groups,
              changed: set[tuple[str, str]] | None) -> dict[int, Placed]:
-        """`changed`: the groups changed since the last plan (None: any may have)."""
+        """`groups`: the rungs' `element_groups` (the reader keeps them up to
+        date); `changed`: the groups changed since the last plan (None: any
+        may have)."""
         old = self._lines if changed is not None and len(self._lines) == len(section.lines) else []
         changed = changed or set()
         lines: list[_LinePlan] = []
