@@ -159,13 +159,15 @@ class ProgramIndex:
         part.marks = {name: self.marks[name] for name in names if name in self.marks}
         return part
 
-    def replace(self, program: Program, first: int, end: int, before: ProgramIndex) -> ProgramIndex:
+    def replace(self, program: Program, first: int, end: int, before: ProgramIndex,
+                part: ProgramIndex | None = None) -> ProgramIndex:
         """Bring the index up to date with `program`, the indexed program with
         rungs first..end-1 read again and the same number of rungs (and the
         same settings). `before` is the old index's view of the rungs among
         them whose content changed (the others only moved); the index of the
-        new rungs first..end-1 is returned."""
-        part = self._part(program, range(first, end))
+        new rungs first..end-1 is returned (`part`, when the caller has it)."""
+        if part is None:
+            part = self._part(program, range(first, end))
         self.program = program
         self.rungs = range(len(program.rungs))
         self.cache = {}

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import random
 
-from builders import coil, contact, program
+from builders import coil, contact, program, timer
 from generators import programs
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -131,3 +131,51 @@ def test_versions_read_but_not_checked_in_between():
         moved = moved_since(moved, program, reader.moved)
     assert full(checker.check(program, moved)) == full(check_program(program))
     assert checker.last == "edit"
+
+
+def test_an_edit_of_one_rung_of_18000_touches_that_rung_only(monkeypatch):
+    """What the language server does after a one-character edit: the reader
+    parses the edited rung alone, the symbol table walks it alone (as it was
+    and as it is), the rules that look at rungs see it alone, and DETAILS
+    looks at its elements alone."""
+    from lsprotocol import types
+
+    import lang.textform.reader as reader_module
+    from lang.checks import incremental
+    from lang.textform import details
+    from lsp.text import LineDocument
+
+    rungs = [[contact(f"X{n}"), contact(f"R{n}", negated=1), coil(f"R{n + 1}")] for n in range(18_000)]
+    rungs[5] = [contact("X5"), timer("TON", "T5", 100_000), coil("R6")]
+    text = render_program(program(*rungs)) + "\nDETAILS:\n  TON T5: adjust -1\n"
+    document = LineDocument("file:///big.ladder", text)
+    reader, checker = IncrementalReader("ladder"), Checker()
+    checker.check(reader.read(document.source, document.take_edited())[0], reader.moved)
+
+    counted = {"rungs parsed": 0, "rungs indexed": 0, "rungs a rule saw": 0, "rungs DETAILS named": 0}
+
+    def counting(key, function, how_many):
+        def counted_call(*args, **kwargs):
+            counted[key] += how_many(*args, **kwargs)
+            return function(*args, **kwargs)
+        return counted_call
+
+    monkeypatch.setattr(reader_module, "read_rung", counting("rungs parsed", reader_module.read_rung, lambda *a: 1))
+    monkeypatch.setattr(ProgramIndex, "_build", counting(
+        "rungs indexed", ProgramIndex._build, lambda self, program, rungs: len(list(rungs))))
+    monkeypatch.setattr(details, "element_names", counting("rungs DETAILS named", details.element_names, lambda *a: 1))
+    rung_rules = tuple(counting("rungs a rule saw", rule, lambda program, index: len(list(index.rungs)))
+                       for rule in incremental.BY_SCOPE[incremental.RUNGS])
+    monkeypatch.setitem(incremental.BY_SCOPE, incremental.RUNGS, rung_rules)
+
+    line = next(n for n, text_line in enumerate(document.lines) if "R9000 " in text_line)
+    col = document.lines[line].index("R9000") + 1
+    document.apply_change(types.TextDocumentContentChangePartial(
+        range=types.Range(start=types.Position(line=line, character=col),
+                          end=types.Position(line=line, character=col + 1)), text="Q"))
+    program_after, problems = reader.read(document.source, document.take_edited())
+    found = checker.check(program_after, reader.moved)
+    assert checker.last == "edit" and reader.last_mode == "window"
+    assert counted == {"rungs parsed": 1, "rungs indexed": 2, "rungs a rule saw": 2 * len(rung_rules),
+                       "rungs DETAILS named": 1}
+    assert found == check_program(program_after) and not [p for p in problems if p.severity == "error"]

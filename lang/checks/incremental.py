@@ -150,10 +150,15 @@ class Checker:
         gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
 
         if changed:
-            index.replace(program, changed[0], changed[-1] + 1, before)
+            # the new rungs' index, walked once: the view of the changed rungs after the
+            # edit, and the replacement of their range when they are all of it
+            if after.rungs != changed:
+                after = index._part(program, changed)
+            contiguous = changed[-1] - changed[0] + 1 == len(changed)
+            index.replace(program, changed[0], changed[-1] + 1, before, after if contiguous else None)
         else:
             index.program, index.rungs, index.cache = program, range(len(program.rungs)), {}
-        self._rungs = _kept(self._rungs, gone_rungs, edit) + run(RUNGS, program, index.view(changed))
+        self._rungs = _kept(self._rungs, gone_rungs, edit) + run(RUNGS, program, after)
         self._names = _kept(self._names, gone_names, edit) + run(NAMES, program, index.of_names(names))
 
 
