@@ -189,7 +189,7 @@ def snippet_text(lines: tuple[str, ...], places: tuple[tuple[int, int, int], ...
 def _rungs(document: Document, line: int, col: int, text: str, snippets: bool) -> list[Item]:
     frame = edits.frame_of(document.text, document.program)
     nl = newline(document.text)
-    number = sum(1 for first, _, _ in document.locator.rung_extents() if first < line) + 1
+    number = document.locator.rungs_above(line) + 1
     span = Span.at(line, 0, len(text))
     blank = frame.blank.rstrip() if rail_column(text) >= 0 else ""
     typed = text[:col]

@@ -13,6 +13,8 @@ import bisect
 import re
 from dataclasses import dataclass
 from functools import cached_property
+from itertools import compress, count
+from operator import is_not
 
 from lang.model import Element, Program, Rung, Span
 from lang.textform.elements import GLYPH_RE
@@ -69,15 +71,44 @@ class Locator:
         self.lines = lines
         self.kind = kind
         self._titles = titles
+        # (first line, last line, rung index) of each drawn rung, in order, and their first lines
+        self._extents: list[tuple[int, int, int]] = []
         self._starts: list[int] = []
-        self._extents: list[tuple[int, int, int]] = []  # (first line, last line, rung index), in order
+        if previous is None or not self._follow(previous, moved or {}):
+            self._walk(previous, moved or {})
+        # when every rung is drawn, rung i is extent i (no table of rung lines needed)
+        self._lines_of = None if len(self._extents) == len(program.rungs) else \
+            {index: (first, last) for first, last, index in self._extents}
+
+    def _follow(self, previous: Locator, moved: dict[int, tuple[Rung, int]]) -> bool:
+        """The extents of the version before, those of the rungs that changed
+        replaced (the kept rungs are the same objects, found without a Python
+        loop over all of them): when every rung was drawn and the rungs are
+        as many."""
+        old_rungs, rungs = previous.program.rungs, self.program.rungs
+        if len(old_rungs) != len(rungs) or previous._lines_of is not None:
+            return False
+        extents, starts = list(previous._extents), list(previous._starts)
+        for index in compress(count(), map(is_not, rungs, old_rungs)):
+            origin = moved.get(id(rungs[index]))
+            if origin is not None and origin[0] is old_rungs[index]:
+                first, last, _ = extents[index]
+                extent: tuple[int, int] | None = (first + origin[1], last + origin[1])
+            else:
+                extent = self._extent(rungs[index])
+            if extent is None:
+                return False
+            extents[index] = (extent[0], extent[1], index)
+            starts[index] = extent[0]
+        self._extents, self._starts = extents, starts
+        return True
+
+    def _walk(self, previous: Locator | None, moved: dict[int, tuple[Rung, int]]) -> None:
         known: dict[int, tuple[int, int]] = {}
         if previous is not None:
             rungs = previous.program.rungs
             known = {id(rungs[index]): (first, last) for first, last, index in previous._extents}
-        starts: list[int] = []
-        extents: list[tuple[int, int, int]] = []
-        for index, rung in enumerate(program.rungs):
+        for index, rung in enumerate(self.program.rungs):
             extent = known.get(id(rung))
             origin = moved.get(id(rung)) if extent is None and moved else None
             if origin is not None:
@@ -88,12 +119,8 @@ class Locator:
                 extent = self._extent(rung)
             if extent is None:
                 continue
-            first, last = extent
-            starts.append(first)
-            extents.append((first, last, index))
-        self._starts = starts
-        self._extents = extents
-        self._lines_of = {index: (first, last) for first, last, index in extents}
+            self._starts.append(extent[0])
+            self._extents.append((extent[0], extent[1], index))
 
     @staticmethod
     def _extent(rung: Rung) -> tuple[int, int] | None:
@@ -123,7 +150,13 @@ class Locator:
 
     def rung_lines(self, index: int) -> tuple[int, int] | None:
         """First and last source line of a rung (None for a rung not drawn)."""
-        return self._lines_of.get(index)
+        if self._lines_of is not None:
+            return self._lines_of.get(index)
+        return self._extents[index][:2] if 0 <= index < len(self._extents) else None
+
+    def rungs_above(self, line: int) -> int:
+        """How many drawn rungs start above the line."""
+        return bisect.bisect_left(self._starts, line)
 
     def rung_extents(self) -> list[tuple[int, int, int]]:
         """(first line, last line, rung index) of every drawn rung, in order."""

@@ -180,3 +180,25 @@ def test_edits_of_a_program_of_more_than_9999_rungs_keep_its_wider_margin():
         read, problems = read_text(after)
         assert not problems, problems[:3]
         assert len({line.index("||") for line in after.splitlines()[1:] if "||" in line}) == 1
+
+
+def test_the_names_offered_follow_the_edits_that_bring_names_in_and_out():
+    """ide.names keeps the sorted names from one version to the next, until
+    an edit brings a name into use or takes one out of it."""
+    from ide.incremental import IncrementalReader
+    from ide.names import candidates
+    from lang.checks import Checker
+
+    reader, checker = IncrementalReader("ladder"), Checker()
+
+    def offered(text: str, typed: str) -> list[str]:
+        program, _ = reader.read(text)
+        checker.check(program, reader.moved)
+        return candidates(program, checker.index, "CONTACTS", "name", typed)
+
+    assert offered(CONVEYOR, "Rru") == ["Rrun"]
+    renamed = CONVEYOR.replace("Rrun      ", "Rrunning  ", 1)
+    assert offered(renamed, "Rru") == ["Rrun", "Rrunning"]
+    assert checker.last == "edit"
+    assert offered(CONVEYOR, "Rru") == ["Rrun"]
+    assert candidates(checker.index.program, checker.index, "COIL", "name", "X") == []  # a coil drives no input
