@@ -121,7 +121,6 @@ class ProgramIndex:
         self.rungs: Iterable[int] = range(len(program.rungs))  # the rungs indexed
         self._empty()
         self.names: dict[str, list[Use]] = self.uses  # every name the program uses (a view's: the program's)
-        self.generation = 0  # counts the edits (`replace`) that brought a name into use or took one out of it
         self._build(program, self.rungs)
 
     def _empty(self) -> None:
@@ -186,12 +185,10 @@ class ProgramIndex:
                 if found is None:
                     if new:
                         table[key] = list(new)
-                        self.generation += table is self.uses
                     continue
                 _splice(found, first, end, new, at)
                 if not found:
                     del table[key]
-                    self.generation += table is self.uses
         return part
 
     @property
