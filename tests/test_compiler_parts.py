@@ -22,26 +22,35 @@ from lang.model import PinAssignment
 AVR_INCLUDE = Path("/usr/lib/avr/include/avr")
 HEADERS = {"atmega8": "iom8.h", "atmega16": "iom16.h", "atmega32": "iom32.h", "atmega64": "iom64.h",
            "atmega128": "iom128.h", "atmega162": "iom162.h", "atmega328p": "iom328p.h",
-           "atmega1284p": "iom1284p.h", "atmega2560": "iom2560.h"}
+           "atmega1284p": "iom1284p.h", "atmega2560": "iom2560.h", "atmega48": "iom48.h", "atmega88": "iom88.h",
+           "atmega168": "iom168.h", "atmega164p": "iom164p.h", "atmega324p": "iom324p.h", "atmega644p": "iom644p.h",
+           "atmega32u4": "iom32u4.h", "at90usb647": "iousb647.h"}
 LDMICRO_NAMES = {"atmega8": "Atmel AVR ATmega8 28-PDIP", "atmega16": "Atmel AVR ATmega16 40-PDIP",
                  "atmega32": "Atmel AVR ATmega32 40-PDIP", "atmega64": "Atmel AVR ATmega64 64-TQFP",
                  "atmega128": "Atmel AVR ATmega128 64-TQFP", "atmega162": "Atmel AVR ATmega162 40-PDIP",
                  "atmega328p": "Atmel AVR ATmega328 28-PDIP", "atmega1284p": "Atmel AVR ATmega1284 40-PDIP",
-                 "atmega2560": "Atmel AVR ATmega2560 100-TQFP"}
+                 "atmega2560": "Atmel AVR ATmega2560 100-TQFP", "atmega48": "Atmel AVR ATmega48 28-PDIP",
+                 "atmega88": "Atmel AVR ATmega88 28-PDIP", "atmega168": "Atmel AVR ATmega168 28-PDIP",
+                 "atmega164p": "Atmel AVR ATmega164 40-PDIP", "atmega324p": "Atmel AVR ATmega324 40-PDIP",
+                 "atmega644p": "Atmel AVR ATmega644 40-PDIP", "atmega32u4": "Atmel AVR ATmega32U4 44-Pin packages",
+                 "at90usb647": "Atmel AVR AT90USB647 64-TQFP"}
 needs_headers = pytest.mark.skipif(not AVR_INCLUDE.is_dir(), reason="avr-libc not installed")
 
 
 def _header(name: str) -> tuple[dict[str, int], dict[str, int], str]:
     text = (AVR_INCLUDE / name).read_text()
     registers = {"SPL": 0x5D, "SPH": 0x5E, "SREG": 0x5F}  # avr/common.h
-    for m in re.finditer(r"#\s*define\s+(\w+)\s+_SFR_(IO|MEM)(?:8|16)\((0[xX][0-9A-Fa-f]+)\)", text):
+    for m in re.finditer(r"#\s*define\s+(\w+)\s+_SFR_(IO|MEM)(?:8|16)\s*\((0[xX][0-9A-Fa-f]+)\)", text):
         registers.setdefault(m.group(1), int(m.group(3), 16) + (0x20 if m.group(2) == "IO" else 0))
     bits = {m.group(1): int(m.group(2)) for m in re.finditer(r"#\s*define\s+(\w+)\s+(\d)\b", text)}
     return registers, bits, text
 
 
 def _constant(text: str, name: str) -> int:
-    return int(re.search(rf"#\s*define\s+{name}\s+\(?(0[xX][0-9A-Fa-f]+|\d+)", text).group(1), 0)
+    m = re.search(rf"#\s*define\s+{name}\s+\(?(0[xX][0-9A-Fa-f]+|\d+)", text)
+    if m is None and name == "RAMEND":  # (RAMSTART + RAMSIZE - 1) on the ATmega32U4
+        return _constant(text, "RAMSTART") + _constant(text, "RAMSIZE") - 1
+    return int(m.group(1), 0)
 
 
 @needs_headers
@@ -60,7 +69,7 @@ def test_part_facts_match_avr_libc(part):
     sleep = avr["sleep"]
     assert sleep["power_down"] == 1 << bits["SE"] | 1 << bits["SM1"]
     # the bit positions the back end takes as the same on every part
-    suffix = {"atmega64": "1", "atmega128": "1"}.get(part, "0")
+    suffix = avr["uart"]["UDR"][-1] if "uart" in avr else ""  # the USART's number: UDR0, UDR1 (UDR: none)
     for name, value in (("TXC", avr_part.TXC), ("UDRE", avr_part.UDRE), ("RXC", avr_part.RXC),
                         ("U2X", avr_part.U2X), ("RXEN", avr_part.RXEN), ("TXEN", avr_part.TXEN)):
         if "uart" in avr:
@@ -71,7 +80,7 @@ def test_part_facts_match_avr_libc(part):
     assert bits["EERE"] == avr_part.EERE and bits.get("EEWE", bits.get("EEPE")) == avr_part.EEWE
     assert bits.get("EEMWE", bits.get("EEMPE")) == avr_part.EEMWE
     if "MUX5" in avr.get("adc", {}):
-        assert bits["MUX5"] == avr_part.MUX5
+        assert bits["MUX5"] == avr["adc"]["MUX5"][1]
     for unit, pwm in avr["pwm"].items():
         if "ocr" in pwm:
             timer, channel = pwm["timer"], unit[3:]

@@ -22,7 +22,6 @@ from .part import (
     EEMWE,
     EERE,
     EEWE,
-    MUX5,
     RXC,
     RXEN,
     TXC,
@@ -69,8 +68,9 @@ def adc_prescaler(crystal_hz: int) -> int:
 def read_adc(cx, op: ir.ReadAdc) -> None:
     e, part, adc = cx.e, cx.part, cx.part.adc
     _write(e, part, adc["ADMUX"], (op.refs & 3) << 6 | (op.channel & 7))
-    if "MUX5" in adc:
-        _io_bit(e, part, adc["MUX5"], MUX5, op.channel >= 8)
+    if "MUX5" in adc:  # channels 8 and up: the register and bit of MUX5 differ by part
+        register, bit = adc["MUX5"]
+        _io_bit(e, part, register, bit, op.channel >= 8)
     _write(e, part, adc["ADCSRA"], 1 << ADEN | 1 << ADSC | adc_prescaler(cx.crystal_hz))
     prescaler = 1 << adc_prescaler(cx.crystal_hz)
     _wait_while(e, part, adc["ADCSRA"], ADSC, True,
