@@ -86,6 +86,21 @@ BOARDS = (
           ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7"),
 )
 
+# the parts LDmicro lists that came later (issue 20), simavr's cores all
+_MEGA28 = (("PD2", "PD3", "PD4", "PD7"), ("PB0", "PB1", "PB2", "PB3", "PB4", "PB5"), "PC0", "PD6")
+_MEGA40 = (("PD2", "PD3", "PB5", "PB6"), ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7")
+NEW_AVR_BOARDS = (
+    Board("atmega48", "avr", "Atmel AVR ATmega48 28-PDIP", *_MEGA28),
+    Board("atmega88", "avr", "Atmel AVR ATmega88 28-PDIP", *_MEGA28),
+    Board("atmega168", "avr", "Atmel AVR ATmega168 28-PDIP", *_MEGA28),
+    Board("atmega164p", "avr", "Atmel AVR ATmega164 40-PDIP", *_MEGA40),
+    Board("atmega324p", "avr", "Atmel AVR ATmega324 40-PDIP", *_MEGA40),
+    Board("atmega644p", "avr", "Atmel AVR ATmega644 40-PDIP", *_MEGA40),
+    Board("atmega1284p", "avr", "Atmel AVR ATmega1284 44-Pin packages", *_MEGA40),
+    # USART1: the harness feeds USART0 only
+    Board("atmega32u4", "avr", "Atmel AVR ATmega32U4 44-Pin packages", ("PB0", "PB1", "PB2", "PB3"),
+          ("PD1", "PD4", "PD5", "PC6", "PC7", "PE6"), "PF0", "PB7", uart0=False),
+)
 
 # the C output ignores the part: its board is an AVR one whose instructions are C's
 C_BOARDS = (dataclasses.replace(BOARDS[0], family="c"),)
@@ -453,6 +468,14 @@ def test_random_programs_follow_the_simulator(case, tmp_path_factory):
         assume(not too_large(problem))
         raise
     assert problems == [], "\n".join(problems)
+
+
+@needs_simavr
+@pytest.mark.slow
+@settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases(NEW_AVR_BOARDS))
+def test_random_programs_on_the_later_avrs_follow_the_simulator(case, tmp_path_factory):
+    test_random_programs_follow_the_simulator.hypothesis.inner_test(case, tmp_path_factory)
 
 
 def too_large(problem: CompileError) -> bool:

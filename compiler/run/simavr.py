@@ -37,7 +37,7 @@ SIMAVR_INCLUDE = Path("/usr/include/simavr")
 DEBIAN_PACKAGES = "gcc and libsimavr-dev"
 
 #: AVRs that LDmicro targets but simavr has no core for (not upstream either).
-NO_CORE = {"atmega162", "atmega64"}
+NO_CORE = {"atmega162", "atmega64", "at90usb647"}
 
 
 class HarnessError(RuntimeError):

@@ -1,0 +1,156 @@
+"""Every AVR part LDmicro 5.4.1.1 lists: its pins against LDmicro's own MCU
+table (mcutable.h in the LDmicro source in ../shared), every LDmicro name and
+lower-case part name accepted and built, and the corpus programs moved to
+each part simavr has a core for, run beside the simulator scan for scan
+(slow). The register addresses, vectors and memory sizes are checked against
+avr-libc in test_compiler_parts.py; random programs on these parts are in
+test_compiler_random.py."""
+
+from __future__ import annotations
+
+import re
+import tarfile
+from functools import cache
+
+import pytest
+from corpus import SHARED
+from test_compiler_harness import differential, load, needs_simavr
+from test_compiler_random import NEW_AVR_BOARDS, Board
+
+import compiler
+from lang.devices import find_device, is_known_ldmicro_name
+from lang.model import PinAssignment, Program
+from lang.targets import compiled
+
+LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"
+# LDmicro names the back end does not compile (yet): the reduced-core ATtiny10
+NOT_BUILT = {"Atmel AVR ATtiny10 6-Pin packages", "Atmel AVR ATtiny85 8-Pin packages",
+             "Atmel AVR ATtiny85 20-Pin packages"}
+# the parts added for issue 20, whose pin labels are LDmicro 5.4.1.1's; the
+# first nine keep the labels of the LDmicro exports they were made from
+NEW_PARTS = {"atmega48", "atmega88", "atmega168", "atmega164p", "atmega324p", "atmega644p", "atmega32u4",
+             "at90usb647"}
+
+# LDmicro offers the reset pin PC6 as an I/O pin on the 32-pin packages; our
+# data leaves it RESET, as LDmicro's own 28-pin tables do (the pin is an I/O
+# only with the RSTDISBL fuse programmed, which ends serial programming)
+RESET_AS_IO = {"Atmel AVR ATmega8 32-Pin packages": 29, "Atmel AVR ATmega328 32-Pin packages": 29}
+
+
+@cache
+def _mcutable() -> str:
+    with tarfile.open(LDMICRO_SOURCE) as archive:
+        member = archive.extractfile("ldmicro-5.4.1.1/ldmicro/mcutable.h")
+        assert member is not None
+        text = member.read().decode("latin-1")
+    return re.sub(r"//[^\n]*", "", text)  # commented-out rows are not LDmicro's
+
+
+def _arrays(kind: str) -> dict[str, str]:
+    return {m.group(1): m.group(2) for m in re.finditer(rf"{kind}\s+(\w+)\[\]\s*=\s*\{{(.*?)\}};", _mcutable(), re.S)}
+
+
+def _channel(mux: int) -> int:
+    """LDmicro's A/D mux value as a channel: 8-15 are 0x08-0x0F on the
+    ATmega2560, MUX5 (0x20) with 0-5 on the ATmega32U4."""
+    return 8 + (mux & 7) if mux & 0x20 else mux
+
+
+@cache
+def ldmicro_avrs() -> dict[str, dict]:
+    """LDmicro name -> its I/O pins {pin: (port bit, label)}, A/D inputs
+    {pin: channel} and UART pins (rx, tx) (0, 0 without one)."""
+    io_tables = {name: {int(m.group(3)): (f"P{m.group(1)}{m.group(2)}", m.group(4))
+                        for m in re.finditer(r"\{\s*'([A-L])',\s*(\d+),\s*(\d+)\s*,\s*\"([^\"]*)\"", body)}
+                 for name, body in _arrays("McuIoPinInfo").items()}
+    adc_tables = {name: {int(pin): _channel(int(mux, 0))
+                         for pin, mux in re.findall(r"\{\s*(\d+),\s*(0x[0-9A-Fa-f]+|\d+)\s*\}", body)}
+                  for name, body in _arrays("McuAdcPinInfo").items()}
+    table = _mcutable()[_mcutable().index("SupportedMcus_"):]
+    parts = {}
+    for m in re.finditer(r"\{\s*\"(Atmel AVR [^\"]+)\",(.*?)\{\{0,0\}\}", table, re.S):
+        words = re.findall(r"\w+", m.group(2))
+        io = next(w for w in words if w in io_tables)
+        adc = next((w for w in words if w in adc_tables), None)
+        uart = re.search(r"\{\s*(\d+)\s*,\s*(\d+)\s*\}", m.group(2).split(io, 1)[1])
+        parts[m.group(1)] = {"io": io_tables[io], "adc": adc_tables.get(adc, {}),
+                             "uart": (int(uart.group(1)), int(uart.group(2)))}
+    return parts
+
+
+def test_every_ldmicro_avr_name_is_found_and_built():
+    assert len(ldmicro_avrs()) == 24
+    for name in ldmicro_avrs():
+        device = find_device(name)
+        if name in NOT_BUILT:
+            assert device is None and is_known_ldmicro_name(name), name
+            continue
+        assert device is not None, name
+        assert device.ldmicro_name == name
+        assert compiled(device) == (name not in NOT_BUILT), name
+
+
+@pytest.mark.parametrize("name", sorted(set(ldmicro_avrs()) - NOT_BUILT))
+def test_pins_are_ldmicros(name):
+    """The package's port bits on LDmicro's pin numbers, nothing more; the A/D
+    inputs on its pins with its channels; the UART on its pins."""
+    device, table = find_device(name), ldmicro_avrs()[name]
+    io = {n: bit for n, (bit, _) in table["io"].items()}
+    if name in RESET_AS_IO:
+        assert io.pop(RESET_AS_IO[name]) == "PC6" and device.pin(RESET_AS_IO[name]).name == "RESET"
+    assert {pin.number: pin.name for pin in device.io_pins()} == io
+    if device.part in NEW_PARTS:
+        assert {pin.number: pin.label for pin in device.io_pins()} == {n: label for n, (_, label) in table["io"].items()}
+    adc = {device.pin(name).number: channel for name, channel in device.adc.items() if device.pin(name)}
+    assert adc == table["adc"]
+    uart = tuple(device.pin(device.uart[end]).number for end in ("rx", "tx")) if device.uart else (0, 0)
+    assert uart == table["uart"]
+
+
+# LDmicro's lower-case part names, as `--target` takes them
+TARGETS = {"atmega48": "atmega48", "atmega88": "atmega88", "atmega168": "atmega168", "atmega164": "atmega164p",
+           "atmega324": "atmega324p", "atmega644": "atmega644p", "atmega1284": "atmega1284p",
+           "atmega32u4": "atmega32u4", "at90usb647": "at90usb647"}
+
+
+@pytest.mark.parametrize("name", sorted(TARGETS))
+def test_lower_case_part_names_are_targets(name):
+    assert compiler.target_device(load("sample/traffic.ld"), name).part == TARGETS[name]
+
+
+def moved(program: Program, board: Board) -> Program:
+    """The program on the board's part: each pin by its port bit where the
+    part has it (and it is neither the UART's nor the board's A/D input),
+    else on the part's next free port bit; the A/D input on the board's."""
+    device = find_device(board.ldmicro)
+    source = find_device(program.settings.mcu)
+    reserved = {*device.uart.values(), board.adc}
+    free = [pin.name for pin in device.io_pins() if pin.name not in reserved]
+    wanted = {name: source.pin(a.pin).name for name, a in program.pins.items()}
+    taken = {bit for name, bit in wanted.items() if name[0] != "A" and bit in free}
+    spare = iter(bit for bit in free if bit not in taken)
+    for name in program.pins:
+        if name[0] == "A":
+            pin = board.adc
+        elif wanted[name] in free:
+            pin = wanted[name]
+        else:
+            pin = next(spare)
+        program.pins[name] = PinAssignment(name, pin)
+    return program
+
+
+CORPUS = ("sample/traffic.ld", "reg/tests/timers-counters.ld", "sample/ctu_ctd_ctc.ld", "sample/ctu_ctd_ctc_ctr.ld",
+          "sample/hello.ld", "Tests/test-adc.ld")
+
+
+@needs_simavr
+@pytest.mark.slow
+@pytest.mark.parametrize("board", NEW_AVR_BOARDS, ids=lambda board: board.ldmicro)
+@pytest.mark.parametrize("path", CORPUS)
+def test_corpus_programs_moved_to_the_part_follow_the_simulator(path, board, tmp_path):
+    from test_compiler_corpus import CASES
+
+    events, scans = CASES[path]
+    program = moved(load(path), board)
+    assert differential(program, events, scans, tmp_path, target=board.ldmicro) == []
