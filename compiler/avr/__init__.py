@@ -17,7 +17,7 @@ from .memory import RegBit, allocate
 from .part import Part
 from .peripherals import UART_IDLE
 from .routines import write_routines
-from .runtime import write_runtime
+from .runtime import cycle_variables, write_runtime
 from .select import DELAY_LOOP_CYCLES, Context
 
 
@@ -30,6 +30,7 @@ class AvrBackend:
         part = Part.of(machine.device)
         if uses_uart(code):
             code.bits[UART_IDLE] = ir.MEMORY
+        code.vars.update(cycle_variables(part))
         layout = allocate(code, part, machine)
         assembler = Assembler(part.long_jumps, part.flash // 2)
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)

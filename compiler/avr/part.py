@@ -68,6 +68,11 @@ class Part:
         return self.avr["long_jumps"]
 
     @property
+    def has_mul(self) -> bool:
+        """MUL and its kin: all but the ATtiny85's core."""
+        return self.avr.get("mul", True)
+
+    @property
     def pc_bytes(self) -> int:
         return self.avr["pc_bytes"]
 

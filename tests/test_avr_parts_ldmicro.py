@@ -1,0 +1,49 @@
+"""The later AVR parts against LDmicro 5.4.1.1's own images: corpus programs
+moved to each part simavr has a core for (tests/test_avr_parts.py), written
+as .ld files, compiled by LDmicro and by us, run in simavr under the same
+stimulus: the same edges on every output pin, each within one scan.
+
+LDmicro is found at /opt/ldmicro/ldmicro (or LDMICRO=); these tests run in
+the LDmicro step of .ci/run (marker `ldmicro`)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+from test_avr_parts import moved
+from test_compiler_corpus import TIMERS, TRAFFIC, same_edges_as_ldmicro
+from test_compiler_harness import load, needs_simavr
+from test_compiler_random import NEW_AVR_BOARDS
+
+from lang.ldfile import write_ld
+
+pytestmark = pytest.mark.ldmicro
+
+LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
+PROGRAMS = {"sample/traffic.ld": (TRAFFIC, 1000), "reg/tests/timers-counters.ld": (TIMERS, 1300)}
+
+
+def ldmicros_hex(program, folder: Path) -> Path:
+    if not LDMICRO.exists():
+        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
+    refused: list = []
+    source = folder / "program.ld"
+    source.write_bytes(write_ld(program, diagnostics=refused).replace("\n", "\r\n").encode("cp1252"))
+    assert not refused, refused
+    image = folder / "ldmicro.hex"
+    done = subprocess.run([str(LDMICRO), "compile", str(source), str(image)], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0 and "Compiled okay" in done.stdout, done.stdout + done.stderr
+    return image
+
+
+@needs_simavr
+@pytest.mark.parametrize("board", NEW_AVR_BOARDS, ids=lambda board: board.ldmicro)
+@pytest.mark.parametrize("path", sorted(PROGRAMS))
+def test_same_output_edges_as_ldmicros_hex_on_the_part(path, board, tmp_path):
+    events, scans = PROGRAMS[path]
+    program = moved(load(path), board)
+    same_edges_as_ldmicro(program, ldmicros_hex(program, tmp_path), events, scans, tmp_path)
