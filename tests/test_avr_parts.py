@@ -25,12 +25,11 @@ from lang.targets import compiled
 
 LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"
 # LDmicro names the back end does not compile (yet): the reduced-core ATtiny10
-NOT_BUILT = {"Atmel AVR ATtiny10 6-Pin packages", "Atmel AVR ATtiny85 8-Pin packages",
-             "Atmel AVR ATtiny85 20-Pin packages"}
+NOT_BUILT = {"Atmel AVR ATtiny10 6-Pin packages"}
 # the parts added for issue 20, whose pin labels are LDmicro 5.4.1.1's; the
 # first nine keep the labels of the LDmicro exports they were made from
 NEW_PARTS = {"atmega48", "atmega88", "atmega168", "atmega164p", "atmega324p", "atmega644p", "atmega32u4",
-             "at90usb647"}
+             "at90usb647", "attiny85"}
 
 # LDmicro offers the reset pin PC6 as an I/O pin on the 32-pin packages; our
 # data leaves it RESET, as LDmicro's own 28-pin tables do (the pin is an I/O
@@ -111,7 +110,7 @@ def test_pins_are_ldmicros(name):
 # LDmicro's lower-case part names, as `--target` takes them
 TARGETS = {"atmega48": "atmega48", "atmega88": "atmega88", "atmega168": "atmega168", "atmega164": "atmega164p",
            "atmega324": "atmega324p", "atmega644": "atmega644p", "atmega1284": "atmega1284p",
-           "atmega32u4": "atmega32u4", "at90usb647": "at90usb647"}
+           "atmega32u4": "atmega32u4", "at90usb647": "at90usb647", "attiny85": "attiny85"}
 
 
 @pytest.mark.parametrize("name", sorted(TARGETS))

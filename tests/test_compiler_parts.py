@@ -24,7 +24,7 @@ HEADERS = {"atmega8": "iom8.h", "atmega16": "iom16.h", "atmega32": "iom32.h", "a
            "atmega128": "iom128.h", "atmega162": "iom162.h", "atmega328p": "iom328p.h",
            "atmega1284p": "iom1284p.h", "atmega2560": "iom2560.h", "atmega48": "iom48.h", "atmega88": "iom88.h",
            "atmega168": "iom168.h", "atmega164p": "iom164p.h", "atmega324p": "iom324p.h", "atmega644p": "iom644p.h",
-           "atmega32u4": "iom32u4.h", "at90usb647": "iousb647.h"}
+           "atmega32u4": "iom32u4.h", "at90usb647": "iousb647.h", "attiny85": "iotn85.h"}
 LDMICRO_NAMES = {"atmega8": "Atmel AVR ATmega8 28-PDIP", "atmega16": "Atmel AVR ATmega16 40-PDIP",
                  "atmega32": "Atmel AVR ATmega32 40-PDIP", "atmega64": "Atmel AVR ATmega64 64-TQFP",
                  "atmega128": "Atmel AVR ATmega128 64-TQFP", "atmega162": "Atmel AVR ATmega162 40-PDIP",
@@ -33,7 +33,7 @@ LDMICRO_NAMES = {"atmega8": "Atmel AVR ATmega8 28-PDIP", "atmega16": "Atmel AVR 
                  "atmega88": "Atmel AVR ATmega88 28-PDIP", "atmega168": "Atmel AVR ATmega168 28-PDIP",
                  "atmega164p": "Atmel AVR ATmega164 40-PDIP", "atmega324p": "Atmel AVR ATmega324 40-PDIP",
                  "atmega644p": "Atmel AVR ATmega644 40-PDIP", "atmega32u4": "Atmel AVR ATmega32U4 44-Pin packages",
-                 "at90usb647": "Atmel AVR AT90USB647 64-TQFP"}
+                 "at90usb647": "Atmel AVR AT90USB647 64-TQFP", "attiny85": "Atmel AVR ATtiny85 8-Pin packages"}
 needs_headers = pytest.mark.skipif(not AVR_INCLUDE.is_dir(), reason="avr-libc not installed")
 
 
@@ -64,7 +64,9 @@ def test_part_facts_match_avr_libc(part):
     assert avr["eeprom"] == _constant(text, "E2END") + 1
     assert avr["ram"]["start"] == _constant(text, "RAMSTART")
     assert avr["ram"]["start"] + avr["ram"]["size"] - 1 == _constant(text, "RAMEND")
-    assert bits["OCF1A"] == avr["cycle_timer"]["OCF1A"]
+    cycle = avr["cycle_timer"]
+    for flag in {"OCF1A", "TOV0"} & set(cycle):  # Timer1's compare match, the ATtiny85's Timer0 overflow
+        assert bits[flag] == cycle[flag]
     assert bits.get("WDCE", bits.get("WDTOE")) == avr["watchdog"]["WDCE"] and bits["WDE"] == avr["watchdog"]["WDE"]
     sleep = avr["sleep"]
     assert sleep["power_down"] == 1 << bits["SE"] | 1 << bits["SM1"]
@@ -74,7 +76,8 @@ def test_part_facts_match_avr_libc(part):
                         ("U2X", avr_part.U2X), ("RXEN", avr_part.RXEN), ("TXEN", avr_part.TXEN)):
         if "uart" in avr:
             assert bits.get(name + suffix, bits.get(name)) == value, name
-    assert bits["WGM12"] == avr_part.WGM12
+    if "TCCR1B" in avr["registers"]:
+        assert bits["WGM12"] == avr_part.WGM12
     if "adc" in avr:
         assert bits["ADSC"] == avr_part.ADSC and bits["ADEN"] == avr_part.ADEN
     assert bits["EERE"] == avr_part.EERE and bits.get("EEWE", bits.get("EEPE")) == avr_part.EEWE
@@ -85,7 +88,10 @@ def test_part_facts_match_avr_libc(part):
         if "ocr" in pwm:
             timer, channel = pwm["timer"], unit[3:]
             assert pwm["com"] == 1 << bits[f"COM{timer}{channel}1"]
-            assert pwm["fast"] == 1 << bits[f"WGM{timer}0"] | 1 << bits[f"WGM{timer}1"]
+            if "top" in pwm:  # the ATtiny85's Timer1: PWM mode counting to OCR1C
+                assert pwm["fast"] == 1 << bits[f"PWM{timer}{channel}"]
+            else:
+                assert pwm["fast"] == 1 << bits[f"WGM{timer}0"] | 1 << bits[f"WGM{timer}1"]
 
 
 @pytest.mark.parametrize("part", sorted(LDMICRO_NAMES))
