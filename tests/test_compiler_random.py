@@ -68,6 +68,15 @@ class Board:
     def draws(self, kind: str) -> bool:
         return self.family in INSTRUCTIONS[kind].support and kind not in self.left_out
 
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """The input names the board has pins for."""
+        return INPUTS[:len(self.inputs)]
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return OUTPUTS[:len(self.outputs)]
+
 
 BOARDS = (
     Board("atmega328p", "avr", "Atmel AVR ATmega328 28-PDIP", ("PD2", "PD3", "PD4", "PD7"),
@@ -100,6 +109,10 @@ NEW_AVR_BOARDS = (
     # USART1: the harness feeds USART0 only
     Board("atmega32u4", "avr", "Atmel AVR ATmega32U4 44-Pin packages", ("PB0", "PB1", "PB2", "PB3"),
           ("PD1", "PD4", "PD5", "PC6", "PC7", "PE6"), "PF0", "PB7", uart0=False),
+    # six port bits, no UART
+    Board("attiny85", "avr", "Atmel AVR ATtiny85 8-Pin packages", ("PB3", "PB4"), ("PB0", "PB2"), "PB5", "PB1",
+          uart0=False, left_out=frozenset(("UART_SEND", "UART_SEND_READY", "UART_RECV", "UART_RECV_AVAIL",
+                                           "FORMATTED_STRING"))),
 )
 
 # the C output ignores the part: its board is an AVR one whose instructions are C's
@@ -190,11 +203,12 @@ def _simple(kind):
 
 def _contact(board):
     return st.builds(lambda n, neg: _e("CONTACTS", name=n, negated=neg),
-                     st.sampled_from(INPUTS + OUTPUTS + RELAYS + ("ROverflowFlagV",)), st.integers(0, 1))
+                     st.sampled_from(board.input_names + board.output_names + RELAYS + ("ROverflowFlagV",)),
+                     st.integers(0, 1))
 
 
 def _coil(board):
-    return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(OUTPUTS + RELAYS),
+    return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(board.output_names + RELAYS),
                      st.sampled_from(" /SRT"))
 
 
@@ -377,12 +391,13 @@ def _add_jumps(draw, rungs: list[Rung], d: Drawing) -> None:
         target = draw(st.integers(1, len(rungs) - 1))
         rungs[target] = Rung(rung_circuit(Series([_e("LABEL", label="ahead")] + rungs[target].circuit.items)))
         source = draw(st.integers(0, target))
-        rungs.insert(source, Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+        rungs.insert(source, Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(d.board.input_names)), negated=0),
                                           _e("GOTO", label="ahead")])))
     if draw(st.booleans()):
         call = Parallel([Series([_e("GOSUB", label="sub")]),
-                         Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(OUTPUTS)), type=" ")])])
-        caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0), call])))
+                         Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(d.board.output_names)), type=" ")])])
+        caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(d.board.input_names)), negated=0),
+                                           call])))
         rungs.insert(draw(st.integers(0, len(rungs))), caller)
         body = [Rung(rung_circuit(draw(_series(1, True, d)))) for _ in range(draw(st.integers(1, 2)))]
         rungs += [Rung(Series([_e("SUBPROG", label="sub")])), *body, Rung(Series([_e("ENDSUB", label="sub")]))]
@@ -409,12 +424,12 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
     # every relay read is written somewhere, and a master relay zone is closed
     for relay in sorted(r for r in RELAYS if r in used):
-        program.rungs.append(Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+        program.rungs.append(Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(board.input_names)), negated=0),
                                           _e("COIL", name=relay, type=" ")])))
     if sum(e.kind == "MASTER_RELAY" for _, e in program.elements()) % 2:
         program.rungs.append(Rung(Series([_e("MASTER_RELAY")])))
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
-    for name, pin in zip(INPUTS + OUTPUTS, board.inputs + board.outputs):
+    for name, pin in [*zip(board.input_names, board.inputs), *zip(board.output_names, board.outputs)]:
         if name in used:
             program.pins[name] = PinAssignment(name, pin)
     if "Aa" in used:
@@ -426,8 +441,8 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     program.var_sizes["vr"] = 4
     program.var_sizes.update((f"pad{i}", 4) for i in range(pads))
     scans = draw(st.integers(40, 120))
-    events = [Event(0, x, draw(st.integers(0, 1))) for x in INPUTS if x in program.pins]
-    events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(INPUTS)), draw(st.integers(0, 1)))
+    events = [Event(0, x, draw(st.integers(0, 1))) for x in board.input_names if x in program.pins]
+    events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(board.input_names)), draw(st.integers(0, 1)))
                for _ in range(draw(st.integers(0, 12)))]
     events = [e for e in events if e.name in program.pins]
     if "Aa" in program.pins:
