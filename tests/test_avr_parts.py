@@ -14,13 +14,16 @@ from dataclasses import replace
 from functools import cache
 
 import pytest
+from builders import coil, contact, el, program
 from corpus import SHARED
 from test_compiler_harness import differential, load, needs_simavr
 from test_compiler_random import NEW_AVR_BOARDS, Board
 
 import compiler
+from compiler.errors import CompileError
+from compiler.run import simavr
 from lang.devices import find_device, is_known_ldmicro_name
-from lang.model import PinAssignment, Program
+from lang.model import PinAssignment, Program, Span
 from lang.targets import compiled
 
 LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"
@@ -141,17 +144,83 @@ def moved(program: Program, board: Board) -> Program:
     return replace(program, settings=replace(program.settings, mcu=board.ldmicro))
 
 
+# six port bits and no UART: not the 16 outputs of ctu_ctd_ctc_ctr, nor hello's UART
+FITS_ATTINY85 = ("sample/traffic.ld", "reg/tests/timers-counters.ld", "sample/ctu_ctd_ctc.ld", "Tests/test-adc.ld")
 CORPUS = ("sample/traffic.ld", "reg/tests/timers-counters.ld", "sample/ctu_ctd_ctc.ld", "sample/ctu_ctd_ctc_ctr.ld",
           "sample/hello.ld", "Tests/test-adc.ld")
 
 
 @needs_simavr
 @pytest.mark.slow
-@pytest.mark.parametrize("board", NEW_AVR_BOARDS, ids=lambda board: board.ldmicro)
-@pytest.mark.parametrize("path", CORPUS)
+@pytest.mark.parametrize("board, path", [(board, path) for board in NEW_AVR_BOARDS for path in CORPUS
+                                          if board.part != "attiny85" or path in FITS_ATTINY85],
+                         ids=lambda x: getattr(x, "ldmicro", x))
 def test_corpus_programs_moved_to_the_part_follow_the_simulator(path, board, tmp_path):
     from test_compiler_corpus import CASES
 
     events, scans = CASES[path]
     program = moved(load(path), board)
     assert differential(program, events, scans, tmp_path) == []
+
+
+# --- the ATtiny85 ------------------------------------------------------------------------------
+
+TINY = "Atmel AVR ATtiny85 8-Pin packages"
+
+
+def test_attiny85_uart_is_a_located_error_naming_the_part():
+    send = el("UART_SEND", var="v", wait=0)
+    with pytest.raises(CompileError) as refused:
+        compiler.build(program([contact("Xa"), send], mcu=TINY, pins={"Xa": "PB3"}))
+    [found] = refused.value.diagnostics
+    assert (found.code, found.span) == ("LD503", Span(0, 100, 0, 150))
+    assert "the ATtiny85 has no UART" in found.message
+
+
+def test_attiny85_pwm_on_timer0_is_refused_as_the_cycles():
+    pwm = el("SET_PWM", duty="50", freq=1000, name="P")
+    with pytest.raises(CompileError) as refused:
+        compiler.build(program([contact("Xa"), pwm], mcu=TINY, pins={"Xa": "PB3", "P": "PB0"}))
+    assert [(d.code, d.message) for d in refused.value.diagnostics] == [
+        ("LD708", "PWM on OC0A: Timer0 makes the scan cycle; use an 8-bit timer's output")]
+
+
+@needs_simavr
+@pytest.mark.slow
+@pytest.mark.parametrize("crystal_hz, cycle_us, delay_us", [(8_000_000, 10_000, 0), (16_000_000, 10_000, 1500),
+                                                             (1_000_000, 10_000, 0), (8_000_000, 1_000, 0)])
+def test_attiny85_scans_start_one_cycle_apart(crystal_hz, cycle_us, delay_us, tmp_path):
+    """Timer0 runs free and its overflows are counted in software: scan k
+    starts k cycles after the first, which starts at once, a scan of 1.5 ms
+    (under one turn of the timer, 2 ms here) included."""
+    rungs = [[contact("Xa"), coil("Ya")]] + ([[el("DELAY", delay=str(delay_us))]] if delay_us else [])
+    prog = program(*rungs, mcu=TINY, pins={"Xa": "PB3", "Ya": "PB0", "YPlcCycleDuty": "PB2"},
+                   cycle_us=cycle_us, crystal_hz=crystal_hz, cycle_duty=True)
+    build = compiler.build(prog)
+    build.write(tmp_path / "p.hex")
+    cycles = crystal_hz * cycle_us // 10**6
+    run = simavr.run_avr(tmp_path / "p.hex", "attiny85", crystal_hz, ["watch B 2", f"run {40 * cycles}"])
+    starts = [cycle for cycle, pin, level in run.edges if pin == "B2" and level]
+    assert len(starts) >= 39
+    assert starts[0] < crystal_hz // 10_000  # the first scan at once (start-up under 0.1 ms)
+    # on the grid of the first, late by at most a pass or two of the wait loop (about 20 cycles each): no drift
+    assert all(0 <= start - starts[0] - k * cycles <= 40 for k, start in enumerate(starts)), starts
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_attiny85_pwm_programs_timer1(tmp_path):
+    """simavr does not run the ATtiny85's Timer1: its registers after SET PWM
+    are read for the datasheet's values: TCCR1 = PWM1A | COM1A1 | CS1 = 7
+    (clock / 64: 976.6 Hz, the nearest 1 kHz at 16 MHz), OCR1A = 50 % of 256
+    as every AVR part scales it (duty * 655 / 256 = 127), OCR1C = 255 (the
+    period); and the pin an output."""
+    prog = program([contact("Xa"), el("SET_PWM", duty="50", freq=1000, name="P")], mcu=TINY,
+                   pins={"Xa": "PB3", "P": "PB1"}, crystal_hz=16_000_000)
+    compiler.build(prog).write(tmp_path / "p.hex")
+    run = simavr.run_avr(tmp_path / "p.hex", "attiny85", 16_000_000,
+                         ["drive B 3 1", "run 400000", "peek 77 4", "read B"])
+    [peeked] = [line.split()[2:] for line in run.raw.splitlines() if line.startswith("@peek")]
+    ocr1c, ocr1a, _, tccr1 = (int(byte, 16) for byte in peeked)  # data addresses 0x4D..0x50
+    assert (tccr1, ocr1a, ocr1c) == (0x40 | 0x20 | 7, 127, 255)
+    assert run.port("B")[1] & 1 << 1  # DDRB1

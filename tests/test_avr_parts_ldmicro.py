@@ -1,7 +1,8 @@
 """The later AVR parts against LDmicro 5.4.1.1's own images: corpus programs
 moved to each part simavr has a core for (tests/test_avr_parts.py), written
 as .ld files, compiled by LDmicro and by us, run in simavr under the same
-stimulus: the same edges on every output pin, each within one scan.
+stimulus: the same edges on every output pin, each within one scan. And
+LDmicro's defect on the ATtiny85.
 
 LDmicro is found at /opt/ldmicro/ldmicro (or LDMICRO=); these tests run in
 the LDmicro step of .ci/run (marker `ldmicro`)."""
@@ -19,6 +20,7 @@ from test_compiler_corpus import TIMERS, TRAFFIC, same_edges_as_ldmicro
 from test_compiler_harness import load, needs_simavr
 from test_compiler_random import NEW_AVR_BOARDS
 
+import compiler
 from lang.ldfile import write_ld
 
 pytestmark = pytest.mark.ldmicro
@@ -49,5 +51,18 @@ def test_same_output_edges_as_ldmicros_hex_on_the_part(path, board, tmp_path):
     # at 16 MHz: LDmicro clears all RAM before its first scan (the ATmega1284P's 16 KB take 14 ms at the
     # programs' 4 MHz, more than a cycle), ours only the bytes in use
     program = moved(load(path), board)
-    program = replace(program, settings=replace(program.settings, crystal_hz=16_000_000))
+    # LDmicro's ATtiny85 cycle must be at Timer0 (ours always is): see below
+    timer = 0 if board.part == "attiny85" else program.settings.cycle_timer
+    program = replace(program, settings=replace(program.settings, crystal_hz=16_000_000, cycle_timer=timer))
     same_edges_as_ldmicro(program, ldmicros_hex(program, tmp_path), events, scans, tmp_path)
+
+
+def test_ldmicro_refuses_the_attiny85_with_its_cycle_at_timer1(tmp_path):
+    """LDmicro 5.4.1.1 programs the ATmega's 16-bit Timer1 (TCCR1B) for a
+    cycle "at Timer1", its default, a register the ATtiny85 does not have
+    (address 0 in its tables): every such program is refused. We build it."""
+    program = moved(load("sample/traffic.ld"), next(b for b in NEW_AVR_BOARDS if b.part == "attiny85"))
+    program = replace(program, settings=replace(program.settings, cycle_timer=1))
+    with pytest.raises(AssertionError, match="Zero memory address not allowed"):
+        ldmicros_hex(program, tmp_path)
+    assert compiler.build(program).device.part == "attiny85"
