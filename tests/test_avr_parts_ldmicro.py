@@ -48,12 +48,12 @@ def ldmicros_hex(program, folder: Path) -> Path:
 @pytest.mark.parametrize("path", sorted(PROGRAMS))
 def test_same_output_edges_as_ldmicros_hex_on_the_part(path, board, tmp_path):
     events, scans = PROGRAMS[path]
-    # at 16 MHz: LDmicro clears all RAM before its first scan (the ATmega1284P's 16 KB take 14 ms at the
+    # at 8 MHz: LDmicro clears all RAM before its first scan (the ATmega1284P's 16 KB take 14 ms at the
     # programs' 4 MHz, more than a cycle), ours only the bytes in use
     program = moved(load(path), board)
     # LDmicro's ATtiny85 cycle must be at Timer0 (ours always is): see below
     timer = 0 if board.part == "attiny85" else program.settings.cycle_timer
-    program = replace(program, settings=replace(program.settings, crystal_hz=16_000_000, cycle_timer=timer))
+    program = replace(program, settings=replace(program.settings, crystal_hz=8_000_000, cycle_timer=timer))
     same_edges_as_ldmicro(program, ldmicros_hex(program, tmp_path), events, scans, tmp_path)
 
 
