@@ -192,7 +192,7 @@ def test_attiny85_pwm_on_timer0_is_refused_as_the_cycles():
 def test_attiny85_scans_start_one_cycle_apart(crystal_hz, cycle_us, delay_us, tmp_path):
     """Timer0 runs free and its overflows are counted in software: scan k
     starts k cycles after the first, which starts at once, a scan of 1.5 ms
-    (under one turn of the timer, 2 ms here) included."""
+    (under one turn of the timer: 4 ms for 10 ms at 16 MHz) included."""
     rungs = [[contact("Xa"), coil("Ya")]] + ([[el("DELAY", delay=str(delay_us))]] if delay_us else [])
     prog = program(*rungs, mcu=TINY, pins={"Xa": "PB3", "Ya": "PB0", "YPlcCycleDuty": "PB2"},
                    cycle_us=cycle_us, crystal_hz=crystal_hz, cycle_duty=True)

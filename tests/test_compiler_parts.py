@@ -117,7 +117,7 @@ def test_a_large_program_with_long_jumps_and_tables_reassembles(tmp_path):
     device = find_device(program.settings.mcu)
     for name, assignment in program.pins.items():  # by port name, to move it
         program.pins[name] = PinAssignment(name, device.pin(assignment.pin).name)
-    for part in ("atmega2560", "atmega8"):
+    for part in ("atmega2560", "atmega8", "at90usb647"):
         build = compiler.build(program, part)
         assert reassemble(build.image.listing, part, tmp_path) == build.image.program_bytes()
 
