@@ -16,7 +16,7 @@ from functools import cache
 import pytest
 from builders import coil, contact, el, program
 from corpus import SHARED
-from test_compiler_harness import differential, load, needs_simavr
+from test_compiler_harness import Event, differential, load, needs_simavr
 from test_compiler_random import NEW_AVR_BOARDS, Board
 
 import compiler
@@ -224,3 +224,20 @@ def test_attiny85_pwm_programs_timer1(tmp_path):
     ocr1c, ocr1a, _, tccr1 = (int(byte, 16) for byte in peeked)  # data addresses 0x4D..0x50
     assert (tccr1, ocr1a, ocr1c) == (0x40 | 0x20 | 7, 127, 255)
     assert run.port("B")[1] & 1 << 1  # DDRB1
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_attiny85_multiplies_without_mul(tmp_path):
+    """The ATtiny85 has no MUL: products of 1, 2 and 4 bytes (signed, with
+    overflowing ones) and BCD2BIN by shifts and adds, against the simulator
+    while the operands step through their range."""
+    prog = program([contact("Xa"), el("ADD", dest="a", op1="a", op2="-37")],
+                   [contact("Xa"), el("ADD", dest="b", op1="b", op2="1013")],
+                   [el("MUL", dest="p1", op1="a", op2="b")], [el("MUL", dest="p2", op1="a", op2="b")],
+                   [el("MUL", dest="p4", op1="a", op2="b")], [el("MUL", dest="q4", op1="b", op2="-70001")],
+                   [el("MOVE", dest="d", src="151521030")], [el("BCD2BIN", dest="n", src="d")],  # digits 9, 8, 7, 6
+                   mcu=TINY, pins={"Xa": "PB3"}, sizes={"a": 2, "b": 4, "p1": 1, "p2": 2, "p4": 4, "q4": 4, "d": 4,
+                                                        "n": 4})
+    events = [Event(0, "Xa", 1)]
+    assert differential(prog, events, 200, tmp_path) == []
