@@ -241,3 +241,26 @@ def test_attiny85_multiplies_without_mul(tmp_path):
                                                         "n": 4})
     events = [Event(0, "Xa", 1)]
     assert differential(prog, events, 200, tmp_path) == []
+
+
+def _delayed(delay_us: int):
+    return program([contact("Xa"), coil("Ya")], [el("DELAY", delay=str(delay_us))], mcu=TINY,
+                   pins={"Xa": "PB3", "Ya": "PB0", "YPlcCycleDuty": "PB2"}, crystal_hz=8_000_000, cycle_duty=True)
+
+
+def test_attiny85_a_scan_longer_than_a_turn_of_timer0_is_warned():
+    """10 ms at 8 MHz: Timer0 at clock / 64 turns in 2,048 µs."""
+    assert compiler.build(_delayed(1900)).warnings == []
+    [warning] = compiler.build(_delayed(3000)).warnings
+    assert warning.code == "LD712"
+    assert "more than one turn of Timer0 (2,048 µs, 16,384 cycles): the cycle timer would lose time" in warning.message
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_attiny85_a_scan_longer_than_a_turn_of_timer0_stretches_the_cycle(tmp_path):
+    """What LD712 warns of: with a 3 ms scan some cycles are a turn long."""
+    compiler.build(_delayed(3000)).write(tmp_path / "p.hex")
+    run = simavr.run_avr(tmp_path / "p.hex", "attiny85", 8_000_000, ["watch B 2", "run 1600000"])
+    starts = [cycle for cycle, pin, level in run.edges if pin == "B2" and level]
+    assert max(b - a for a, b in zip(starts, starts[1:])) > 80_000 + 16_000

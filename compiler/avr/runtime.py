@@ -97,6 +97,18 @@ def cycle_variables(part: Part) -> dict[str, int]:
     return {CLOCK: 2, DEADLINE: 3} if runs_free(part) else {}
 
 
+def scan_limit(part: Part, machine: Machine) -> tuple[int, str] | None:
+    """How long a scan may last before a free-running cycle timer loses an
+    overflow: one turn of the timer at the prescaler the cycle uses."""
+    if not runs_free(part):
+        return None
+    timer = part.avr["cycle_timer"]
+    setting = cycle_setting(part.device, machine.crystal_hz, machine.cycle_us, free=True)
+    assert setting is not None  # the checks refuse a cycle the timer cannot make (LD706)
+    prescaler = next(int(text) for text, select in timer["prescalers"].items() if select == setting[0])
+    return timer["counts"] * prescaler * timer["clock_divider"], f"one turn of Timer{timer['timer']}"
+
+
 def _scan(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part = cx.e, cx.part
     pin = machine.duty_pin  # LDmicro's YPlcCycleDuty: high while the scan runs
