@@ -23,6 +23,7 @@ import compiler
 from compiler.errors import CompileError
 from compiler.run import simavr
 from lang.devices import find_device, is_known_ldmicro_name
+from lang.ldfile import read_ld, write_ld
 from lang.model import PinAssignment, Program, Span
 from lang.targets import compiled
 
@@ -264,3 +265,16 @@ def test_attiny85_a_scan_longer_than_a_turn_of_timer0_stretches_the_cycle(tmp_pa
     run = simavr.run_avr(tmp_path / "p.hex", "attiny85", 8_000_000, ["watch B 2", "run 1600000"])
     starts = [cycle for cycle, pin, level in run.edges if pin == "B2" and level]
     assert max(b - a for a, b in zip(starts, starts[1:])) > 80_000 + 16_000
+
+
+@pytest.mark.parametrize("name", sorted(set(ldmicro_avrs()) - NOT_BUILT))
+def test_an_ld_file_naming_the_part_builds(name):
+    """A `MICRO=` line of every LDmicro AVR name, the pins by package number
+    as LDmicro writes them, read back and built for that package."""
+    device = find_device(name)
+    first, second = [pin.name for pin in device.io_pins() if pin.name not in device.uart.values()][:2]
+    prog, problems = read_ld(write_ld(program([contact("Xa"), coil("Ya")], mcu=name, pins={"Xa": first, "Ya": second})))
+    assert not problems
+    assert f"MICRO={name}" in write_ld(prog)
+    build = compiler.build(prog)
+    assert (build.device.part, build.device.package) == (device.part, device.package)
