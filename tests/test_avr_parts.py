@@ -9,6 +9,8 @@ test_compiler_random.py."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 import tarfile
 from dataclasses import replace
 from functools import cache
@@ -278,3 +280,10 @@ def test_an_ld_file_naming_the_part_builds(name):
     assert f"MICRO={name}" in write_ld(prog)
     build = compiler.build(prog)
     assert (build.device.part, build.device.package) == (device.part, device.package)
+
+
+def test_ladder_parts_builds_every_ldmicro_avr_but_the_attiny10():
+    listed = subprocess.run([sys.executable, "-m", "ladder", "parts"], capture_output=True, text=True, timeout=120,
+                            check=True).stdout
+    rows = {line.split(None, 4)[4]: line.split()[3] for line in listed.splitlines()[1:] if "Atmel AVR" in line}
+    assert rows == {name: "yes" for name in set(ldmicro_avrs()) - NOT_BUILT}

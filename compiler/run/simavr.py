@@ -150,7 +150,7 @@ def available() -> bool:
 def core_name(mcu: str) -> str:
     """simavr core name for an MCU name: ``"ATmega128"``, ``"atmega328p"`` or LDmicro's
     ``"Atmel AVR ATmega128 64-TQFP"`` all work. Raises UnsupportedMcu for parts without a
-    simavr core (ATmega162, ATmega64)."""
+    simavr core (ATmega162, ATmega64, AT90USB647)."""
     m = re.search(r"(atmega|attiny|at90usb)\s*(\d+[a-z0-9]*)", mcu.lower())
     if not m:
         raise UnsupportedMcu(f"not an AVR name: {mcu!r}")
