@@ -62,6 +62,8 @@ def test_part_facts_match_avr_libc(part):
         assert registers[name] == address, name
     assert avr["flash"] == _constant(text, "FLASHEND") + 1
     assert avr["eeprom"] == _constant(text, "E2END") + 1
+    # the datasheets: 3.4 ms on the parts whose EEPROM has the EEPM mode bits, 8.5 ms on the older ones
+    assert avr["eeprom_write_us"] == (3400 if "EEPM0" in bits else 8500)
     assert avr["ram"]["start"] == _constant(text, "RAMSTART")
     assert avr["ram"]["start"] + avr["ram"]["size"] - 1 == _constant(text, "RAMEND")
     cycle = avr["cycle_timer"]
