@@ -18,7 +18,7 @@ from functools import cache
 import pytest
 from builders import coil, contact, el, program
 from corpus import SHARED
-from test_compiler_harness import Event, differential, load, needs_simavr
+from test_compiler_harness import Event, differential, load, needs_simavr, run_hex
 from test_compiler_random import NEW_AVR_BOARDS, Board
 
 import compiler
@@ -287,3 +287,17 @@ def test_ladder_parts_builds_every_ldmicro_avr_but_the_attiny10():
                             check=True).stdout
     rows = {line.split(None, 4)[4]: line.split()[3] for line in listed.splitlines()[1:] if "Atmel AVR" in line}
     assert rows == {name: "yes" for name in set(ldmicro_avrs()) - NOT_BUILT}
+
+
+@needs_simavr
+@pytest.mark.slow
+def test_atmega32u4_echoes_on_its_usart1(tmp_path):
+    """The ATmega32U4 has only USART1: the bytes fed to it (the harness's
+    `uart 1`) are received, as the simulator receives them, and sent back."""
+    prog = program([el("UART_RECV", var="got", bytes=1, wait=0), el("UART_SEND", var="got", wait=0)],
+                   mcu="Atmel AVR ATmega32U4 44-Pin packages", crystal_hz=16_000_000, cycle_us=4000)
+    events = [Event(5, "uart", 65), Event(12, "uart", 200), Event(20, "uart", 7)]
+    assert differential(prog, events, 30, tmp_path) == []
+    build = compiler.build(prog)
+    build.write(tmp_path / "echo.hex")
+    assert run_hex(build, tmp_path / "echo.hex", events, 30, []).run.uart_bytes() == bytes([65, 200, 7])

@@ -57,7 +57,7 @@ class Board:
     outputs: tuple[str, ...]
     adc: str | None = None
     pwm: str | None = None
-    uart0: bool = True  # the harness feeds and watches USART0 only (the ATmega128 uses USART1)
+    uart: bool = True  # received bytes are fed to the part's UART (the PIC16 harness feeds none)
     crystal_hz: int = 16_000_000
     cycle_us: int = 4000  # room in the cycle for a long scan and a UART byte's arrival
     left_out: frozenset[str] = frozenset()  # instructions not drawn on this board
@@ -84,7 +84,7 @@ BOARDS = (
     Board("atmega16", "avr", "Atmel AVR ATmega16 40-PDIP", ("PD2", "PD3", "PD4", "PD5"),
           ("PB0", "PB1", "PB2", "PC0", "PC1", "PC2"), "PA0", "PB3"),
     Board("atmega128", "avr", "Atmel AVR ATmega128 64-TQFP", ("PE2", "PE3", "PA5", "PA6"),
-          ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7", uart0=False),
+          ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7"),
     Board("atmega2560", "avr", "Atmel AVR ATmega2560 100-TQFP", ("PD2", "PD3", "PH0", "PH1"),
           ("PB0", "PB1", "PK0", "PL1", "PC0", "PC1"), "PF0", "PB4"),
     Board("atmega8", "avr", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
@@ -106,12 +106,11 @@ NEW_AVR_BOARDS = (
     Board("atmega324p", "avr", "Atmel AVR ATmega324 40-PDIP", *_MEGA40),
     Board("atmega644p", "avr", "Atmel AVR ATmega644 40-PDIP", *_MEGA40),
     Board("atmega1284p", "avr", "Atmel AVR ATmega1284 44-Pin packages", *_MEGA40),
-    # USART1: the harness feeds USART0 only
     Board("atmega32u4", "avr", "Atmel AVR ATmega32U4 44-Pin packages", ("PB0", "PB1", "PB2", "PB3"),
-          ("PD1", "PD4", "PD5", "PC6", "PC7", "PE6"), "PF0", "PB7", uart0=False),
+          ("PD1", "PD4", "PD5", "PC6", "PC7", "PE6"), "PF0", "PB7"),
     # six port bits, no UART
     Board("attiny85", "avr", "Atmel AVR ATtiny85 8-Pin packages", ("PB3", "PB4"), ("PB0", "PB2"), "PB5", "PB1",
-          uart0=False, left_out=frozenset(("UART_SEND", "UART_SEND_READY", "UART_RECV", "UART_RECV_AVAIL",
+          uart=False, left_out=frozenset(("UART_SEND", "UART_SEND_READY", "UART_RECV", "UART_RECV_AVAIL",
                                            "FORMATTED_STRING"))),
 )
 
@@ -125,7 +124,7 @@ def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str,
     start-up makes them digital), none on the oscillator, MCLR or open-drain
     RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz;
     ballast up to three of the four banks of RAM."""
-    return Board(part, "pic16", ldmicro, inputs, outputs, uart0=False, crystal_hz=crystal_hz, cycle_us=10_000,
+    return Board(part, "pic16", ldmicro, inputs, outputs, uart=False, crystal_hz=crystal_hz, cycle_us=10_000,
                  left_out=PIC16_PERIPHERALS, ballast=ballast)
 
 
@@ -447,7 +446,7 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     events = [e for e in events if e.name in program.pins]
     if "Aa" in program.pins:
         events += [Event(draw(st.integers(0, scans - 1)), "Aa", draw(st.integers(0, 1023))) for _ in range(4)]
-    if board.uart0 and any(e.kind in ("UART_RECV", "UART_RECV_AVAIL") for _, e in program.elements()):
+    if board.uart and any(e.kind in ("UART_RECV", "UART_RECV_AVAIL") for _, e in program.elements()):
         # at most one byte per scan: the UART holds few more
         arrivals = draw(st.sets(st.integers(1, scans - 1), max_size=6))
         events += [Event(scan, "uart", draw(st.integers(0, 255))) for scan in sorted(arrivals)]

@@ -161,6 +161,13 @@ def core_name(mcu: str) -> str:
     return name
 
 
+def uart_number(device) -> str:
+    """The USART a compiled image uses ("0" or "1"; "0" without one), for the
+    harness's `uart` command: USART1 on the ATmega64/128, 32U4 and AT90USB647."""
+    uart = device.data["avr"].get("uart")
+    return uart["UDR"][-1] if uart and uart["UDR"][-1] in "01" else "0"
+
+
 def parse_pin(pin: str) -> tuple[str, int]:
     """``"B5"`` / ``"PB5"`` / ``"pb5"`` -> ``("B", 5)``."""
     m = re.fullmatch(r"P?([A-L])([0-7])", pin.strip().upper())
