@@ -161,11 +161,13 @@ def core_name(mcu: str) -> str:
     return name
 
 
-def uart_number(device) -> str:
-    """The USART a compiled image uses ("0" or "1"; "0" without one), for the
-    harness's `uart` command: USART1 on the ATmega64/128, 32U4 and AT90USB647."""
+def uart_number(device) -> str | None:
+    """The USART a compiled image uses, for the harness's `uart` command: "1"
+    on the ATmega64/128, 32U4 and AT90USB647, else "0"; None without one."""
     uart = device.data["avr"].get("uart")
-    return uart["UDR"][-1] if uart and uart["UDR"][-1] in "01" else "0"
+    if uart is None:
+        return None
+    return "1" if uart["UDR"].endswith("1") else "0"
 
 
 def parse_pin(pin: str) -> tuple[str, int]:
