@@ -411,6 +411,7 @@ class Budget:
     loops: tuple[Wait, ...] = ()  # the loops on the worst path, the costliest first
     unbounded: tuple[str, ...] = ()  # why there is no bound: "LOCK in rung 7"
     rung: int | None = None  # the rung that takes the most on the worst path
+    limit: tuple[int, str] | None = None  # Image.scan_limit: less than the cycle
 
     @property
     def us(self) -> float | None:
@@ -425,9 +426,14 @@ class Budget:
 
     @property
     def overruns(self) -> bool:
-        """A bounded worst case longer than the cycle."""
+        """A bounded worst case longer than the cycle, or than the limit of
+        a cycle timer that runs free."""
         us = self.us
-        return us is not None and us > self.cycle_us
+        return us is not None and (us > self.cycle_us or self.beyond_limit)
+
+    @property
+    def beyond_limit(self) -> bool:
+        return self.cycles is not None and self.limit is not None and self.cycles > self.limit[0]
 
     def summary(self) -> str:
         """`scan: at most 1,234 cycles = 247 µs of the 10 ms cycle (2.5%)`."""
@@ -486,7 +492,8 @@ def scan_budget(program: Program, device: Device, image: Image, flow: Decoder) -
     for site, cycles in worst.spent:
         by_rung[rung_of(site)] = by_rung.get(rung_of(site), 0) + cycles
     costliest = max((r for r in by_rung if r), key=lambda r: by_rung[r], default=None)
-    return Budget(worst.cycles, hz, settings.cycle_us, _loops(worst, rung_of), rung=costliest)
+    return Budget(worst.cycles, hz, settings.cycle_us, _loops(worst, rung_of), rung=costliest,
+                  limit=image.scan_limit)
 
 
 def _reason(found: Unbounded, rung_of, rung_heads: dict[int, int]) -> str:
@@ -516,8 +523,14 @@ def overrun_warning(program: Program, budget: Budget) -> Diagnostic | None:
     us = budget.us
     if us is None or not budget.overruns:
         return None
-    message = (f"a scan may take up to {_us(us)} ({budget.cycles:,} cycles), more than the "
-               f"{budget.cycle_us / 1000:g} ms cycle: every timer would run slow")
+    if us > budget.cycle_us or budget.limit is None:
+        message = (f"a scan may take up to {_us(us)} ({budget.cycles:,} cycles), more than the "
+                   f"{budget.cycle_us / 1000:g} ms cycle: every timer would run slow")
+    else:
+        cycles, what = budget.limit
+        message = (f"a scan may take up to {_us(us)} ({budget.cycles:,} cycles), more than {what} "
+                   f"({_us(cycles * 1e6 / budget.cycle_hz)}, {cycles:,} cycles): the cycle timer would lose "
+                   "time and every timer run slow")
     if budget.dominant:
         message += "; mostly " + ", ".join(w.text() for w in budget.dominant)
     rung = program.rungs[budget.rung - 1] if budget.rung else None

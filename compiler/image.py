@@ -67,6 +67,8 @@ class Image:
     segments: dict[int, bytes] = field(default_factory=dict)  # byte address -> data past program memory
     listing_suffix: str = ".lst"
     loops: dict[str, LoopBound] = field(default_factory=dict)  # loop-head label -> its bound
+    # a cycle timer running free loses time when a scan lasts longer than this (CPU cycles, with why)
+    scan_limit: tuple[int, str] | None = None
 
     def __post_init__(self):
         if self.flash_unit not in ("bytes", "words"):

@@ -86,7 +86,8 @@ def cycle_refusal(device: Device, crystal_hz: int, cycle_us: int, free: bool) ->
     prescalers = sorted(_prescalers(timer))
     clock = f", Fosc/{timer['clock_divider']}" if timer["clock_divider"] != 1 else ""
     width = "" if free else "16 bits, "
-    return (f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz crystal with Timer1 "
+    return (f"a {cycle_us / 1000:g} ms cycle cannot be made from a {crystal_hz / 1e6:g} MHz crystal with "
+            f"Timer{timer.get('timer', 1)} "
             f"({width}prescaler {prescalers[0]} to {prescalers[-1]}{clock})")
 
 
@@ -164,7 +165,9 @@ def pwm_refusal(device: Device, unit: str, freq: int) -> str | None:
     timer = pwm_timer(device, unit)
     if timer is None or "prescalers" not in timer:
         number = timer["timer"] if timer else "?"
-        why = "Timer1 makes the scan cycle" if number == 1 else f"Timer{number} is a 16-bit timer, not compiled"
+        cycle = device.data.get(device.family, {}).get("cycle_timer", {}).get("timer", 1)  # Timer0 on the ATtiny85
+        why = f"Timer{number} makes the scan cycle" if number == cycle else \
+            f"Timer{number} is a 16-bit timer, not compiled"
         return f"PWM on {unit}: {why}; use an 8-bit timer's output"
     if freq <= 0:
         return f"PWM frequency {freq} Hz is not possible"

@@ -18,7 +18,7 @@ import pytest
 from builders import coil, contact, counter, el, move, par, program, timer
 from hypothesis import HealthCheck, given, settings
 from test_compiler_harness import CORPUS, Event, load, needs_simavr, run_hex
-from test_compiler_random import cases
+from test_compiler_random import NEW_AVR_BOARDS, cases
 
 import compiler
 from compiler.budget import BRANCH, CALL, COMPUTED, JUMP, NEXT, RETURN, SKIP, Analysis, Instruction
@@ -150,6 +150,7 @@ def _objdump(hex_path, arch: str, start: int) -> list[tuple[int, int, str, str, 
 @pytest.mark.parametrize("path, target, arch", [
     ("sample/swatch2.ld", None, "avr5"), ("sample/hello.ld", None, "avr4"),
     ("reg/tests/integers.ld", "atmega2560", "avr6"), ("Tests/test-adc.ld", None, "avr5"),
+    ("sample/hello.ld", "atmega48", "avr4"), ("reg/tests/integers.ld", "at90usb647", "avr5"),
 ])
 def test_avr_decoder_agrees_with_avr_objdump(path, target, arch, tmp_path):
     from compiler.avr.flow import instruction_at
@@ -345,6 +346,12 @@ def test_every_loop_of_a_random_program_has_a_bound(case):
     assert build.budget.cycles is not None, build.budget.summary()
 
 
+@settings(max_examples=20, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases(NEW_AVR_BOARDS))
+def test_every_loop_of_a_random_program_on_the_later_avrs_has_a_bound(case):
+    test_every_loop_of_a_random_program_has_a_bound.hypothesis.inner_test(case)
+
+
 # --- in the simulators ----------------------------------------------------------------------------
 
 def with_duty(prog, build):
@@ -352,7 +359,9 @@ def with_duty(prog, build):
     device = build.device
     used = {device.pin(a.pin).name for a in prog.pins.values() if device.pin(a.pin) is not None}
     special = set(device.uart.values()) | set(device.pwm) | set(device.adc)
-    free = [p for p in device.io_pins() if p.name not in used | special][-1]
+    # the ATtiny85's pins are all special: then any pin the program leaves
+    free = ([p for p in device.io_pins() if p.name not in used | special] or
+            [p for p in device.io_pins() if p.name not in used])[-1]
     pins = {**prog.pins, "YPlcCycleDuty": PinAssignment("YPlcCycleDuty", free.name)}
     return replace(prog, settings=replace(prog.settings, cycle_duty=True), pins=pins), free
 
@@ -424,6 +433,15 @@ def test_avr_worst_case_covers_every_measured_scan_of_random_programs(case, tmp_
     except CompileError:
         return
     _sound(build, measured)
+
+
+@needs_simavr
+@pytest.mark.slow
+@settings(max_examples=24, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases(tuple(replace(board, inputs=board.inputs[:1]) if board.part == "attiny85" else board
+                        for board in NEW_AVR_BOARDS)))  # a pin left for YPlcCycleDuty
+def test_avr_worst_case_covers_every_measured_scan_on_the_later_avrs(case, tmp_path_factory):
+    test_avr_worst_case_covers_every_measured_scan_of_random_programs.hypothesis.inner_test(case, tmp_path_factory)
 
 
 @needs_simavr

@@ -94,7 +94,12 @@ LDMICRO = {
 @pytest.mark.parametrize("path", sorted(LDMICRO))
 def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
     reference, events, scans = LDMICRO[path]
-    program = load(path)
+    same_edges_as_ldmicro(load(path), LDMICRO_HEX / reference, events, scans, tmp_path)
+
+
+def same_edges_as_ldmicro(program, reference, events, scans, tmp_path) -> None:
+    """Our image and LDmicro's HEX of the program make the same edges on
+    every output pin under the same stimulus, each within one scan."""
     build = compiler.build(program)
     ours = tmp_path / "ours.hex"
     build.write(ours)
@@ -109,7 +114,7 @@ def test_same_output_edges_as_ldmicros_hex(path, tmp_path):
     until = scans * cycle_ms
     watched = pins + ([duty] if duty else [])
     mine = _edges(ours, build.device.part, settings.crystal_hz, stimuli, watched, until)
-    theirs = _edges(LDMICRO_HEX / reference, build.device.part, settings.crystal_hz, stimuli, watched, until)
+    theirs = _edges(reference, build.device.part, settings.crystal_hz, stimuli, watched, until)
     our_scan, their_scan = _scan_counter(mine, duty, cycle_ms), _scan_counter(theirs, duty, cycle_ms)
     last = until - 3 * cycle_ms  # LDmicro runs one scan behind: its last edges may be cut off
     for pin in pins:

@@ -57,7 +57,7 @@ class Board:
     outputs: tuple[str, ...]
     adc: str | None = None
     pwm: str | None = None
-    uart0: bool = True  # the harness feeds and watches USART0 only (the ATmega128 uses USART1)
+    uart: bool = True  # received bytes are fed to the part's UART (the PIC16 harness feeds none)
     crystal_hz: int = 16_000_000
     cycle_us: int = 4000  # room in the cycle for a long scan and a UART byte's arrival
     left_out: frozenset[str] = frozenset()  # instructions not drawn on this board
@@ -68,6 +68,15 @@ class Board:
     def draws(self, kind: str) -> bool:
         return self.family in INSTRUCTIONS[kind].support and kind not in self.left_out
 
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """The input names the board has pins for."""
+        return INPUTS[:len(self.inputs)]
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return OUTPUTS[:len(self.outputs)]
+
 
 BOARDS = (
     Board("atmega328p", "avr", "Atmel AVR ATmega328 28-PDIP", ("PD2", "PD3", "PD4", "PD7"),
@@ -75,7 +84,7 @@ BOARDS = (
     Board("atmega16", "avr", "Atmel AVR ATmega16 40-PDIP", ("PD2", "PD3", "PD4", "PD5"),
           ("PB0", "PB1", "PB2", "PC0", "PC1", "PC2"), "PA0", "PB3"),
     Board("atmega128", "avr", "Atmel AVR ATmega128 64-TQFP", ("PE2", "PE3", "PA5", "PA6"),
-          ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7", uart0=False),
+          ("PA0", "PA1", "PA2", "PF5", "PC0", "PC1"), "PF0", "PB7"),
     Board("atmega2560", "avr", "Atmel AVR ATmega2560 100-TQFP", ("PD2", "PD3", "PH0", "PH1"),
           ("PB0", "PB1", "PK0", "PL1", "PC0", "PC1"), "PF0", "PB4"),
     Board("atmega8", "avr", "Atmel AVR ATmega8 28-PDIP", ("PD2", "PD3", "PD4", "PD5"),
@@ -86,6 +95,24 @@ BOARDS = (
           ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7"),
 )
 
+# the parts LDmicro lists that came later (issue 20), simavr's cores all
+_MEGA28 = (("PD2", "PD3", "PD4", "PD7"), ("PB0", "PB1", "PB2", "PB3", "PB4", "PB5"), "PC0", "PD6")
+_MEGA40 = (("PD2", "PD3", "PB5", "PB6"), ("PB0", "PB1", "PC2", "PC3", "PA1", "PA2"), "PA0", "PD7")
+NEW_AVR_BOARDS = (
+    Board("atmega48", "avr", "Atmel AVR ATmega48 28-PDIP", *_MEGA28),
+    Board("atmega88", "avr", "Atmel AVR ATmega88 28-PDIP", *_MEGA28),
+    Board("atmega168", "avr", "Atmel AVR ATmega168 28-PDIP", *_MEGA28),
+    Board("atmega164p", "avr", "Atmel AVR ATmega164 40-PDIP", *_MEGA40),
+    Board("atmega324p", "avr", "Atmel AVR ATmega324 40-PDIP", *_MEGA40),
+    Board("atmega644p", "avr", "Atmel AVR ATmega644 40-PDIP", *_MEGA40),
+    Board("atmega1284p", "avr", "Atmel AVR ATmega1284 44-Pin packages", *_MEGA40),
+    Board("atmega32u4", "avr", "Atmel AVR ATmega32U4 44-Pin packages", ("PB0", "PB1", "PB2", "PB3"),
+          ("PD1", "PD4", "PD5", "PC6", "PC7", "PE6"), "PF0", "PB7"),
+    # six port bits, no UART
+    Board("attiny85", "avr", "Atmel AVR ATtiny85 8-Pin packages", ("PB3", "PB4"), ("PB0", "PB2"), "PB5", "PB1",
+          uart=False, left_out=frozenset(("UART_SEND", "UART_SEND_READY", "UART_RECV", "UART_RECV_AVAIL",
+                                           "FORMATTED_STRING"))),
+)
 
 # the C output ignores the part: its board is an AVR one whose instructions are C's
 C_BOARDS = (dataclasses.replace(BOARDS[0], family="c"),)
@@ -97,7 +124,7 @@ def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str,
     start-up makes them digital), none on the oscillator, MCLR or open-drain
     RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz;
     ballast up to three of the four banks of RAM."""
-    return Board(part, "pic16", ldmicro, inputs, outputs, uart0=False, crystal_hz=crystal_hz, cycle_us=10_000,
+    return Board(part, "pic16", ldmicro, inputs, outputs, uart=False, crystal_hz=crystal_hz, cycle_us=10_000,
                  left_out=PIC16_PERIPHERALS, ballast=ballast)
 
 
@@ -175,11 +202,12 @@ def _simple(kind):
 
 def _contact(board):
     return st.builds(lambda n, neg: _e("CONTACTS", name=n, negated=neg),
-                     st.sampled_from(INPUTS + OUTPUTS + RELAYS + ("ROverflowFlagV",)), st.integers(0, 1))
+                     st.sampled_from(board.input_names + board.output_names + RELAYS + ("ROverflowFlagV",)),
+                     st.integers(0, 1))
 
 
 def _coil(board):
-    return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(OUTPUTS + RELAYS),
+    return st.builds(lambda n, t: _e("COIL", name=n, type=t), st.sampled_from(board.output_names + RELAYS),
                      st.sampled_from(" /SRT"))
 
 
@@ -362,12 +390,13 @@ def _add_jumps(draw, rungs: list[Rung], d: Drawing) -> None:
         target = draw(st.integers(1, len(rungs) - 1))
         rungs[target] = Rung(rung_circuit(Series([_e("LABEL", label="ahead")] + rungs[target].circuit.items)))
         source = draw(st.integers(0, target))
-        rungs.insert(source, Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+        rungs.insert(source, Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(d.board.input_names)), negated=0),
                                           _e("GOTO", label="ahead")])))
     if draw(st.booleans()):
         call = Parallel([Series([_e("GOSUB", label="sub")]),
-                         Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(OUTPUTS)), type=" ")])])
-        caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0), call])))
+                         Series([_e("OSC"), _e("COIL", name=draw(st.sampled_from(d.board.output_names)), type=" ")])])
+        caller = Rung(rung_circuit(Series([_e("CONTACTS", name=draw(st.sampled_from(d.board.input_names)), negated=0),
+                                           call])))
         rungs.insert(draw(st.integers(0, len(rungs))), caller)
         body = [Rung(rung_circuit(draw(_series(1, True, d)))) for _ in range(draw(st.integers(1, 2)))]
         rungs += [Rung(Series([_e("SUBPROG", label="sub")])), *body, Rung(Series([_e("ENDSUB", label="sub")]))]
@@ -394,12 +423,12 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
     # every relay read is written somewhere, and a master relay zone is closed
     for relay in sorted(r for r in RELAYS if r in used):
-        program.rungs.append(Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(INPUTS)), negated=0),
+        program.rungs.append(Rung(Series([_e("CONTACTS", name=draw(st.sampled_from(board.input_names)), negated=0),
                                           _e("COIL", name=relay, type=" ")])))
     if sum(e.kind == "MASTER_RELAY" for _, e in program.elements()) % 2:
         program.rungs.append(Rung(Series([_e("MASTER_RELAY")])))
     used = {str(v) for _, e in program.elements() for v in e.args.values()}
-    for name, pin in zip(INPUTS + OUTPUTS, board.inputs + board.outputs):
+    for name, pin in [*zip(board.input_names, board.inputs), *zip(board.output_names, board.outputs)]:
         if name in used:
             program.pins[name] = PinAssignment(name, pin)
     if "Aa" in used:
@@ -411,13 +440,13 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     program.var_sizes["vr"] = 4
     program.var_sizes.update((f"pad{i}", 4) for i in range(pads))
     scans = draw(st.integers(40, 120))
-    events = [Event(0, x, draw(st.integers(0, 1))) for x in INPUTS if x in program.pins]
-    events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(INPUTS)), draw(st.integers(0, 1)))
+    events = [Event(0, x, draw(st.integers(0, 1))) for x in board.input_names if x in program.pins]
+    events += [Event(draw(st.integers(1, scans - 1)), draw(st.sampled_from(board.input_names)), draw(st.integers(0, 1)))
                for _ in range(draw(st.integers(0, 12)))]
     events = [e for e in events if e.name in program.pins]
     if "Aa" in program.pins:
         events += [Event(draw(st.integers(0, scans - 1)), "Aa", draw(st.integers(0, 1023))) for _ in range(4)]
-    if board.uart0 and any(e.kind in ("UART_RECV", "UART_RECV_AVAIL") for _, e in program.elements()):
+    if board.uart and any(e.kind in ("UART_RECV", "UART_RECV_AVAIL") for _, e in program.elements()):
         # at most one byte per scan: the UART holds few more
         arrivals = draw(st.sets(st.integers(1, scans - 1), max_size=6))
         events += [Event(scan, "uart", draw(st.integers(0, 255))) for scan in sorted(arrivals)]
@@ -453,6 +482,14 @@ def test_random_programs_follow_the_simulator(case, tmp_path_factory):
         assume(not too_large(problem))
         raise
     assert problems == [], "\n".join(problems)
+
+
+@needs_simavr
+@pytest.mark.slow
+@settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases(NEW_AVR_BOARDS))
+def test_random_programs_on_the_later_avrs_follow_the_simulator(case, tmp_path_factory):
+    test_random_programs_follow_the_simulator.hypothesis.inner_test(case, tmp_path_factory)
 
 
 def too_large(problem: CompileError) -> bool:

@@ -22,7 +22,9 @@ EXPORTS = SHARED / "corpus" / "ldmicro-export"
 
 EXPECTED_PARTS = [
     "atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
-    "atmega328p", "atmega1284p", "atmega2560", "pic16f628", "pic16f628a",
+    "atmega328p", "atmega1284p", "atmega2560", "atmega48", "atmega88", "atmega168", "atmega164p", "atmega324p",
+    "atmega644p", "atmega32u4", "at90usb647", "attiny85",
+    "pic16f628", "pic16f628a",
     "pic16f72", "pic16f876", "pic16f876a", "pic16f877", "pic16f877a",
     "pic16f88", "pic16f819", "pic16f886", "pic16f887", "pic12f675", "pic12f683",
 ]
@@ -234,7 +236,7 @@ def test_known_ldmicro_names_without_data():
         "St ARM STM32F40X 144-LQFP",
         "ESP8266",
         "PC LPT COM",
-        "Atmel AVR ATtiny85 8-Pin packages",
+        "Atmel AVR ATtiny10 6-Pin packages",
         "Microchip PIC16F1827 18-Pin PDIP, SOIC",
     ]:
         assert is_known_ldmicro_name(name), name

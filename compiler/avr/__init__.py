@@ -17,7 +17,7 @@ from .memory import RegBit, allocate
 from .part import Part
 from .peripherals import UART_IDLE
 from .routines import write_routines
-from .runtime import write_runtime
+from .runtime import cycle_variables, scan_limit, write_runtime
 from .select import DELAY_LOOP_CYCLES, Context
 
 
@@ -30,6 +30,7 @@ class AvrBackend:
         part = Part.of(machine.device)
         if uses_uart(code):
             code.bits[UART_IDLE] = ir.MEMORY
+        code.vars.update(cycle_variables(part))
         layout = allocate(code, part, machine)
         assembler = Assembler(part.long_jumps, part.flash // 2)
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)
@@ -57,7 +58,7 @@ class AvrBackend:
         return Image(words=assembled.words, listing=header + assembled.listing, ram_bytes=layout.ram_used,
                      ram_size=part.avr["ram"]["size"], flash_size=part.flash, flash_unit="bytes",
                      warnings=[], symbols=_symbols(layout), labels=assembled.symbols,
-                     loops=dict(cx.e.bounds))
+                     loops=dict(cx.e.bounds), scan_limit=scan_limit(part, machine))
 
 
 def _symbols(layout) -> dict[str, Symbol]:

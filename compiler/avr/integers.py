@@ -161,7 +161,7 @@ def _overflow(cx, r, n: int, flag: ir.Bit) -> None:
 
 def _multiply(cx, op: ir.Arith, n: int) -> None:
     e = cx.e
-    if n <= 2:
+    if n <= 2 and cx.part.has_mul:
         load(cx, op.a, A[:n])
         load(cx, op.b, B[:n])
         e.ins("mul", A[0], B[0])

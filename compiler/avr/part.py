@@ -30,7 +30,6 @@ TXC, UDRE, RXC, U2X = 6, 5, 7, 1  # UCSRA
 RXEN, TXEN = 4, 3  # UCSRB
 URSEL = 7  # UCSRC/UBRRH shared address: 0 selects UBRRH
 ADEN, ADSC = 7, 6  # ADCSRA
-MUX5 = 3  # ADCSRB (ATmega2560)
 EERE, EEWE, EEMWE = 0, 1, 2  # EECR (EEPE/EEMPE on the newer parts)
 
 
@@ -67,6 +66,11 @@ class Part:
     @property
     def long_jumps(self) -> bool:
         return self.avr["long_jumps"]
+
+    @property
+    def has_mul(self) -> bool:
+        """MUL and its kin: all but the ATtiny85's core."""
+        return self.avr.get("mul", True)
 
     @property
     def pc_bytes(self) -> int:

@@ -13,7 +13,7 @@ from lang.semantics import ir
 
 from ..image import LoopBound
 from . import bits, integers
-from .emit import LOADED, SCRATCH, A
+from .emit import LOADED, SCRATCH, A, B
 from .memory import MemBit
 from .part import (
     ADEN,
@@ -22,7 +22,6 @@ from .part import (
     EEMWE,
     EERE,
     EEWE,
-    MUX5,
     RXC,
     RXEN,
     TXC,
@@ -69,8 +68,9 @@ def adc_prescaler(crystal_hz: int) -> int:
 def read_adc(cx, op: ir.ReadAdc) -> None:
     e, part, adc = cx.e, cx.part, cx.part.adc
     _write(e, part, adc["ADMUX"], (op.refs & 3) << 6 | (op.channel & 7))
-    if "MUX5" in adc:
-        _io_bit(e, part, adc["MUX5"], MUX5, op.channel >= 8)
+    if "MUX5" in adc:  # channels 8 and up: the register and bit of MUX5 differ by part
+        register, bit = adc["MUX5"]
+        _io_bit(e, part, register, bit, op.channel >= 8)
     _write(e, part, adc["ADCSRA"], 1 << ADEN | 1 << ADSC | adc_prescaler(cx.crystal_hz))
     prescaler = 1 << adc_prescaler(cx.crystal_hz)
     _wait_while(e, part, adc["ADCSRA"], ADSC, True,
@@ -107,8 +107,10 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     for i, reg in enumerate(duty[1:], 1):
         e.ins("cpc", reg, e.constant_reg((op.full >> 8 * i) & 0xFF, SCRATCH + 1))
     e.branch("brge", on)
-    _scale(e, op.full, duty)
+    _scale(cx, op.full, duty)
     e.store_byte(part.reg(cfg["ocr"]), SCRATCH, False)
+    if "top" in cfg:  # the ATtiny85's Timer1 counts to OCR1C: a full period of 256
+        _write(e, part, cfg["top"], 0xFF)
     control = cfg["com"] | cfg["fast"]
     if cfg["clock"] == cfg["control"]:
         control |= setting.select
@@ -126,8 +128,18 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.label(done)
 
 
-def _scale(e, full: int, duty) -> None:
+def _scale(cx, full: int, duty) -> None:
     """SCRATCH = duty * 256 / full, for 0 < duty < full."""
+    e = cx.e
+    if full == 100 and not cx.part.has_mul:
+        # duty * 655 / 256, the same as below, by the multiplication routine
+        for reg in A[len(duty):]:
+            e.ins("clr", reg)
+        for i, reg in enumerate(B):
+            e.constant((655 >> 8 * i) & 0xFF, reg)
+        e.call(cx.routine("mul32"))
+        e.ins("mov", SCRATCH, A[1])
+        return
     if full == 100:
         # duty * 2.56 as duty * 2 + duty * 143 / 256
         e.constant(143, SCRATCH)

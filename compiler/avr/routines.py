@@ -169,9 +169,59 @@ def bcd2bin(e: Emitter) -> None:
     e.ins("ret")
 
 
+def mul32_shift(e: Emitter) -> None:
+    """mul32 on a core without MUL (the ATtiny85): B's bits from the lowest,
+    A added for each one set, A doubled each pass."""
+    for reg in R:
+        e.ins("clr", reg)
+    e.ins("ldi", COUNTER, 32)
+    top, clear = e.new_label("mul_bit"), e.new_label("mul_next")
+    e.label(top, loop=True, bound=LoopBound(32, "a 32-bit multiplication, one bit a pass"))
+    e.ins("lsr", B[3])
+    for reg in reversed(B[:3]):
+        e.ins("ror", reg)
+    e.branch("brcc", clear)
+    e.ins("add", R[0], A[0])
+    for i in range(1, 4):
+        e.ins("adc", R[i], A[i])
+    e.label(clear)
+    e.ins("lsl", A[0])
+    for reg in A[1:]:
+        e.ins("rol", reg)
+    e.ins("dec", COUNTER)
+    e.branch("brne", top)
+    e.ins("movw", A[0], R[0])
+    e.ins("movw", A[2], R[2])
+    e.ins("ret")
+
+
+def bcd2bin_shift(e: Emitter) -> None:
+    """bcd2bin on a core without MUL: each step times ten as (x * 4 + x) * 2."""
+    for reg in A:
+        e.ins("andi", reg, 0x0F)
+    e.ins("mov", R[0], A[3])
+    e.ins("clr", R[1])
+    for digit in (A[2], A[1], A[0]):
+        e.ins("movw", R[2], R[0])
+        for _ in range(2):
+            e.ins("lsl", R[0])
+            e.ins("rol", R[1])
+        e.ins("add", R[0], R[2])
+        e.ins("adc", R[1], R[3])
+        e.ins("lsl", R[0])
+        e.ins("rol", R[1])
+        e.ins("add", R[0], digit)
+        e.ins("adc", R[1], ZERO)
+    e.ins("movw", A[0], R[0])
+    e.ins("ret")
+
+
 ROUTINES = {"mul32": (mul32, ()), "udivmod16": (udivmod16, ()), "udivmod32": (udivmod32, ()),
             "divmod16": (divmod16, ("udivmod16",)), "divmod32": (divmod32, ("udivmod32",)),
-            "bin2bcd": (bin2bcd, ()), "bcd2bin": (bcd2bin, ())}
+            "bin2bcd": (bin2bcd, ()), "bcd2bin": (bcd2bin, ()),
+            "mul32_shift": (mul32_shift, ()), "bcd2bin_shift": (bcd2bin_shift, ())}
+# what a core without MUL calls instead
+WITHOUT_MUL = {"mul32": "mul32_shift", "bcd2bin": "bcd2bin_shift"}
 
 
 def write_routines(e: Emitter, wanted: set[str]) -> None:

@@ -21,13 +21,14 @@ from ..analysis import uses_uart
 from ..image import LoopBound
 from ..target import Machine
 from . import bits
-from .emit import ZERO
+from .emit import ZERO, A, B
 from .memory import MemBit, RegBit
-from .part import WGM12
+from .part import WGM12, Part
 from .peripherals import uart_init
 from .select import Context, select
 
 WATCHDOG_2S = 0b111  # WDP2:0
+CLOCK, DEADLINE = "~cycle.overflows", "~cycle.deadline"
 
 
 def _write(cx: Context, register: str, value: int) -> None:
@@ -84,10 +85,45 @@ def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
     e.forget_scratch()
 
 
-def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
+def runs_free(part: Part) -> bool:
+    """The cycle timer is an 8-bit one counted in software (the ATtiny85's
+    Timer0), not Timer1 restarting itself at a compare match."""
+    return "free_ticks" in part.avr["cycle_timer"]
+
+
+def cycle_variables(part: Part) -> dict[str, int]:
+    """RAM the runtime keeps for a free-running cycle timer: its overflows
+    (the bits above its count) and the next scan's deadline, in ticks."""
+    return {CLOCK: 2, DEADLINE: 3} if runs_free(part) else {}
+
+
+def scan_limit(part: Part, machine: Machine) -> tuple[int, str] | None:
+    """How long a scan may last before a free-running cycle timer loses an
+    overflow: one turn of the timer at the prescaler the cycle uses."""
+    if not runs_free(part):
+        return None
+    timer = part.avr["cycle_timer"]
+    setting = cycle_setting(part.device, machine.crystal_hz, machine.cycle_us, free=True)
+    assert setting is not None  # the checks refuse a cycle the timer cannot make (LD706)
+    prescaler = next(int(text) for text, select in timer["prescalers"].items() if select == setting[0])
+    return timer["counts"] * prescaler * timer["clock_divider"], f"one turn of Timer{timer['timer']}"
+
+
+def _scan(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part = cx.e, cx.part
     pin = machine.duty_pin  # LDmicro's YPlcCycleDuty: high while the scan runs
     duty = MemBit(part.port("PORT", pin.port_bit[0]), pin.port_bit[1], False) if pin is not None else None
+    e.label("scan", loop=True)
+    if duty:
+        bits.write(e, duty, True)
+    select(cx, code.scan)
+    if duty:
+        bits.write(e, duty, False)
+
+
+def _compare_cycle(cx: Context, code: ir.Code, machine: Machine) -> None:
+    """Timer1 in CTC mode: its compare flag marks each cycle."""
+    e, part = cx.e, cx.part
     setting = cycle_setting(part.device, cx.crystal_hz, machine.cycle_us, free=False)
     assert setting is not None  # the checks refuse a cycle Timer1 cannot make (LD706)
     select_bits, counts = setting
@@ -95,12 +131,7 @@ def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
     _write(cx, "OCR1AL", (counts - 1) & 0xFF)
     _write(cx, "TCCR1B", 1 << WGM12 | select_bits)
-    e.label("scan", loop=True)
-    if duty:
-        bits.write(e, duty, True)
-    select(cx, code.scan)
-    if duty:
-        bits.write(e, duty, False)
+    _scan(cx, code, machine)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
     e.ins("wdr")
     flags = part.avr["cycle_timer"]
@@ -111,7 +142,52 @@ def _scan_loop(cx: Context, code: ir.Code, machine: Machine) -> None:
     e.jump("scan")
 
 
+def _free_cycle(cx: Context, code: ir.Code, machine: Machine) -> None:
+    """An 8-bit timer runs free; a 24-bit tick count (its overflows counted
+    in software above its count register) is compared with the next scan's
+    deadline, which moves on by one cycle each scan: no drift. The overflow
+    flag remembers one overflow while the scan runs, so a scan may last up to
+    256 ticks (of the largest prescaler that makes the cycle) without the
+    cycle stretching."""
+    e, part = cx.e, cx.part
+    timer = part.avr["cycle_timer"]
+    setting = cycle_setting(part.device, cx.crystal_hz, machine.cycle_us, free=True)
+    assert setting is not None  # the checks refuse a cycle the timer cannot make (LD706)
+    select_bits, ticks = setting
+    clock, deadline = cx.layout.vars[CLOCK].addr, cx.layout.vars[DEADLINE].addr  # cleared at start-up
+    overflow = MemBit(part.reg(timer["flags"]), timer["TOV0"], False)
+    _write(cx, timer["control"], select_bits)
+    _scan(cx, code, machine)
+    for i, reg in enumerate(A[:3]):
+        e.load_byte(deadline + i, reg, True)
+    for i, reg in enumerate(A[:3]):
+        e.ins("subi" if i == 0 else "sbci", reg, (-ticks >> 8 * i) & 0xFF)
+        e.store_byte(deadline + i, reg, True)
+    e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
+    e.ins("wdr")
+    counted = e.new_label()
+    bits.jump_if(e, overflow, False, counted)
+    _write(cx, timer["flags"], 1 << timer["TOV0"])  # writing 1 clears it
+    e.load_byte(clock, B[0], True)
+    e.load_byte(clock + 1, B[1], True)
+    e.ins("subi", B[0], 0xFF)  # + 1
+    e.ins("sbci", B[1], 0xFF)
+    e.store_byte(clock, B[0], True)
+    e.store_byte(clock + 1, B[1], True)
+    e.label(counted)
+    # the count after the flag: an overflow in between is counted on the next pass
+    e.load_byte(part.reg(timer["count"]), A[0], False)
+    e.load_byte(clock, A[1], True)
+    e.load_byte(clock + 1, A[2], True)
+    for i in range(3):
+        e.load_byte(deadline + i, B[i], True)
+        e.ins("sub" if i == 0 else "sbc", A[i], B[i])
+    e.branch("brmi", "wait")
+    e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
+    e.jump("scan")
+
+
 def write_runtime(cx: Context, code: ir.Code, machine: Machine) -> None:
     _start(cx, code, machine)
-    _scan_loop(cx, code, machine)
+    (_free_cycle if runs_free(cx.part) else _compare_cycle)(cx, code, machine)
 

@@ -13,6 +13,7 @@ from . import bits, integers, peripherals
 from .emit import SCRATCH, A, Emitter
 from .memory import Layout, RegBit
 from .part import Part
+from .routines import WITHOUT_MUL
 
 DELAY_LOOP_CYCLES = 8  # the loop below: WDR, NOP, SUBI, 3 x SBCI, BRNE taken
 
@@ -32,6 +33,8 @@ class Context:
         return self.layout.bits[bit.name]
 
     def routine(self, name: str) -> str:
+        if not self.part.has_mul:
+            name = WITHOUT_MUL.get(name, name)
         self.routines.add(name)
         return name
 

@@ -22,8 +22,10 @@
  *                                (the last instruction may overshoot by a few cycles)
  *   read <port>                  @port <P> <PORT hex> <DDR hex> <PIN hex>
  *   adc <channel> <millivolts>   set an ADC input voltage
- *   uart_in <byte>               queue a byte into UART0 receive
- *                                (UART0 transmit: @uart <cycle> <byte>)
+ *   uart <0|1>                   the UART the other uart lines are about (UART0
+ *                                until told: the ATmega32U4 and AT90USB647 have only UART1)
+ *   uart_in <byte>               queue a byte into that UART's receiver
+ *                                (its transmitter: @uart <cycle> <byte>)
  *   eeprom_read <addr> <len>     @eeprom <hex bytes>
  *   peek <addr> [len]            data memory (registers, I/O, RAM; data-space address):
  *                                @peek <addr decimal> <hex bytes>
@@ -65,6 +67,27 @@ static int done_state; /* nonzero once the core stopped */
 static uint8_t ext_mask[NPORTS], ext_value[NPORTS];
 /* watched pins: last reported level, -1 = not watched */
 static int watch_last[NPORTS][8];
+
+/* the UART the harness feeds and listens to */
+static avr_irq_t *uart_tx, *uart_rx;
+
+static void uart_out(struct avr_irq_t *irq, uint32_t value, void *param);
+
+/* report a UART's transmitted bytes, feed its receiver; no stdio, no sleeping */
+static void hook_uart(char n)
+{
+	if (uart_tx)
+		avr_irq_unregister_notify(uart_tx, uart_out, NULL);
+	uint32_t flags = 0;
+	if (avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS(n), &flags) == 0) {
+		flags &= ~(uint32_t)(AVR_UART_FLAG_POLL_SLEEP | AVR_UART_FLAG_STDIO);
+		avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS(n), &flags);
+	}
+	uart_tx = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(n), UART_IRQ_OUTPUT);
+	uart_rx = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(n), UART_IRQ_INPUT);
+	if (uart_tx)
+		avr_irq_register_notify(uart_tx, uart_out, NULL);
+}
 
 static int port_index(char c)
 {
@@ -229,16 +252,7 @@ int main(int argc, char **argv)
 		for (int b = 0; b < 8; b++)
 			watch_last[i][b] = -1;
 
-	/* UART0: report transmitted bytes, no stdio, no sleeping */
-	uint32_t flags = 0;
-	if (avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags) == 0) {
-		flags &= ~(uint32_t)(AVR_UART_FLAG_POLL_SLEEP | AVR_UART_FLAG_STDIO);
-		avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
-	}
-	avr_irq_t *uart_tx = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT);
-	avr_irq_t *uart_rx = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
-	if (uart_tx)
-		avr_irq_register_notify(uart_tx, uart_out, NULL);
+	hook_uart('0');
 
 	char line[512];
 	while (fgets(line, sizeof line, stdin)) {
@@ -295,9 +309,13 @@ int main(int argc, char **argv)
 				continue;
 			}
 			avr_raise_irq(irq, (uint32_t)atoi(a2));
+		} else if (!strcmp(cmd, "uart") && na == 2 && (a1[0] == '0' || a1[0] == '1') && !a1[1]) {
+			hook_uart(a1[0]);
+			if (!uart_rx)
+				fprintf(out, "@error no uart%c\n", a1[0]);
 		} else if (!strcmp(cmd, "uart_in") && na == 2) {
 			if (!uart_rx) {
-				fprintf(out, "@error no uart0\n");
+				fprintf(out, "@error no uart\n");
 				continue;
 			}
 			avr_raise_irq(uart_rx, (uint32_t)strtoul(a1, NULL, 0) & 0xff);

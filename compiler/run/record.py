@@ -157,6 +157,8 @@ def record_avr(build, hex_path: Path, events: list[Event], scans: int, names: li
         return round(ms * freq / 1000)
 
     commands = [(0, 0, "watch {} {}".format(*_pin_of(build, name))) for name in watch]
+    uart = sa.uart_number(build.device)
+    commands += [(0, 0, f"uart {uart}")] if uart else []
     commands += _drive(events, cycle_ms, cycle_at, lambda name: _pin_of(build, name),
                        lambda name: _adc_channel(build, name))
     symbols = {n: build.image.symbols[n] for n in names}

@@ -37,7 +37,7 @@ SIMAVR_INCLUDE = Path("/usr/include/simavr")
 DEBIAN_PACKAGES = "gcc and libsimavr-dev"
 
 #: AVRs that LDmicro targets but simavr has no core for (not upstream either).
-NO_CORE = {"atmega162", "atmega64"}
+NO_CORE = {"atmega162", "atmega64", "at90usb647"}
 
 
 class HarnessError(RuntimeError):
@@ -150,7 +150,7 @@ def available() -> bool:
 def core_name(mcu: str) -> str:
     """simavr core name for an MCU name: ``"ATmega128"``, ``"atmega328p"`` or LDmicro's
     ``"Atmel AVR ATmega128 64-TQFP"`` all work. Raises UnsupportedMcu for parts without a
-    simavr core (ATmega162, ATmega64)."""
+    simavr core (ATmega162, ATmega64, AT90USB647)."""
     m = re.search(r"(atmega|attiny|at90usb)\s*(\d+[a-z0-9]*)", mcu.lower())
     if not m:
         raise UnsupportedMcu(f"not an AVR name: {mcu!r}")
@@ -159,6 +159,15 @@ def core_name(mcu: str) -> str:
         raise UnsupportedMcu(f"simavr has no core for {name} (none upstream either); "
                              "check it statically or run a sibling build")
     return name
+
+
+def uart_number(device) -> str | None:
+    """The USART a compiled image uses, for the harness's `uart` command: "1"
+    on the ATmega64/128, 32U4 and AT90USB647, else "0"; None without one."""
+    uart = device.data["avr"].get("uart")
+    if uart is None:
+        return None
+    return "1" if uart["UDR"].endswith("1") else "0"
 
 
 def parse_pin(pin: str) -> tuple[str, int]:
