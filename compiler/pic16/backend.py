@@ -9,7 +9,7 @@ from ..errors import FLASH_FULL, fail
 from ..image import Image, Symbol
 from . import asm as a
 from . import flow as pic16_flow
-from .emit import Emitter, compress_skips
+from .emit import Emitter, MidRange, compress_skips
 from .memory import allocate
 from .part import Part
 from .peripherals import DELAY_LOOP_CYCLES
@@ -66,7 +66,7 @@ class Pic16Backend:
         # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
         high_banks = any(a >= 0x100 for a in ram) or any(st.addr >= 0x100 for st in layout.vars.values()) or any(
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
-        cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
+        cx = Context(Emitter(assembler, part, ram, MidRange(part, high_banks)), part, layout, machine)
         prepare(cx, code)
         write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)

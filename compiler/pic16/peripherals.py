@@ -16,7 +16,7 @@ from ..errors import NOT_COMPILED, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
-from .emit import STATUS, F, W, Z
+from .emit import F, W, Z
 from .memory import FileBit
 from .part import Part
 
@@ -94,7 +94,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.load(s.A[0])
     for reg in s.A[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(done)
     top = e.new_label("delay")
     e.label(top, loop=True, bound=LoopBound(count, "DELAY") if count else LoopBound(None, "a DELAY by a variable"))
@@ -103,7 +103,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.load(s.A[0])
     for reg in s.A[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.goto(top)
     e.label(done)
 
@@ -195,10 +195,10 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.load(duty[0])
     for reg in duty[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(off)
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
-    e.ins("btfsc", STATUS, 0)
+    e.ins("btfsc", e.status, 0)
     e.goto(on)
     # A = duty * 4 * period, then / full: a 10-bit duty cycle
     ints.copy_in(cx, ir.Const(0), s.A[:3])
@@ -223,7 +223,7 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.ins("iorlw", PWM_MODE)
     e.store(ccp)
     for _ in range(2):
-        e.ins("bcf", STATUS, 0)
+        e.ins("bcf", e.status, 0)
         e.ins("rrf", s.A[1], F)
         e.ins("rrf", s.A[0], F)
     e.load(s.A[0])
@@ -388,7 +388,7 @@ def eeprom_save(cx, op: ir.EepromSave) -> None:
         e.store(spare)
         e.load(st.addr + i)
         e.ins("xorwf", spare, W)
-        e.ins("btfsc", STATUS, Z)
+        e.ins("btfsc", e.status, Z)
         e.goto(same)
         e.load(st.addr + i)
         e.store(part.reg(eeprom["data"]))

@@ -24,7 +24,7 @@ from lang.semantics import ir
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
-from .emit import FSR, INDF, IRP, STATUS, W, Z
+from .emit import W, Z
 from .memory import FileBit
 from .peripherals import analog_setup, pwm_setup, uart_setup
 from .select import Context, select
@@ -64,7 +64,7 @@ def _pulled_up(cx: Context) -> int:
 
 
 def _clear(cx: Context, addresses: list[int]) -> None:
-    """Clear the RAM bytes in use: runs of them by FSR, a few with CLRF."""
+    """Clear the RAM bytes in use: runs of them by e.fsr, a few with CLRF."""
     e = cx.e
     runs: list[list[int]] = []
     for address in sorted(addresses):
@@ -77,16 +77,16 @@ def _clear(cx: Context, addresses: list[int]) -> None:
             for address in run:
                 e.ins("clrf", address)
             continue
-        e.ins("bsf" if run[0] >> 8 else "bcf", STATUS, IRP)
+        e.point_high(run[0] >> 8)
         e.load_constant(run[0] & 0xFF)
-        e.store(FSR)
+        e.store(e.fsr)
         top = e.new_label("clear")
         e.label(top, loop=True, bound=LoopBound(len(run), "clearing RAM at start-up"))
-        e.ins("clrf", INDF)
-        e.ins("incf", FSR, 1)
+        e.ins("clrf", e.indf)
+        e.ins("incf", e.fsr, 1)
         e.ins("movlw", (run[-1] + 1) & 0xFF)
-        e.ins("xorwf", FSR, W)
-        e.ins("btfss", STATUS, Z)
+        e.ins("xorwf", e.fsr, W)
+        e.ins("btfss", e.status, Z)
         e.goto(top)
 
 
@@ -190,7 +190,7 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     e.store(count[0])
     e.load(timer_high)
     e.ins("xorwf", count[1], 0)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.goto(read)
     e.load(high)
     e.store(count[2])
