@@ -13,8 +13,7 @@ from pathlib import Path
 from test_compiler_harness import Event, compared_names, mismatches, simulate
 
 import compiler
-from compiler.pic16.part import Part
-from compiler.run.record import CycleOverrun, erase_eeprom, record_pic16  # noqa: F401  (shared with other tests)
+from compiler.run.record import CycleOverrun, erase_eeprom, pic_part, record_pic16  # noqa: F401  (shared with other tests)
 
 
 def differential(program, events: list[Event], scans: int, tmp_path: Path, target: str | None = None) -> list[str]:
@@ -26,7 +25,8 @@ def differential(program, events: list[Event], scans: int, tmp_path: Path, targe
     build = compiler.build(program, target)
     hex_path = tmp_path / "program.hex"
     build.write(hex_path)
-    erase_eeprom(hex_path, Part.of(build.device).eeprom)
+    part = pic_part(build.device)
+    erase_eeprom(hex_path, part.eeprom, part.eeprom_hex)
     program = build.program
     names = compared_names(program, build)
     expected = simulate(program, events, scans, names)

@@ -133,7 +133,7 @@ class State:
 
 
 class Emitter:
-    def __init__(self, assembler: a.Assembler, part: Part, ram: frozenset[int], core: Core):
+    def __init__(self, assembler: a.Writer, part: Part, ram: frozenset[int], core: Core):
         self.asm = assembler
         self.part = part
         self.core = core

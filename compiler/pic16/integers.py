@@ -143,7 +143,7 @@ def move(cx, op: ir.Move) -> None:
 # --- add, sub, logic -----------------------------------------------------------------------
 
 def _same_bank(e: Emitter, *addresses: int) -> bool:
-    banks = {a >> 7 for a in addresses if not e.reaches(a)}
+    banks = {e.core.wanted(a) for a in addresses if not e.reaches(a)}
     return len(banks) <= 1
 
 

@@ -66,6 +66,7 @@ features
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Self
 
 from lang.devices import Device
 
@@ -85,9 +86,12 @@ class ConfigField:
 class Part:
     device: Device
     facts: dict  # the device file's family key ("pic16")
+    bank_bytes = BANK_BYTES  # the addresses one bank selection reaches: a variable stays in one
+    eeprom_hex = (0x4200, 2)  # where a HEX file holds the data EEPROM: byte address, bytes per EEPROM byte
+    pc_step = 1  # program counter counts per word
 
     @classmethod
-    def of(cls, device: Device) -> Part:
+    def of(cls, device: Device) -> Self:
         return cls(device, device.data[device.family])
 
     @property
@@ -169,6 +173,21 @@ class Part:
     def tris(self, letter: str) -> int:
         """The direction register of a Pin's port letter (TRISB, TRISIO)."""
         return self.reg(self.facts["ports"][letter][1])
+
+    def latch(self, letter: str) -> int:
+        """The register an output of a Pin's port letter is written in: its
+        latch where the part has one apart (LATB), else the port."""
+        names = self.facts["ports"][letter]
+        return self.reg(names[2]) if len(names) > 2 else self.port(letter)
+
+    def pullup_switch(self) -> tuple[int, int] | None:
+        """(register, bit) whose clearing turns the weak pull-ups on (RBPU,
+        GPPU), None when the part has none."""
+        for register, named in self.facts["bits"].items():
+            for bit in ("NOT_RBPU", "NOT_GPPU"):
+                if bit in named:
+                    return self.reg(register), named[bit]
+        return None
 
     @property
     def config_words(self) -> tuple[tuple[int, int], ...]:

@@ -142,6 +142,9 @@ def analog_setup(cx, channels: set[int]) -> None:
     group = analog_group(part.device, channels)
     assert group is not None  # a part without ANSEL chooses its analog pins by PCFG
     _write(cx, "ADCON1", group[0] | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
+    if "ADFM" in part.bits("ADCON2"):
+        # the PIC18's converter clock and justification (acquisition time 0: the program waits it)
+        _write(cx, "ADCON2", 1 << part.bit("ADCON2", "ADFM") | _adcs(part, "ADCON2", adc_clock(part, cx.machine.crystal_hz)))
 
 
 def _adcs(part: Part, register: str, select: int) -> int:
@@ -252,7 +255,7 @@ def _disconnect(cx, unit: str, level: bool) -> None:
     e, part = cx.e, cx.part
     e.ins("clrf", part.reg(f"{unit}CON"))
     pin = part.device.pin(next(p for p, u in part.device.pwm.items() if u == unit))
-    bits.write(e, FileBit(part.port(pin.port), pin.bit, False), level)
+    bits.write(e, FileBit(part.latch(pin.port), pin.bit, False), level)
 
 
 def pwm_off(cx, op: ir.PwmOff) -> None:
@@ -357,8 +360,9 @@ def _eeprom_read(cx, address: int) -> None:
     """W = the EEPROM byte."""
     e, part, eeprom = cx.e, cx.part, _eeprom(cx)
     _write(cx, eeprom["address"], address)
-    if "EEPGD" in part.bits(eeprom["control"]):
-        bits.write(e, _bit(cx, eeprom["control"], "EEPGD"), False)
+    for memory in ("EEPGD", "CFGS"):  # the data EEPROM, not program memory or the configuration
+        if memory in part.bits(eeprom["control"]):
+            bits.write(e, _bit(cx, eeprom["control"], memory), False)
     bits.write(e, _bit(cx, eeprom["control"], "RD"), True)
     e.load(part.reg(eeprom["data"]))
 

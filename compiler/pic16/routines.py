@@ -14,6 +14,8 @@ Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from ..image import LoopBound
 from . import integers as ints
 from .emit import C, Emitter, F, W, Z
@@ -156,24 +158,28 @@ def bcd2bin(e: Emitter, s: Scratch) -> None:
     e.ins("return")
 
 
-def _writer(name: str):
+Multiply = Callable[[Emitter, Scratch, int], None]
+
+
+def _writer(name: str, multiply: Multiply):
     if name in ("bin2bcd", "bcd2bin"):
         return (bin2bcd if name == "bin2bcd" else bcd2bin), None, ()
-    for prefix, fn in (("udivmod", udivmod), ("divmod", divmod_), ("mul", mul)):
+    for prefix, fn in (("udivmod", udivmod), ("divmod", divmod_), ("mul", multiply)):
         if name.startswith(prefix):
             n = int(name[len(prefix):])
             return fn, n, (f"udivmod{n}",) if prefix == "divmod" else ()
     raise KeyError(name)
 
 
-def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str]) -> None:
-    """Each routine asked for (and those it calls), labelled by its name."""
+def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str], multiply: Multiply = mul) -> None:
+    """Each routine asked for (and those it calls), labelled by its name;
+    `multiply` writes mulN (the PIC18 has a hardware multiplier)."""
     s = Scratch(scratch)
     todo = set(wanted)
     for name in list(todo):
-        todo.update(_writer(name)[2])
+        todo.update(_writer(name, multiply)[2])
     for name in sorted(todo):
-        fn, n, _ = _writer(name)
+        fn, n, _ = _writer(name, multiply)
         e.label(name, loop=True)
         if n is None:
             fn(e, s)

@@ -100,7 +100,7 @@ def _start(cx: Context, code: ir.Code) -> None:
     analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
     outputs = _pins(cx)
     for letter in sorted(outputs):
-        cx.e.ins("clrf", part.port(letter))
+        cx.e.ins("clrf", part.latch(letter))
     for letter, mask in sorted(outputs.items()):
         direction = ~mask & 0xFF
         if "PSPMODE" in part.bits(f"TRIS{letter}"):
@@ -112,7 +112,9 @@ def _start(cx: Context, code: ir.Code) -> None:
         for register in ("WPUB", "WPU"):
             if part.has(register):
                 _write(cx, register, pulled)
-        cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
+        switch = part.pullup_switch()
+        assert switch is not None  # a port with weak pull-ups has their switch
+        cx.e.ins("bcf", *switch)  # RBPU/GPPU low: the weak pull-ups on
     uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
@@ -216,7 +218,7 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
 def _duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
-    return FileBit(cx.part.port(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None
+    return FileBit(cx.part.latch(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None
 
 
 def free_running(code: ir.Code, part, machine) -> bool:
