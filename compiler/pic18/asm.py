@@ -131,7 +131,7 @@ class Assembler(Writer):
             "f": lambda: f"0x{args[0]:03X}, {isa.access(args[0])}",
             "fb": lambda: f"0x{args[0]:03X}, {args[1]}, {isa.access(args[0])}",
             "k8": lambda: f"0x{args[0] & 0xFF:02X}",
-            "k4": lambda: f"{args[0]}",
+            "k4": lambda: f"0x{args[0]:X}",
             "ff": lambda: f"0x{args[0]:03X}, 0x{args[1]:03X}",
             "fk": lambda: f"{args[0]}, 0x{args[1]:03X}",
             "": lambda: "",
