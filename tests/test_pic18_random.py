@@ -1,0 +1,49 @@
+"""Random compilable programs on the PIC18 boards (test_compiler_random.py's
+generator, its PIC18_BOARDS: every instruction the PIC18 compiles but the
+peripherals, unused variables pushing the program's own into BSR's other
+banks), built, run in gpsim under a random stimulus and compared with the
+simulator on every name after every scan (pic16_harness.py). The slow run
+draws 300 programs; a sample of three runs with the fast tests.
+benchmarks/compiler_fuzz.py --family pic18 runs the same for as long as it
+is given. A program whose scan outlasts the cycle at the board's crystal is
+not compared."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from pic16_harness import CycleOverrun, differential
+from test_compiler_harness import IN_CI
+from test_compiler_random import PIC18_BOARDS, Case, cases, too_large
+
+from compiler.errors import CompileError
+from compiler.run import gpsim
+
+needs_gpsim = pytest.mark.skipif(not gpsim.available() and not IN_CI, reason="gpsim not installed")
+
+
+def _follows_the_simulator(case: Case, folder) -> None:
+    try:
+        problems = differential(case.program, case.events, case.scans, folder)
+    except CompileError as problem:
+        assume(not too_large(problem))
+        raise
+    except CycleOverrun:
+        assume(False)
+    assert problems == [], "\n".join(problems)
+
+
+@needs_gpsim
+@settings(max_examples=3, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+@given(case=cases(PIC18_BOARDS))
+def test_a_sample_of_random_programs_follows_the_simulator(case, tmp_path_factory):
+    _follows_the_simulator(case, tmp_path_factory.mktemp("random"))
+
+
+@needs_gpsim
+@pytest.mark.slow
+@settings(max_examples=300, deadline=None, derandomize=True, database=None,
+          suppress_health_check=list(HealthCheck))
+@given(case=cases(PIC18_BOARDS))
+def test_random_programs_follow_the_simulator_on_pic18(case, tmp_path_factory):
+    _follows_the_simulator(case, tmp_path_factory.mktemp("random"))
