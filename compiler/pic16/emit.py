@@ -57,6 +57,7 @@ class Core(Protocol):
     fsr: int  # the indirect pointer's low byte
     indf: int  # the byte it points at
     unknown: tuple  # the selection where nothing is known (a component may keep its reset value)
+    moves_far: bool  # MOVFF copies a byte between any two addresses, whatever the bank
 
     def unbanked(self, address: int) -> bool:
         """True when an instruction reaches the address whatever the bank."""
@@ -90,6 +91,7 @@ class MidRange:
     is the indirect pointer's ninth bit."""
 
     status, fsr, indf = STATUS, FSR, INDF
+    moves_far = False
     # core registers that every bank maps to the same register
     _UNBANKED = frozenset((INDF, PCL, STATUS, FSR, PCLATH, INTCON))
 
@@ -336,6 +338,16 @@ class Emitter:
     def store(self, address: int) -> None:
         """The file register = W."""
         self.ins("movwf", address)
+
+    def copy(self, source: int, target: int) -> None:
+        """A file register = another: through W, or with MOVFF where a bank
+        selection would be needed (two words, two cycles, no bank, W kept)."""
+        if self.core.moves_far and not self.w_holds(("mem", source)) and (
+                self.needs_bank(source) or self.needs_bank(target)):
+            self.ins("movff", source, target)
+            return
+        self.load(source)
+        self.store(target)
 
 
 def compress_skips(items: list) -> None:

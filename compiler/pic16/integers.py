@@ -98,6 +98,9 @@ def put(e: Emitter, b: Byte, address: int) -> None:
     if b.kind == "const" and b.value == 0:
         e.ins("clrf", address)
         return
+    if b.kind == "mem":
+        e.copy(b.value, address)
+        return
     load_w(e, b)
     e.store(address)
 

@@ -11,6 +11,7 @@ from .part import Part
 
 class Pic18Core:
     unknown = (None,)
+    moves_far = True
 
     def __init__(self, part: Part):
         self.status = part.reg("STATUS")
