@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import subprocess
+from pathlib import Path
 
 import pytest
 from builders import coil, contact, el, par, program
@@ -225,3 +226,34 @@ def test_variables_beyond_the_ram_are_located_with_the_figures():
     (problem,) = found.value.diagnostics
     assert problem.code == "LD704"
     assert "banks of 256 addresses; the PIC18F4520 has 1536" in problem.message
+
+
+# --- scenarios on the PIC18 image --------------------------------------------------------------------
+
+SCENARIOS = Path(__file__).resolve().parent / "scenarios"
+
+
+def test_the_pic16_scenarios_pass_on_the_program_moved_to_the_pic18f4520(tmp_path, capsys):
+    """`ladder test --on pic18`: blink, serial (bytes received through a
+    usart module on RX) and the timers, their programs' MICRO made the
+    PIC18F4520 (the same pins by number)."""
+    from ladder.cli import main
+    from lang.sim.scenario import parse_scenarios
+
+    files = []
+    for name in ("blink", "serial", "pic16-timers"):
+        scenario = SCENARIOS / f"{name}.scn"
+        text = scenario.read_text()
+        source = (SCENARIOS / parse_scenarios(text, str(scenario))[0].program).resolve()
+        program_text = source.read_text(encoding="cp1252")
+        assert "MICRO=Microchip PIC16F877 40-PDIP" in program_text
+        moved_program = tmp_path / source.name
+        moved_program.write_text(program_text.replace("MICRO=Microchip PIC16F877 40-PDIP",
+                                                      "MICRO=Microchip PIC18F4520 40-PDIP"), encoding="cp1252")
+        lines = [f"program {moved_program.name}" if line.startswith("program ") else line for line in text.splitlines()]
+        (tmp_path / scenario.name).write_text("\n".join(lines) + "\n")
+        files.append(str(tmp_path / scenario.name))
+    status = main(["test", "--on", "pic18", *files])
+    out = capsys.readouterr().out
+    assert status == 0, out
+    assert " 0 failed" in out
