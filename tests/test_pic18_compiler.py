@@ -205,6 +205,15 @@ def test_worst_case_covers_blink_and_a_program_of_loops(tmp_path):
     _sound(build, measured)
 
 
+@pytest.mark.parametrize("path", ["sample/serial.ld", "sample/swatch1.ld", "sample/pic-adc.ld"])
+def test_worst_case_covers_tables_the_uart_and_the_converter(path, tmp_path):
+    """Formatted strings (TBLRD tables, divisions), UART waits, an A/D
+    conversion: no scan measured over 3 s is longer than the bound."""
+    moved_program = load(path)
+    moved_program = compiler.retarget(moved_program, compiler.target_device(moved_program, "pic18f4520"))
+    _sound(*measure_pic(moved_program, [], 3000, tmp_path))
+
+
 # --- what does not fit ------------------------------------------------------------------------------
 
 def test_a_program_too_large_for_program_memory_is_located_with_the_figures():

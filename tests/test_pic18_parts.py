@@ -110,14 +110,15 @@ def test_config_fields_are_the_headers_symbols(part):
 
 
 def test_the_configuration_means_what_the_back_end_says():
-    """HS crystal, watchdog off (cleared while waiting all the same), power-up
-    timer and brown-out reset on, MCLR on, PORTB digital at reset, LVP off,
-    the legacy instruction set, no protection."""
+    """HS crystal; then what LDmicro's HI-TECH C output for the PIC18F4520
+    sets (ansic.cpp: WDTDIS & PWRTEN & BORDIS, MCLREN & PBDIGITAL, DEBUGDIS &
+    XINSTDIS & LVPDIS & STVREN); no protection."""
     for part in PARTS:
         fields = {name: f["symbol"] for name, f in facts(part)["config"]["fields"].items()}
-        assert {fields[n] for n in ("OSC", "WDT", "PWRT", "BOREN", "MCLRE", "PBADEN", "LVP", "XINST")} == {
-            "_OSC_HS_1H", "_WDT_OFF_2H", "_PWRT_ON_2L", "_BOREN_SBORDIS_2L", "_MCLRE_ON_3H", "_PBADEN_OFF_3H",
-            "_LVP_OFF_4L", "_XINST_OFF_4L"}
+        assert {fields[n] for n in ("OSC", "WDT", "PWRT", "BOREN", "MCLRE", "PBADEN", "DEBUG", "XINST", "LVP",
+                                    "STVREN")} == {
+            "_OSC_HS_1H", "_WDT_OFF_2H", "_PWRT_ON_2L", "_BOREN_OFF_2L", "_MCLRE_ON_3H", "_PBADEN_OFF_3H",
+            "_DEBUG_OFF_4L", "_XINST_OFF_4L", "_LVP_OFF_4L", "_STVREN_ON_4L"}
         assert all(symbol.endswith(("_OFF_5L", "_OFF_5H", "_OFF_6L", "_OFF_6H", "_OFF_7L", "_OFF_7H"))
                    for name, symbol in fields.items() if re.match(r"(CP|WRT|EBTR)", name))
 
@@ -134,6 +135,26 @@ def test_the_hex_carries_the_configuration_bytes_and_gpasm_agrees(part, tmp_path
     expected = Part.of(build.device).config_bytes()
     assert {a: ours[a] for a in range(CONFIG_START, CONFIG_END + 1)} == expected
     assert expected[0x300001] & 0x0F == 0b0010 and not expected[0x300003] & 1  # HS, WDTEN off
+    subprocess.run(["gpasm", "-o", str(tmp_path / "g.hex"), str(tmp_path / "p.asm")], check=True,
+                   capture_output=True)
+    assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
+
+
+@needs_gputils
+def test_the_programs_configuration_word_is_config1_as_ldmicro_takes_it(tmp_path):
+    """LDmicro's HI-TECH C output writes the ConfigurationWord as
+    `__PROG_CONFIG(1, word)`: CONFIG1L and CONFIG1H (the oscillator: 0x06,
+    HS with the PLL); the other bytes stay the part's."""
+    from builders import coil, contact, program
+    from intelhex import IntelHex
+
+    build = compiler.build(program([contact("Xa"), coil("Ya")], mcu="pic18f4520", pins={"Xa": "RB0", "Ya": "RC0"},
+                                   config_word=0x0600))
+    build.write(tmp_path / "p.hex")
+    ours = IntelHex(str(tmp_path / "p.hex"))
+    part = Part.of(build.device)
+    assert (ours[0x300000], ours[0x300001]) == (0x00, 0x06)
+    assert all(ours[a] == v for a, v in part.config_bytes().items() if a > 0x300001)
     subprocess.run(["gpasm", "-o", str(tmp_path / "g.hex"), str(tmp_path / "p.asm")], check=True,
                    capture_output=True)
     assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()

@@ -70,7 +70,7 @@ class Pic18Backend:
         write_routines(cx.e, layout.scratch, cx.routines, hardware_multiply(part))
         _write_tables(cx)
         compress_skips(assembler.items)
-        config = part.config_bytes()
+        config = part.config_bytes(machine.config_word)
         header = (f"; {part.title}: {{bytes}} bytes of program memory, {layout.ram_used} bytes of RAM\n"
                   f"; reassemble: gpasm -p {part.processor} FILE\n")
         try:

@@ -17,8 +17,9 @@ ports
     the pins' levels into the latch).
 config
     words: [{address, value}] the configuration bytes at 0x300001...
-    (CONFIG1H...), each field with its header symbol; none is LDmicro's
-    (LDmicro's PIC18F4520 entry has no configuration of its own).
+    (CONFIG1H...), each field with its header symbol: an HS crystal and
+    CONFIG2L..CONFIG4L as LDmicro's HI-TECH C output for the PIC18F4520 sets
+    them (its MCU table has no configuration for the part: 0xFFFF, "to see").
 """
 
 from __future__ import annotations
@@ -43,8 +44,13 @@ class Part(Pic16Part):
     def access_sfr(self) -> int:
         return self.facts["access_sfr"]
 
-    def config_bytes(self) -> dict[int, int]:
+    def config_bytes(self, setting: int | None = None) -> dict[int, int]:
         """Byte address -> value from CONFIG_START to CONFIG_END, as gpasm
-        writes them (an address no configuration byte uses is 0xFF)."""
+        writes them (an address no configuration byte uses is 0xFF). The
+        program's ConfigurationWord, when it sets one, is CONFIG1L:CONFIG1H
+        (the oscillator), as LDmicro's HI-TECH C output for this part takes
+        it (`__PROG_CONFIG(1, word)`); the other bytes are the part's."""
         given = dict(self.config_words)
+        if setting is not None:
+            given.update({CONFIG_START: setting & 0xFF, CONFIG_START + 1: setting >> 8 & 0xFF})
         return {address: given.get(address, 0xFF) for address in range(CONFIG_START, CONFIG_END + 1)}
