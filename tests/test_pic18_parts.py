@@ -160,6 +160,17 @@ def test_the_programs_configuration_word_is_config1_as_ldmicro_takes_it(tmp_path
     assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
 
 
+def test_a_pic16_configuration_word_does_not_carry_to_a_pic18():
+    from builders import coil, contact, program
+
+    pic16 = program([contact("Xa"), coil("Ya")], mcu="Microchip PIC16F877 40-PDIP", pins={"Xa": "RB0", "Ya": "RC0"},
+                    config_word=0x3F76)
+    build = compiler.build(pic16, "pic18f4520")
+    assert build.program.settings.config_word == 0
+    segment = build.image.segments[CONFIG_START]
+    assert list(segment) == list(Part.of(build.device).config_bytes().values())
+
+
 @pytest.mark.skipif(not LDMICRO_SOURCE.is_file(), reason="LDmicro's source not beside the checkout")
 def test_the_pic18f4520_pins_are_ldmicros():
     device = find_device("pic18f4520")
