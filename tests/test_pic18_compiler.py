@@ -13,6 +13,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+import test_pic16_compiler as pic16
 from builders import coil, contact, el, par, program
 from pic16_harness import differential, erase_eeprom
 from test_compiler_budget import TIGHT, _pic_inputs, _sound, measure_pic
@@ -79,24 +80,15 @@ def test_blink_by_port_bits_runs_and_gpasm_agrees(part, tmp_path):
 
 # --- peripherals on their pins -------------------------------------------------------------------
 
-PWM_LD = """LDmicro0.2
-MICRO=Microchip PIC18F4520 40-PDIP
-CYCLE=10000 us at Timer1
-CRYSTAL=20000000 Hz
-BAUD=2400 Hz
-
-IO LIST
-    Xon at 33 0 0
-    Ppwm at {pin} 0 0
-END
-
-PROGRAM
-RUNG
-    MOVE duty 30
-END
-RUNG
-    CONTACTS Xon 0 0
-    SET_PWM duty {freq} Ppwm 0-100%
+PIC18F4520 = "MICRO=Microchip PIC18F4520 40-PDIP"
+# test_pic16_compiler's programs on the PIC18F4520 (the same pins by number)
+PWM_LD = pic16.PWM_LD.replace("MICRO=Microchip PIC16F877 40-PDIP", PIC18F4520)
+# a rising edge of Xbump adds one: the EEPROM is written back
+PERSIST_LD = pic16.PERSIST_LD.replace("MICRO=Microchip PIC16F877 40-PDIP", PIC18F4520).replace(
+    "    Yseven at 19 0 0\n", "    Yseven at 19 0 0\n    Xbump at 33 0 0\n") + """RUNG
+    CONTACTS Xbump 0 0
+    OSR
+    ADD kept kept 1
 END
 """
 
@@ -105,7 +97,7 @@ END
 def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, tmp_path):
     """CCP1 (RC2, the enhanced module in single-output mode) and CCP2 (RC1),
     sampled 400 times over 4 periods; the cycle moves to the other CCP."""
-    build = compiler.build(_program(PWM_LD.format(freq=freq, pin=pin)))
+    build = compiler.build(_program(PWM_LD.format(freq=freq).replace("Ppwm at 17", f"Ppwm at {pin}")))
     build.write(tmp_path / "pwm.hex")
     period_ms = 1000 / freq
     times = [20 + 4 * period_ms * i / 400 for i in range(400)]
@@ -115,33 +107,6 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, tmp_path):
     rises = sum(1 for a, b in zip(levels, levels[1:]) if b > a)
     assert rises in (4, 5)
     assert abs(sum(levels) / len(levels) - 0.30) < 0.02
-
-
-PERSIST_LD = """LDmicro0.2
-MICRO=Microchip PIC18F4520 40-PDIP
-CYCLE=10000 us at Timer1
-CRYSTAL=4000000 Hz
-BAUD=2400 Hz
-
-IO LIST
-    Yseven at 19 0 0
-    Xbump at 33 0 0
-END
-
-PROGRAM
-RUNG
-    PERSIST kept
-END
-RUNG
-    EQU kept 7
-    COIL Yseven 0 0 0
-END
-RUNG
-    CONTACTS Xbump 0 0
-    OSR
-    ADD kept kept 1
-END
-"""
 
 
 def test_persist_reads_the_eeprom_at_start_and_writes_it_back(tmp_path):

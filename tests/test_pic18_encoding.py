@@ -14,6 +14,7 @@ from intelhex import IntelHex
 from test_pic16_parts import needs_gputils
 
 from compiler.budget import CALL, JUMP, NEXT, RETURN, SKIP
+from compiler.pic16.isa import EncodingError
 from compiler.pic18 import flow, isa
 from compiler.pic18.asm import Assembler
 from compiler.pic18.part import Part
@@ -87,7 +88,7 @@ def test_every_instruction_form_is_what_gpasm_makes_of_the_listing(tmp_path):
 def test_operands_out_of_range_are_refused():
     for op, args in (("movf", (0x1000, 0)), ("bsf", (0x10, 8)), ("movlb", (16,)), ("movlw", (256,)),
                      ("bra", (1024,)), ("lfsr", (3, 0))):
-        with pytest.raises(isa.EncodingError):
+        with pytest.raises(EncodingError):
             isa.encode(op, *args)
 
 

@@ -19,24 +19,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..pic16.isa import in_range
+
 ACCESS_RAM_END = 0x80  # RAM below it and SFRs from ACCESS_SFR on need no BSR
 ACCESS_SFR = 0xF80
 ALIASES = {"rlf": "rlcf", "rrf": "rrcf"}
 
 
-class EncodingError(ValueError):
-    """An operand out of its instruction's range (a back-end bug)."""
-
-
-def _check(value: int, low: int, high: int, what: str) -> int:
-    if not low <= value <= high:
-        raise EncodingError(f"{what} {value} out of range {low}..{high}")
-    return value
-
-
 def access(f: int) -> int:
     """The instruction's a bit: 0 for the access bank, 1 through BSR."""
-    _check(f, 0, 0xFFF, "file register")
+    in_range(f, 0, 0xFFF, "file register")
     return 0 if f < ACCESS_RAM_END or f >= ACCESS_SFR else 1
 
 
@@ -57,16 +49,16 @@ class Spec:
 
 
 ENCODERS: dict[str, Callable[..., tuple[int, ...]]] = {
-    "fd": lambda code, f, d: (code | _check(d, 0, 1, "destination") << 9 | _f(f),),
+    "fd": lambda code, f, d: (code | in_range(d, 0, 1, "destination") << 9 | _f(f),),
     "f": lambda code, f: (code | _f(f),),
-    "fb": lambda code, f, b: (code | _check(b, 0, 7, "bit") << 9 | _f(f),),
-    "k8": lambda code, k: (code | (_check(k, -128, 255, "literal") & 0xFF),),
-    "k4": lambda code, k: (code | _check(k, 0, 15, "bank"),),
-    "n11": lambda code, n: (code | (_check(n, -1024, 1023, "offset") & 0x7FF),),
-    "k20": lambda code, k: (code | (_check(k, 0, 0xFFFFF, "address") & 0xFF), 0xF000 | k >> 8),
-    "ff": lambda code, src, dst: (code | _check(src, 0, 0xFFF, "file register"),
-                                  0xF000 | _check(dst, 0, 0xFFF, "file register")),
-    "fk": lambda code, fsr, k: (code | _check(fsr, 0, 2, "FSR") << 4 | _check(k, 0, 0xFFF, "address") >> 8,
+    "fb": lambda code, f, b: (code | in_range(b, 0, 7, "bit") << 9 | _f(f),),
+    "k8": lambda code, k: (code | (in_range(k, -128, 255, "literal") & 0xFF),),
+    "k4": lambda code, k: (code | in_range(k, 0, 15, "bank"),),
+    "n11": lambda code, n: (code | (in_range(n, -1024, 1023, "offset") & 0x7FF),),
+    "k20": lambda code, k: (code | (in_range(k, 0, 0xFFFFF, "address") & 0xFF), 0xF000 | k >> 8),
+    "ff": lambda code, src, dst: (code | in_range(src, 0, 0xFFF, "file register"),
+                                  0xF000 | in_range(dst, 0, 0xFFF, "file register")),
+    "fk": lambda code, fsr, k: (code | in_range(fsr, 0, 2, "FSR") << 4 | in_range(k, 0, 0xFFF, "address") >> 8,
                                 0xF000 | k & 0xFF),
     "": lambda code: (code,),
 }
