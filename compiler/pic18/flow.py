@@ -43,7 +43,7 @@ def _known(word: int) -> bool:
         return word in (0x0000, 0x0003, 0x0004, 0x0006, 0x0007, 0x0008, 0x0009, 0x000A, 0x000B, 0x000C, 0x000D,
                         0x000E, 0x000F, 0x0010, 0x0011, 0x0012, 0x0013, 0x00FF)
     if top4 == 0xE:
-        return word >> 8 not in (0xE9, 0xEA, 0xEB, 0xED)  # branches, CALL, LFSR, GOTO (not the extended set)
+        return not 0xE8 <= word >> 8 <= 0xEB  # branches, CALL, LFSR, GOTO (not the extended set's)
     return top4 == 0xD or top4 == 0xF  # BRA, RCALL; a second word alone is a NOP
 
 
