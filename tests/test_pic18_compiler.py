@@ -231,3 +231,22 @@ def test_the_pic16_scenarios_pass_on_the_program_moved_to_the_pic18f4520(tmp_pat
     out = capsys.readouterr().out
     assert status == 0, out
     assert " 0 failed" in out
+
+
+def test_a_program_past_the_reach_of_bra_runs_with_goto_and_call(tmp_path):
+    """Rungs of arithmetic and comparisons over 2,048 words: the jumps back to
+    the scan and the calls of the division routine are GOTO and CALL; in
+    gpsim the program follows the simulator scan for scan."""
+    from test_compiler_harness import Event
+
+    rungs = [[contact("Xa" if i % 2 else "Xb"),
+              par([el("ADD", dest=f"v{i}", op1=f"v{i}", op2="3")], [el("GRT", op1=f"v{i}", op2="100"), coil("Ya")],
+                  [el("EQU", op1=f"v{(i + 7) % 30}", op2=f"v{i}"), el("DIV", dest=f"m{i}", op1=f"v{i}", op2="3")])]
+             for i in range(60)]
+    built = program(*rungs, mcu="pic18f4520", pins={"Xa": "RD0", "Xb": "RD1", "Ya": "RB0"}, crystal_hz=20_000_000)
+    build = compiler.build(built)
+    assert len(build.image.words) > 2048
+    listing = build.image.listing
+    assert "\tgoto\tscan" in listing and "\tcall\tdivmod" in listing
+    events = [Event(0, "Xa", 1), Event(0, "Xb", 0), Event(10, "Xb", 1), Event(20, "Xa", 0), Event(30, "Xa", 1)]
+    assert differential(built, events, 60, tmp_path) == []

@@ -217,3 +217,22 @@ def test_gpsim_runs_the_processor(part, tmp_path):
                         inputs=[(0, "RB0", 0), (20, "RB0", 1), (45, "RB0", 0)], watch=["RC0"], until_ms=80)
     assert [v for _, v in run.pin_edges("RC0")] == [1, 0]
     assert [round(t / 10) for t, _ in run.pin_edges("RC0")] == [2, 5]  # the first scans that read each change
+
+
+def test_the_pic18_compiles_what_the_pic16_compiles_and_refuses_the_rest_with_ld501():
+    """One support entry per instruction: the PIC18 back end is the PIC16's
+    patterns, so its column is the PIC16's; an instruction neither compiles
+    (SPI here) is LD501 at its element, an error in the build."""
+    from builders import contact, el, program
+
+    from compiler.errors import CompileError
+    from lang.instructions import INSTRUCTIONS
+
+    assert {k for k, i in INSTRUCTIONS.items() if "pic18" in i.support} == \
+        {k for k, i in INSTRUCTIONS.items() if "pic16" in i.support}
+    spi = el("SPI", name="SPI1", send="s", recv="r", mode="Master", bitrate="1000000")
+    with pytest.raises(CompileError) as found:
+        compiler.build(program([contact("Xa"), spi], mcu="pic18f4520", pins={"Xa": "RB0"}))
+    (problem,) = found.value.diagnostics
+    assert problem.code == "LD501" and "PIC18" in problem.message
+    assert problem.span == spi.span
