@@ -1,7 +1,7 @@
 """The PIC18 encoder and assembler against gpasm: every instruction form of
 compiler/pic18/isa.py (access and banked file registers, both destinations,
-every bit, the literal range, BSR, the two-word moves, short and long jumps
-both ways, tables and their addresses) assembled by us and by gpasm from our
+every bit, the literal range, BSR, the two-word moves, conditional branches,
+short and long jumps both ways, tables and their addresses) assembled by us and by gpasm from our
 listing, word for word; the budget's decoder (compiler/pic18/flow.py) reads
 every word back as the instruction it is."""
 
@@ -13,7 +13,7 @@ import pytest
 from intelhex import IntelHex
 from test_pic16_parts import needs_gputils
 
-from compiler.budget import CALL, JUMP, NEXT, RETURN, SKIP
+from compiler.budget import BRANCH, CALL, JUMP, NEXT, RETURN, SKIP
 from compiler.pic16.isa import EncodingError
 from compiler.pic18 import flow, isa
 from compiler.pic18.asm import Assembler
@@ -21,6 +21,8 @@ from compiler.pic18.part import Part
 from lang.devices import find_device
 
 PART = Part.of(find_device("pic18f4520"))
+STATUS = PART.reg("STATUS")
+JUMPS = ("n8", "n11", "k20")  # jumps come from labels
 FILES = (0x000, 0x05A, 0x07F, 0x080, 0x123, 0x5FF, 0xF80, 0xFD8, 0xFFF)  # access RAM, banked RAM, access SFRs
 
 OPERANDS = {
@@ -36,11 +38,11 @@ OPERANDS = {
 
 
 def _every_form() -> Assembler:
-    asm = Assembler(PART.flash_words)
+    asm = Assembler(PART.flash_words, STATUS)
     asm.label("start")
     for op, spec in isa.INSTRUCTIONS.items():
-        if spec.pattern in ("n11", "k20"):
-            continue  # jumps come from labels
+        if spec.pattern in JUMPS:
+            continue
         for args in OPERANDS[spec.pattern]:
             asm.emit(op, *args)
     for op in isa.ALIASES:  # the patterns' mid-range names
@@ -56,13 +58,30 @@ def _every_form() -> Assembler:
     asm.emit("btfss", 0xFD8, 2)
     asm.goto("near")
     asm.label("near")
-    for _ in range(1100):
+    # every flag test guarding a jump: a branch in reach, a test and a BRA or GOTO beyond
+    for test, bit in isa_branches():
+        asm.emit(test, STATUS, bit)
+        asm.goto("near")
+        asm.emit(test, STATUS, bit)
+        asm.goto("middle")
+        asm.emit(test, STATUS, bit)
+        asm.goto("far")
+    for _ in range(600):
+        asm.emit("nop")
+    asm.label("middle")
+    for _ in range(600):
         asm.emit("nop")
     asm.label("far")
     asm.goto("start")
     asm.emit("return")
     asm.table("values", bytes(range(1, 12)))
     return asm
+
+
+def isa_branches() -> list[tuple[str, int]]:
+    from compiler.pic18.asm import BRANCHES
+
+    return sorted(BRANCHES)
 
 
 def _gpasm(listing: str, tmp_path) -> list[int]:
@@ -83,6 +102,9 @@ def test_every_instruction_form_is_what_gpasm_makes_of_the_listing(tmp_path):
     # near jumps are BRA/RCALL, far ones GOTO/CALL
     assert "\tbra\tstart" in text and "\trcall\tstart" in text and "\tgoto\tfar" in text and "\tcall\tfar" in text
     assert "\tgoto\tstart" in text  # from past 1,024 words back
+    for branch in ("bz", "bnz", "bc", "bnc", "bov", "bnov", "bn", "bnn"):
+        assert f"\t{branch}\tnear" in text
+    assert "\tbra\tmiddle" in text and "\tgoto\tfar" in text
 
 
 def test_operands_out_of_range_are_refused():
@@ -102,18 +124,18 @@ def test_the_budget_decoder_reads_every_word_as_its_instruction():
         ins = flow.instruction_at(words, address, None)
         assert ins is not None, hex(address)
         seen.add(ins.flow)
-        if ins.flow in (JUMP, CALL):
+        if ins.flow in (JUMP, CALL, BRANCH):
             assert ins.target in labels.values()
         if ins.flow == SKIP:
             assert ins.target == address + 1 + ins.taken - 1 and ins.taken in (2, 3)
         address = ins.next
     assert address == table_start
-    assert seen >= {NEXT, JUMP, CALL, SKIP, RETURN}
+    assert seen >= {NEXT, JUMP, CALL, SKIP, RETURN, BRANCH}
 
 
 def test_each_instruction_decodes_to_its_size_and_cycles():
     for op, spec in isa.INSTRUCTIONS.items():
-        if spec.pattern in ("n11", "k20"):
+        if spec.pattern in JUMPS:
             continue
         words = list(isa.encode(op, *OPERANDS[spec.pattern][0]))
         ins = flow.instruction_at(words + [0], 0, None)

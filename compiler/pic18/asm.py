@@ -2,12 +2,17 @@
 `Writer`) become program words and a listing that gpasm reassembles to the
 same words.
 
-Jumps. BRA and RCALL take one word and reach 1,024 words either way; GOTO
-and CALL take two and reach all of program memory. Every jump starts short;
-one whose label is out of reach becomes long and the layout is repeated
-(a jump only ever grows, so labels only move further and the layout
-converges). A skip instruction skips a whole instruction, a two-word one
-included, so nothing has to stay together and there are no pages.
+Jumps. A test of a STATUS flag and the jump it guards, as the shared
+patterns write them (`BTFSS STATUS,Z; GOTO L`), become one conditional
+branch (BNZ L: one word reaching 128 words either way, 1 cycle or 2 when
+taken, where the pair takes 2 words and 2 or 3 cycles). BRA and RCALL take
+one word and reach 1,024 words either way; GOTO and CALL take two and reach
+all of program memory. Every jump starts in its shortest form; one whose
+label is out of reach grows (a branch into its test and a BRA, a BRA into a
+GOTO) and the layout is repeated: a jump only ever grows, so labels only
+move further and the layout converges. A skip instruction skips a whole
+instruction, a two-word one included, so nothing has to stay together and
+there are no pages.
 
 Tables: a table's bytes are packed two to a word (`db`) and read with
 TBLRD; its routine loads TBLPTR from the label's byte address (`Address`:
@@ -36,51 +41,64 @@ from ..pic16.asm import (
 )
 from . import isa
 
-SHORT_REACH = 1024  # BRA/RCALL: -1024 .. 1023 words from the next instruction
+BRANCH, SHORT, LONG = 0, 1, 2  # a jump's forms, shortest first
+REACH = {BRANCH: 128, SHORT: 1024}  # words back (and one fewer forward) from the next instruction
+# (test, STATUS bit) guarding a jump -> the branch taken when the jump is: the jump runs when the
+# test does not skip it, so BTFSS STATUS,Z; GOTO L is BNZ L
+BRANCHES = {("btfsc", 0): "bc", ("btfss", 0): "bnc", ("btfsc", 2): "bz", ("btfss", 2): "bnz",
+            ("btfsc", 3): "bov", ("btfss", 3): "bnov", ("btfsc", 4): "bn", ("btfss", 4): "bnn"}
 
 
 class Assembler(Writer):
-    def __init__(self, flash_words: int):
+    def __init__(self, flash_words: int, status: int):
         super().__init__()
         self.flash_words = flash_words
+        self.status = status
 
-    def _size(self, index: int, far: set[int]) -> int:
+    def _branch(self, index: int) -> str | None:
+        """The conditional branch a jump and the flag test before it make, if any."""
+        item, test = self.items[index], self.items[index - 1] if index else None
+        if not isinstance(item, Goto) or item.call or not isinstance(test, Ins) or test.args[:1] != (self.status,):
+            return None
+        return BRANCHES.get((test.op, test.args[1]))
+
+    def _size(self, index: int, forms: dict[int, int]) -> int:
         item = self.items[index]
         if isinstance(item, Goto):
-            return 2 if index in far else 1
+            return 2 if forms[index] == LONG else 1
         if isinstance(item, Ins):
-            return isa.words(item.op)
+            return 0 if forms.get(index + 1) == BRANCH else isa.words(item.op)
         if isinstance(item, Address):
             return 1
         if isinstance(item, Table):
             return (len(item.values) + 1) // 2
         return 0
 
-    def _layout(self, far: set[int]) -> tuple[list[int], dict[str, int], int]:
+    def _layout(self, forms: dict[int, int]) -> tuple[list[int], dict[str, int], int]:
         """Each item's word address, the labels' and the size."""
         addresses, labels, address = [], {}, 0
         for index, item in enumerate(self.items):
             addresses.append(address)
             if isinstance(item, (Label, Table)):
                 labels[item.name] = address
-            address += self._size(index, far)
+            address += self._size(index, forms)
         return addresses, labels, address
 
     def assemble(self, processor: str, config: dict[int, int]) -> Assembled:
-        far: set[int] = set()
+        jumps = {index: item.target for index, item in enumerate(self.items) if isinstance(item, Goto)}
+        forms = {index: BRANCH if self._branch(index) else SHORT for index in jumps}
         while True:
-            addresses, labels, size = self._layout(far)
-            found = far | {index for index, item in enumerate(self.items)
-                           if isinstance(item, Goto) and index not in far
-                           and not -SHORT_REACH <= labels[item.target] - addresses[index] - 1 < SHORT_REACH}
-            if found == far:
+            addresses, labels, size = self._layout(forms)
+            grown = {index: form + 1 for index, form in forms.items()
+                     if form != LONG and not -REACH[form] <= labels[jumps[index]] - addresses[index] - 1 < REACH[form]}
+            if not grown:
                 break
-            far = found
+            forms.update(grown)
         if size > self.flash_words:
             raise ProgramTooLarge(size)
-        return self._output(addresses, labels, far, processor, config)
+        return self._output(addresses, labels, forms, processor, config)
 
-    def _output(self, addresses: list[int], labels: dict[str, int], far: set[int], processor: str,
+    def _output(self, addresses: list[int], labels: dict[str, int], forms: dict[int, int], processor: str,
                 config: dict[int, int]) -> Assembled:
         words: list[int] = []
         # 302: a banked register's address is written whole; 212: __config by byte address
@@ -102,7 +120,9 @@ class Assembler(Writer):
                     lines.append(f"\tdb\t{', '.join(f'0x{b:02X}' for b in chunk)}"
                                  f"\t; {2 * (address + at // 2):06X} {' '.join(f'{w:04X}' for w in packed)}")
                 continue
-            op, args, text, comment = self._resolve(item, address, labels, index in far)
+            if forms.get(index + 1) == BRANCH:
+                continue  # the flag test is the branch's condition
+            op, args, text, comment = self._resolve(index, address, labels, forms)
             encoded = isa.encode(op, *args)
             words += encoded
             note = f"  {comment}" if comment else ""
@@ -111,18 +131,22 @@ class Assembler(Writer):
         lines.append("\tend")
         return Assembled(words, "\n".join(lines) + "\n", labels)
 
-    @staticmethod
-    def _resolve(item, address: int, labels: dict[str, int], far: bool) -> tuple[str, tuple, str, str]:
+    def _resolve(self, index: int, address: int, labels: dict[str, int],
+                 forms: dict[int, int]) -> tuple[str, tuple, str, str]:
         """(PIC18 mnemonic, operands, operand text for the listing, comment) of an item."""
+        item = self.items[index]
         if isinstance(item, Goto):
             target = labels[item.target]
-            if far:
+            if forms[index] == LONG:
                 return ("call" if item.call else "goto"), (target,), label_name(item.target), item.comment
-            return ("rcall" if item.call else "bra"), (target - address - 1,), label_name(item.target), item.comment
+            branch = self._branch(index) if forms[index] == BRANCH else None
+            op = branch or ("rcall" if item.call else "bra")
+            return op, (target - address - 1,), label_name(item.target), item.comment
         if isinstance(item, Address):
             byte_address = 2 * labels[item.target]
             value = byte_address >> 8 & 0xFF if item.high else byte_address & 0xFF
             return "movlw", (value,), address_text(item.target, item.high), ""
+        assert isinstance(item, Ins)  # labels, comments and tables are written by _output
         op = isa.name(item.op)
         args = item.args
         pattern = isa.INSTRUCTIONS[op].pattern

@@ -63,7 +63,7 @@ class Pic18Backend:
     def compile(self, code: ir.Code, machine) -> Image:
         part = Part.of(machine.device)
         layout = allocate(code, part, machine, free_running(code, part, machine))
-        assembler = Assembler(part.flash_words)
+        assembler = Assembler(part.flash_words, part.reg("STATUS"))
         cx = Context(Emitter(assembler, part, ram_in_use(layout), Pic18Core(part)), part, layout, machine)
         prepare(cx, code)
         write_runtime(cx, code)

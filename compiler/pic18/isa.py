@@ -10,8 +10,8 @@ rotate through the carry).
 Operands are plain integers: a file register as its 12-bit data address (the
 word keeps its low 8 bits, with a = 0 for the access bank: RAM 0x000-0x07F
 and the SFRs 0xF80-0xFFF; otherwise a = 1 and BSR supplies the high 4 bits),
-d 0 (W) or 1 (F), a bit number, an 8-bit literal, a word offset (BRA,
-RCALL) or a word address (GOTO, CALL).
+d 0 (W) or 1 (F), a bit number, an 8-bit literal, a word offset (BZ...,
+BRA, RCALL) or a word address (GOTO, CALL).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def _f(f: int) -> int:
 
 @dataclass(frozen=True)
 class Spec:
-    pattern: str  # "fd", "f", "fb", "k8", "k4", "n11", "k20", "ff", "fk", ""
+    pattern: str  # "fd", "f", "fb", "k8", "k4", "n8", "n11", "k20", "ff", "fk", ""
     opcode: int
     cycles: int = 1  # 2 for the instructions that change the PC (and the two-word moves)
     skips: bool = False  # may skip the next instruction (one more cycle, two over a two-word one)
@@ -54,6 +54,7 @@ ENCODERS: dict[str, Callable[..., tuple[int, ...]]] = {
     "fb": lambda code, f, b: (code | in_range(b, 0, 7, "bit") << 9 | _f(f),),
     "k8": lambda code, k: (code | (in_range(k, -128, 255, "literal") & 0xFF),),
     "k4": lambda code, k: (code | in_range(k, 0, 15, "bank"),),
+    "n8": lambda code, n: (code | (in_range(n, -128, 127, "offset") & 0xFF),),
     "n11": lambda code, n: (code | (in_range(n, -1024, 1023, "offset") & 0x7FF),),
     "k20": lambda code, k: (code | (in_range(k, 0, 0xFFFFF, "address") & 0xFF), 0xF000 | k >> 8),
     "ff": lambda code, src, dst: (code | in_range(src, 0, 0xFFF, "file register"),
@@ -76,6 +77,9 @@ INSTRUCTIONS = {
     "movlw": Spec("k8", 0x0E00), "sublw": Spec("k8", 0x0800), "xorlw": Spec("k8", 0x0A00),
     "retlw": Spec("k8", 0x0C00, 2), "movlb": Spec("k4", 0x0100),
     "bra": Spec("n11", 0xD000, 2), "rcall": Spec("n11", 0xD800, 2),
+    # the conditional branches: 1 cycle, 2 when taken
+    "bz": Spec("n8", 0xE000), "bnz": Spec("n8", 0xE100), "bc": Spec("n8", 0xE200), "bnc": Spec("n8", 0xE300),
+    "bov": Spec("n8", 0xE400), "bnov": Spec("n8", 0xE500), "bn": Spec("n8", 0xE600), "bnn": Spec("n8", 0xE700),
     "goto": Spec("k20", 0xEF00, 2), "call": Spec("k20", 0xEC00, 2),
     "movff": Spec("ff", 0xC000, 2), "lfsr": Spec("fk", 0xEE00, 2),
     "nop": Spec("", 0x0000), "clrwdt": Spec("", 0x0004), "sleep": Spec("", 0x0003),
