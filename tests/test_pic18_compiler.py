@@ -250,3 +250,22 @@ def test_a_program_past_the_reach_of_bra_runs_with_goto_and_call(tmp_path):
     assert "\tgoto\tscan" in listing and "\tcall\tdivmod" in listing
     events = [Event(0, "Xa", 1), Event(0, "Xb", 0), Event(10, "Xb", 1), Event(20, "Xa", 0), Event(30, "Xa", 1)]
     assert differential(built, events, 60, tmp_path) == []
+
+
+@pytest.mark.parametrize("part,mcu", [("p18f4520", "pic18f4520"), ("p16f877", "Microchip PIC16F877 40-PDIP")])
+def test_a_delay_lasts_its_time(part, mcu, tmp_path):
+    """DELAY 5 ms (a constant) and DELAY by a variable holding TIME2DELAY's
+    count for 3 ms, between an output set and cleared: the pin's high time in
+    gpsim is the delay's, within one loop pass and the instructions around it
+    (the PIC18's loop ends in one BNZ: its count has its own cycles)."""
+    prog = program([contact("Xa"), par([coil("Ya", "S")], [el("DELAY", delay=5000)], [coil("Ya", "R")])],
+                   [contact("Xa"), par([coil("Yb", "S")], [el("TIME2DELAY", name="d", delay=3000)],
+                                       [el("DELAY", delay="d")], [coil("Yb", "R")])],
+                   mcu=mcu, pins={"Xa": "RD0", "Ya": "RB0", "Yb": "RB1"}, crystal_hz=4_000_000, sizes={"d": 4})
+    compiler.build(prog).write(tmp_path / "d.hex")
+    run = gpsim.run_pic(tmp_path / "d.hex", part, 4_000_000, inputs=[(0, "RD0", 1)], watch=["RB0", "RB1"],
+                        until_ms=100, timeout=60)
+    for pin, ms in (("RB0", 5.0), ("RB1", 3.0)):
+        edges = run.pin_edges(pin)
+        highs = [fall - rise for (rise, up), (fall, _) in zip(edges, edges[1:]) if up]
+        assert highs and all(abs(high - ms) < 0.03 for high in highs), (pin, highs)

@@ -76,7 +76,8 @@ def _spin(cx, cycles: int, what: str) -> None:
 # --- delays ---------------------------------------------------------------------------
 
 def delay(cx, op: ir.Delay) -> None:
-    """A loop of DELAY_LOOP_CYCLES clock cycles per count, clearing the watchdog."""
+    """A loop of the family's delay_loop_cycles clock cycles per count
+    (DELAY_LOOP_CYCLES on a PIC16), clearing the watchdog."""
     e = cx.e
     s = ints.Scratch(cx.layout.scratch)
     done = e.new_label("delay")
@@ -87,7 +88,7 @@ def delay(cx, op: ir.Delay) -> None:
         e.goto(done)  # a negative count waits nothing
     else:
         assert isinstance(op.amount, ir.Const)  # a delay that does not loop is a constant time
-        count = round(op.amount.value * cx.machine.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
+        count = round(op.amount.value * cx.machine.crystal_hz / (1_000_000 * cx.delay_loop_cycles))
         if count <= 0:
             return
         ints.copy_in(cx, ir.Const(count), s.A)

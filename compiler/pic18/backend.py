@@ -57,14 +57,16 @@ def _write_tables(cx: Context) -> None:
 
 class Pic18Backend:
     family = "pic18"
-    delay_loop_cycles = DELAY_LOOP_CYCLES  # the PIC16's loop: the same instructions, the same cycles
+    # the PIC16's loop, whose closing test and jump are one BNZ here: 18 instruction cycles a count
+    delay_loop_cycles = DELAY_LOOP_CYCLES - 4
     flow = pic18_flow
 
     def compile(self, code: ir.Code, machine) -> Image:
         part = Part.of(machine.device)
         layout = allocate(code, part, machine, free_running(code, part, machine))
         assembler = Assembler(part.flash_words, part.reg("STATUS"))
-        cx = Context(Emitter(assembler, part, ram_in_use(layout), Pic18Core(part)), part, layout, machine)
+        cx = Context(Emitter(assembler, part, ram_in_use(layout), Pic18Core(part)), part, layout, machine,
+                     self.delay_loop_cycles)
         prepare(cx, code)
         write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines, hardware_multiply(part))
