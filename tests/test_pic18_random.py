@@ -11,33 +11,21 @@ not compared."""
 from __future__ import annotations
 
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
-from pic16_harness import CycleOverrun, differential
+from hypothesis import HealthCheck, given, settings
+from pic16_harness import follows_the_simulator
 from test_compiler_harness import IN_CI
-from test_compiler_random import PIC18_BOARDS, Case, cases, too_large
+from test_compiler_random import PIC18_BOARDS, cases
 
-from compiler.errors import CompileError
 from compiler.run import gpsim
 
 needs_gpsim = pytest.mark.skipif(not gpsim.available() and not IN_CI, reason="gpsim not installed")
-
-
-def _follows_the_simulator(case: Case, folder) -> None:
-    try:
-        problems = differential(case.program, case.events, case.scans, folder)
-    except CompileError as problem:
-        assume(not too_large(problem))
-        raise
-    except CycleOverrun:
-        assume(False)
-    assert problems == [], "\n".join(problems)
 
 
 @needs_gpsim
 @settings(max_examples=3, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
 @given(case=cases(PIC18_BOARDS))
 def test_a_sample_of_random_programs_follows_the_simulator(case, tmp_path_factory):
-    _follows_the_simulator(case, tmp_path_factory.mktemp("random"))
+    follows_the_simulator(case, tmp_path_factory.mktemp("random"))
 
 
 @needs_gpsim
@@ -46,4 +34,4 @@ def test_a_sample_of_random_programs_follows_the_simulator(case, tmp_path_factor
           suppress_health_check=list(HealthCheck))
 @given(case=cases(PIC18_BOARDS))
 def test_random_programs_follow_the_simulator_on_pic18(case, tmp_path_factory):
-    _follows_the_simulator(case, tmp_path_factory.mktemp("random"))
+    follows_the_simulator(case, tmp_path_factory.mktemp("random"))
