@@ -157,7 +157,6 @@ class Assembler(Writer):
             "k8": lambda: f"0x{args[0] & 0xFF:02X}",
             "k4": lambda: f"0x{args[0]:X}",
             "ff": lambda: f"0x{args[0]:03X}, 0x{args[1]:03X}",
-            "fk": lambda: f"{args[0]}, 0x{args[1]:03X}",
             "": lambda: "",
         }[pattern]()
         return op, args, text, item.comment

@@ -6,7 +6,8 @@ end's (compiler/pic16/): they write mid-range instructions, which the PIC18
 runs as its own (the same byte, bit and literal operations with the same
 flags, RLF and RRF as RLCF and RRCF), through the shared emitter with the
 PIC18's `Core` (BSR and the access bank). What is the PIC18's own: the
-encoder and assembler (two-word GOTO/CALL, one-word BRA/RCALL, no pages),
+encoder and assembler (conditional branches for the flag tests, one-word
+BRA/RCALL, two-word GOTO/CALL, no pages),
 the multiply on the hardware multiplier, tables read with TBLRD, the memory
 map and the configuration bytes.
 """

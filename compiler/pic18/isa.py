@@ -38,14 +38,14 @@ def _f(f: int) -> int:
 
 @dataclass(frozen=True)
 class Spec:
-    pattern: str  # "fd", "f", "fb", "k8", "k4", "n8", "n11", "k20", "ff", "fk", ""
+    pattern: str  # "fd", "f", "fb", "k8", "k4", "n8", "n11", "k20", "ff", ""
     opcode: int
     cycles: int = 1  # 2 for the instructions that change the PC (and the two-word moves)
     skips: bool = False  # may skip the next instruction (one more cycle, two over a two-word one)
 
     @property
     def words(self) -> int:
-        return 2 if self.pattern in ("k20", "ff", "fk") else 1
+        return 2 if self.pattern in ("k20", "ff") else 1
 
 
 ENCODERS: dict[str, Callable[..., tuple[int, ...]]] = {
@@ -59,8 +59,6 @@ ENCODERS: dict[str, Callable[..., tuple[int, ...]]] = {
     "k20": lambda code, k: (code | (in_range(k, 0, 0xFFFFF, "address") & 0xFF), 0xF000 | k >> 8),
     "ff": lambda code, src, dst: (code | in_range(src, 0, 0xFFF, "file register"),
                                   0xF000 | in_range(dst, 0, 0xFFF, "file register")),
-    "fk": lambda code, fsr, k: (code | in_range(fsr, 0, 2, "FSR") << 4 | in_range(k, 0, 0xFFF, "address") >> 8,
-                                0xF000 | k & 0xFF),
     "": lambda code: (code,),
 }
 
@@ -75,20 +73,16 @@ INSTRUCTIONS = {
     "btfsc": Spec("fb", 0xB000, skips=True), "btfss": Spec("fb", 0xA000, skips=True),
     "addlw": Spec("k8", 0x0F00), "andlw": Spec("k8", 0x0B00), "iorlw": Spec("k8", 0x0900),
     "movlw": Spec("k8", 0x0E00), "sublw": Spec("k8", 0x0800), "xorlw": Spec("k8", 0x0A00),
-    "retlw": Spec("k8", 0x0C00, 2), "movlb": Spec("k4", 0x0100),
+    "movlb": Spec("k4", 0x0100),
     "bra": Spec("n11", 0xD000, 2), "rcall": Spec("n11", 0xD800, 2),
     # the conditional branches: 1 cycle, 2 when taken
     "bz": Spec("n8", 0xE000), "bnz": Spec("n8", 0xE100), "bc": Spec("n8", 0xE200), "bnc": Spec("n8", 0xE300),
     "bov": Spec("n8", 0xE400), "bnov": Spec("n8", 0xE500), "bn": Spec("n8", 0xE600), "bnn": Spec("n8", 0xE700),
     "goto": Spec("k20", 0xEF00, 2), "call": Spec("k20", 0xEC00, 2),
-    "movff": Spec("ff", 0xC000, 2), "lfsr": Spec("fk", 0xEE00, 2),
+    "movff": Spec("ff", 0xC000, 2),
     "nop": Spec("", 0x0000), "clrwdt": Spec("", 0x0004), "sleep": Spec("", 0x0003),
     "return": Spec("", 0x0012, 2), "tblrd*": Spec("", 0x0008, 2),
 }
-
-SKIPS = frozenset(op for op, spec in INSTRUCTIONS.items() if spec.skips)
-# after these the next word is not reached by falling through
-ENDS = frozenset(("goto", "bra", "return", "retlw"))
 
 
 def name(op: str) -> str:
