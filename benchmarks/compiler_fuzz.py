@@ -1,5 +1,5 @@
 """Differential fuzzing of the compiler, time-boxed, run on demand:
-`python benchmarks/compiler_fuzz.py [--family avr|pic16|c] [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
+`python benchmarks/compiler_fuzz.py [--family avr|pic16|pic18|c] [--seconds 600] [--workers 2] [--seed N] [--out DIR]`.
 
 Each worker draws random compilable programs for the family's boards
 (tests/test_compiler_random.py), runs each in simavr (AVR), gpsim (PIC16) or
@@ -28,6 +28,7 @@ GOAL = 1000
 # family -> (the harness module with its differential, the generator's boards, the simulator run)
 FAMILIES = {"avr": ("test_compiler_harness", "BOARDS", "simavr"),
             "pic16": ("pic16_harness", "PIC16_BOARDS", "gpsim"),
+            "pic18": ("pic16_harness", "PIC18_BOARDS", "gpsim"),
             "c": ("c_harness", "C_BOARDS", "the host's C compiler with -fsanitize=undefined,address")}
 
 

@@ -56,8 +56,14 @@ def target_device(program: Program, target: str | None) -> Device:
 
 def retarget(program: Program, device: Device) -> Program:
     """The program with the part selected; pins by port name carry over,
-    package pin numbers are looked up on the new part's package."""
-    return replace(program, settings=replace(program.settings, mcu=device.ldmicro_name or device.part))
+    package pin numbers are looked up on the new part's package. A
+    ConfigurationWord is its own family's encoding: it does not carry over
+    to another family's part (a PIC16's word is no PIC18's CONFIG1)."""
+    settings = replace(program.settings, mcu=device.ldmicro_name or device.part)
+    own = find_device(program.settings.mcu) if program.settings.mcu else None
+    if own is not None and own.family != device.family:
+        settings = replace(settings, config_word=0)
+    return replace(program, settings=settings)
 
 
 def build(program: Program, target: str | None = None, severities: Severities = NONE) -> Build:

@@ -216,13 +216,15 @@ def analog_group(device: Device, channels: set[int]) -> tuple[int, frozenset[int
 _PORT_REGISTER = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-Z])$", re.IGNORECASE)
 # what each family calls the others' port registers: an AVR has no TRIS (it is DDR); a PIC16
 # reads its pins in PORT and sets their direction in TRIS
-_PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}}
+_PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}, "pic18": {"PIN": "PORT", "DDR": "TRIS"}}
 
 
 def _data_addresses(device: Device) -> range:
     """The data addresses a `#0x..` name may reach: an AVR's above its 32
     working registers up to the end of RAM, a PIC16's every bank."""
     facts = device.data[device.family]
+    if "access_sfr" in facts:  # a PIC18's 4096: its RAM banks and the SFRs at the top
+        return range(0, 0x1000)
     if "banks" in facts:
         return range(0, 128 * facts["banks"])
     return range(0x20, facts["ram"]["start"] + facts["ram"]["size"])

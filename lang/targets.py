@@ -3,7 +3,7 @@
 A family's key is the support-column key of the instruction table
 (`lang.instructions.LAYERS`) and the `family` of its device files
 (`lang/devices/*.json`). Its `parts` are the device-file part keys its back
-end compiles (`compiler/avr/`, `compiler/pic16/`). The compiler, the checks,
+end compiles (`compiler/avr/`, `compiler/pic16/`, `compiler/pic18/`). The compiler, the checks,
 the command line and the language server all read this table; `lang` never
 imports the compiler (docs/architecture.md).
 
@@ -34,6 +34,7 @@ FAMILIES: dict[str, Family] = {
         Family("pic16", "PIC16", ("pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877",
                                   "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
                                   "pic16f72", "pic12f675", "pic12f683")),
+        Family("pic18", "PIC18", ("pic18f4520", "pic18f2520")),
         # portable C (`ladder build --emit c`): no part of its own, the program's pins are the user's runtime's
         Family("c", "C", ()),
     )

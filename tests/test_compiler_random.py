@@ -119,12 +119,12 @@ C_BOARDS = (dataclasses.replace(BOARDS[0], family="c"),)
 
 
 def _pic16(part: str, ldmicro: str, inputs: tuple[str, ...], outputs: tuple[str, ...], crystal_hz: int,
-           ballast: int = 68) -> Board:
+           ballast: int = 68, family: str = "pic16") -> Board:
     """Inputs on pins a gpsim pull-up module drives, analog ones among them (the
     start-up makes them digital), none on the oscillator, MCLR or open-drain
     RA4 pins; a 10 ms cycle, which Timer1 makes exactly at 4 and 20 MHz;
     ballast up to three of the four banks of RAM."""
-    return Board(part, "pic16", ldmicro, inputs, outputs, uart=False, crystal_hz=crystal_hz, cycle_us=10_000,
+    return Board(part, family, ldmicro, inputs, outputs, uart=False, crystal_hz=crystal_hz, cycle_us=10_000,
                  left_out=PIC16_PERIPHERALS, ballast=ballast)
 
 
@@ -139,6 +139,14 @@ PIC16_BOARDS = (
            ("RB0", "RB1", "RB3", "RB4", "RA2", "RA3"), 20_000_000),
     _pic16("pic16f887", "Microchip PIC16F887 40-PDIP", ("RA0", "RD2", "RE0", "RB5"),
            ("RB0", "RC2", "RD0", "RD1", "RE1", "RA5"), 4_000_000),
+)
+
+# the PIC18 boards as the PIC16 ones: ballast up to about 300 bytes, beyond BSR's banks 0 and 1
+PIC18_BOARDS = (
+    _pic16("pic18f4520", "Microchip PIC18F4520 40-PDIP", ("RD0", "RC1", "RA0", "RB4"),
+           ("RB0", "RB3", "RC5", "RD7", "RE1", "RA1"), 20_000_000, 80, "pic18"),
+    _pic16("pic18f2520", "pic18f2520", ("RC0", "RA2", "RB5", "RB7"),
+           ("RB0", "RB1", "RB2", "RC4", "RC5", "RA3"), 4_000_000, 80, "pic18"),
 )
 
 INPUTS = ("Xa", "Xb", "Xc", "Xd")

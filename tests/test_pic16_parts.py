@@ -422,7 +422,7 @@ def test_config_means_what_ldmicro_says(part):
     protection off" and the watchdog off (pic16.cpp); the PIC12F run on the
     internal oscillator with GP3 as an input (mcutable.h's comments)."""
     config = Part.of(find_device(part))
-    symbol = {name: config.config_field(name).symbol for name in config.pic16["config"]["fields"]}
+    symbol = {name: config.config_field(name).symbol for name in config.facts["config"]["fields"]}
     oscillator = {"pic12f675": "_FOSC_INTRCIO", "pic12f683": "_FOSC_INTOSCIO"}.get(part, "_FOSC_HS")
     assert symbol["FOSC"] == oscillator
     assert symbol["WDTE"] == "_WDTE_OFF" and symbol["PWRTE"] == "_PWRTE_ON" and symbol["BOREN"] == "_BOREN_ON"
@@ -517,7 +517,7 @@ def test_start_up_writes_make_the_analog_pins_digital(part, tmp_path):
     pins = _analog_pins(part)
     ports = sorted({pin.port for pin in pins})
     first = config.ram_ranges()[0][0]
-    features = config.pic16["features"]
+    features = config.facts["features"]
     writes = {**features["digital_io"], **features["comparators_off"]}
     assemble(source(part, config.config_words), config.processor, tmp_path)
     reset = dumps(gpsim([f"processor {config.gpsim}", f"load {tmp_path / 't.hex'}", "dump"], tmp_path))[0]
@@ -528,7 +528,7 @@ def test_start_up_writes_make_the_analog_pins_digital(part, tmp_path):
             for register, value in store.items():
                 lines += [f"\tbanksel {register}", f"\tmovlw {value:#04x}", f"\tmovwf {register} & 0x7f"]
         for i, letter in enumerate(ports):
-            register = config.pic16["ports"][letter][0]
+            register = config.facts["ports"][letter][0]
             lines += [f"\tbanksel {register}", f"\tmovf {register} & 0x7f, w", "\tbanksel 0",
                       f"\tmovwf {first + i:#x}"]
         assemble(source(part, config.config_words, [*lines, "loop\tgoto loop"]), config.processor, tmp_path)

@@ -8,12 +8,11 @@ board's crystal (heavy 32-bit arithmetic at 4 MHz) is not compared."""
 from __future__ import annotations
 
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
-from pic16_harness import CycleOverrun, differential
+from hypothesis import HealthCheck, given, settings
+from pic16_harness import follows_the_simulator
 from test_compiler_harness import IN_CI
-from test_compiler_random import PIC16_BOARDS, cases, too_large
+from test_compiler_random import PIC16_BOARDS, cases
 
-from compiler.errors import CompileError
 from compiler.run import gpsim
 
 needs_gpsim = pytest.mark.skipif(not gpsim.available() and not IN_CI, reason="gpsim not installed")
@@ -24,11 +23,4 @@ needs_gpsim = pytest.mark.skipif(not gpsim.available() and not IN_CI, reason="gp
 @settings(max_examples=15, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
 @given(case=cases(PIC16_BOARDS))
 def test_random_programs_follow_the_simulator_on_pic16(case, tmp_path_factory):
-    try:
-        problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("random"))
-    except CompileError as problem:
-        assume(not too_large(problem))
-        raise
-    except CycleOverrun:
-        assume(False)
-    assert problems == [], "\n".join(problems)
+    follows_the_simulator(case, tmp_path_factory.mktemp("random"))

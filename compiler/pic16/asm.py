@@ -28,7 +28,7 @@ lie anywhere.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from . import isa
 
@@ -111,13 +111,12 @@ class _Word:
     comment: str = ""
 
 
-@dataclass
-class Assembler:
-    flash_words: int
-    page_words: int = 2048
-    items: list[Item] = field(default_factory=list)
+class Writer:
+    """The items in program order, as the emitter writes them; each
+    family's assembler lays them out."""
 
-    # --- writing ---------------------------------------------------------------
+    def __init__(self) -> None:
+        self.items: list[Item] = []
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
         self.items.append(Ins(op, tuple(args), comment))
@@ -139,6 +138,13 @@ class Assembler:
 
     def table(self, name: str, values: bytes) -> None:
         self.items.append(Table(name, bytes(values)))
+
+
+class Assembler(Writer):
+    def __init__(self, flash_words: int, page_words: int = 2048):
+        super().__init__()
+        self.flash_words = flash_words
+        self.page_words = page_words
 
     # --- layout ------------------------------------------------------------------
 
@@ -248,14 +254,14 @@ class Assembler:
             for offset, word in enumerate(group):
                 address = start + offset
                 if offset == lead:
-                    lines += [f"{_name(item.name)}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
+                    lines += heading(before)
                 op, args, text = self._resolve(word, address, labels, jump)
                 value = isa.encode(op, *args)
                 words.append(value)
                 note = f"  {word.comment}" if word.comment else ""
                 lines.append(f"\t{op}\t{text}".rstrip() + f"\t; {address:04X} {value:04X}{note}")
             if not group:
-                lines += [f"{_name(item.name)}:" if isinstance(item, Label) else f"; {item.text}" for item in before]
+                lines += heading(before)
         lines.append("\tend")
         return Assembled(words, "\n".join(lines) + "\n", labels)
 
@@ -273,9 +279,9 @@ class Assembler:
         if word.target is not None:
             target = labels[word.target]
             if word.op == "movlw":
-                return "movlw", ((target >> 8) if word.high else target & 0xFF,), \
-                    f"{'high' if word.high else 'low'}({_name(word.target)})"
-            return word.op, (target & 0x7FF,), _name(word.target)
+                value = (target >> 8) if word.high else target & 0xFF
+                return "movlw", (value,), address_text(word.target, word.high)
+            return word.op, (target & 0x7FF,), label_name(word.target)
         pattern = isa.INSTRUCTIONS[word.op].pattern
         args = word.args
         text = {"fd": lambda: f"0x{args[0]:02X}, {args[1]}", "f": lambda: f"0x{args[0]:02X}",
@@ -285,6 +291,16 @@ class Assembler:
 
 
 
-def _name(label: str) -> str:
+def heading(items: list) -> list[str]:
+    """Labels and comments as listing lines."""
+    return [f"{label_name(item.name)}:" if isinstance(item, Label) else f"; {item.text}" for item in items]
+
+
+def address_text(label: str, high: bool) -> str:
+    """gpasm's operand for a byte of a label's address."""
+    return f"{'high' if high else 'low'}({label_name(label)})"
+
+
+def label_name(label: str) -> str:
     """A label as gpasm spells one: letters, digits and underscores."""
     return re.sub(r"\W", "_", label)

@@ -9,7 +9,7 @@ from ..errors import FLASH_FULL, fail
 from ..image import Image, Symbol
 from . import asm as a
 from . import flow as pic16_flow
-from .emit import Emitter, compress_skips
+from .emit import Emitter, MidRange, compress_skips
 from .memory import allocate
 from .part import Part
 from .peripherals import DELAY_LOOP_CYCLES
@@ -18,7 +18,7 @@ from .runtime import free_running, write_runtime
 from .select import Context, prepare
 
 
-def _ram_in_use(layout) -> frozenset[int]:
+def ram_in_use(layout) -> frozenset[int]:
     used = set(layout.scratch)
     if layout.clock is not None:
         used.update(range(layout.clock, layout.clock + 4))
@@ -62,11 +62,11 @@ class Pic16Backend:
         # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
         reserved = 1 if part.feature("osccal") else 0
         assembler = a.Assembler(part.flash_words - reserved, part.page_words)
-        ram = _ram_in_use(layout)
+        ram = ram_in_use(layout)
         # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
         high_banks = any(a >= 0x100 for a in ram) or any(st.addr >= 0x100 for st in layout.vars.values()) or any(
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
-        cx = Context(Emitter(assembler, part, ram, high_banks), part, layout, machine)
+        cx = Context(Emitter(assembler, part, ram, MidRange(part, high_banks)), part, layout, machine)
         prepare(cx, code)
         write_runtime(cx, code)
         write_routines(cx.e, layout.scratch, cx.routines)
@@ -83,7 +83,7 @@ class Pic16Backend:
         listing = header.format(words=len(assembled.words)) + assembled.listing
         return Image(
             words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=_symbols(layout),
+            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
             listing_suffix=".asm", loops=dict(cx.e.bounds))
@@ -100,7 +100,7 @@ def _config(part: Part, setting: int | None) -> dict[int, int]:
     return words
 
 
-def _symbols(layout) -> dict:
+def symbols(layout) -> dict:
     found = {name: Symbol(loc.addr, 1, loc.bit) for name, loc in layout.bits.items()}
     found.update((name, Symbol(st.addr, st.size)) for name, st in layout.vars.items())
     return found

@@ -28,7 +28,7 @@ from .. import analysis
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits
-from .emit import FSR, INDF, IRP, STATUS, C, Emitter, F, W, Z
+from .emit import C, Emitter, F, W, Z
 from .memory import FileBit
 
 
@@ -98,6 +98,9 @@ def put(e: Emitter, b: Byte, address: int) -> None:
     if b.kind == "const" and b.value == 0:
         e.ins("clrf", address)
         return
+    if b.kind == "mem":
+        e.copy(b.value, address)
+        return
     load_w(e, b)
     e.store(address)
 
@@ -143,7 +146,7 @@ def move(cx, op: ir.Move) -> None:
 # --- add, sub, logic -----------------------------------------------------------------------
 
 def _same_bank(e: Emitter, *addresses: int) -> bool:
-    banks = {a >> 7 for a in addresses if not e.reaches(a)}
+    banks = {e.core.wanted(a) for a in addresses if not e.reaches(a)}
     return len(banks) <= 1
 
 
@@ -171,7 +174,7 @@ def add_constant(e: Emitter, regs: list[int], k: int) -> None:
         e.ins("incf", regs[0], F)
         for reg in regs[1:]:
             e.select(reg)
-            e.ins("btfsc", STATUS, Z)
+            e.ins("btfsc", e.status, Z)
             e.ins("incf", reg, F)
         return
     first = next(i for i in range(n) if (k >> 8 * i) & 0xFF)
@@ -182,17 +185,17 @@ def add_constant(e: Emitter, regs: list[int], k: int) -> None:
         reg = regs[i]
         if i == n - 1 and ki == 0:
             e.select(reg)
-            e.ins("btfsc", STATUS, C)
+            e.ins("btfsc", e.status, C)
             e.ins("incf", reg, F)
         elif ki == 0xFF:
             # with a carry in, adding 0x100 leaves the byte and carries out
             e.select(reg)
             e.ins("movlw", 0xFF)
-            e.ins("btfss", STATUS, C)
+            e.ins("btfss", e.status, C)
             e.ins("addwf", reg, F)
         else:
             e.ins("movlw", ki)
-            e.ins("btfsc", STATUS, C)
+            e.ins("btfsc", e.status, C)
             e.ins("movlw", ki + 1)
             e.ins("addwf", reg, F)
 
@@ -230,17 +233,17 @@ def chain(e: Emitter, kind: str, regs: list[int], b: list[Byte]) -> None:
             # the byte and carries (borrows) out
             e.select(reg)
             e.ins("movlw", 0xFF)
-            e.ins("btfsc" if borrow else "btfss", STATUS, C)
+            e.ins("btfsc" if borrow else "btfss", e.status, C)
             e.ins(op, reg, dest)
         elif bi.kind == "const":
             e.ins("movlw", bi.value)
-            e.ins("btfss" if borrow else "btfsc", STATUS, C)
+            e.ins("btfss" if borrow else "btfsc", e.status, C)
             e.ins("movlw", bi.value + 1)
             e.ins(op, reg, dest)
         else:
             e.select(reg)
             e.ins("movf", bi.value, W)
-            e.ins("btfss" if borrow else "btfsc", STATUS, C)
+            e.ins("btfss" if borrow else "btfsc", e.status, C)
             e.ins("incfsz", bi.value, W)
             e.ins(op, reg, dest)
     if kind == "cmp":
@@ -350,7 +353,7 @@ def _overflow(cx, kind: str, regs: list[int], n: int, flag: ir.Bit) -> None:
     for reg in regs[n:]:
         load_w(e, Byte("ext", regs[n - 1]))
         e.ins("xorwf", reg, W)
-        e.ins("btfss", STATUS, Z)
+        e.ins("btfss", e.status, Z)
         e.goto(overflow)
     e.goto(done)
     e.label(overflow)
@@ -399,7 +402,7 @@ def compare_jump(cx, op: ir.JumpIf) -> None:
         _at_least_constant(cx, a, b.value, width)
     else:
         _at_least(cx, a, b, width)
-    bits.jump_if(e, FileBit(STATUS, C), rel == ">=", op.target)
+    bits.jump_if(e, FileBit(e.status, C), rel == ">=", op.target)
 
 
 def _at_least(cx, a, b, width: int) -> None:
@@ -435,11 +438,11 @@ def _at_least_constant(cx, a, k: int, width: int) -> None:
         elif i:
             if i != width - 1:
                 e.ins("iorlw", 0)  # Z: the byte is 0
-            e.ins("bsf", STATUS, C)
+            e.ins("bsf", e.status, C)
         else:
-            e.ins("bsf", STATUS, C)  # the last byte is at least 0
+            e.ins("bsf", e.status, C)  # the last byte is at least 0
         if i:
-            e.ins("btfss", STATUS, Z)
+            e.ins("btfss", e.status, Z)
             e.goto(done)
     e.label(done)
     e.forget_w()
@@ -478,9 +481,9 @@ def _equality(cx, a, b, width: int, equal: bool, target: str) -> None:
             load_w(e, ai)
             e.ins("xorwf", bi.value, W)
         if n == len(pairs) - 1 and equal:
-            bits.jump_if(e, FileBit(STATUS, Z), True, target)
+            bits.jump_if(e, FileBit(e.status, Z), True, target)
         else:
-            bits.jump_if(e, FileBit(STATUS, Z), False, differ)
+            bits.jump_if(e, FileBit(e.status, Z), False, differ)
     if equal:
         e.label(differ)
 
@@ -490,7 +493,7 @@ def _equality(cx, a, b, width: int, equal: bool, target: str) -> None:
 def shift_once(e: Emitter, kind: str, regs: list[int]) -> None:
     """One bit: the carry takes what comes in (0, the sign, the bit going round)."""
     if kind in ("shl", "sr0"):
-        e.ins("bcf", STATUS, C)
+        e.ins("bcf", e.status, C)
     elif kind in ("shr", "rol"):
         e.ins("rlf", regs[-1], W)  # C = the top bit
     else:
@@ -532,12 +535,12 @@ def _count(cx, count, bits_: int, rotate: bool) -> None:
         e.load(s.B[1])
         e.ins("iorwf", s.B[2], W)
         e.ins("iorwf", s.B[3], W)
-        e.ins("btfss", STATUS, Z)
+        e.ins("btfss", e.status, Z)
         e.ins("movlw", 0xFF)  # a high byte set: past the width
         e.ins("iorwf", s.B[0], W)
         e.ins("sublw", bits_)
         e.ins("movlw", bits_)
-        e.ins("btfss", STATUS, C)
+        e.ins("btfss", e.status, C)
         e.goto(have)  # above bits_: bits_ shifts
         e.load(s.B[0])
     e.goto(have)
@@ -573,7 +576,7 @@ def shift(cx, op: ir.Shift) -> None:
         copy_in(cx, op.a, regs[:w])
         done = e.new_label("shift")
         e.ins("movf", cx.layout.scratch[12], F)
-        e.ins("btfsc", STATUS, Z)
+        e.ins("btfsc", e.status, Z)
         e.goto(done)
         _repeat(cx, op.op, regs[:w])
         e.label(done)
@@ -595,11 +598,11 @@ def _within(cx, index, limit: int, outside: str) -> None:
     e.load(s.B[1])
     e.ins("iorwf", s.B[2], W)
     e.ins("iorwf", s.B[3], W)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.goto(outside)
     e.ins("movlw", limit)
     e.ins("subwf", s.B[0], W)
-    e.ins("btfsc", STATUS, C)
+    e.ins("btfsc", e.status, C)
     e.goto(outside)
 
 
@@ -622,28 +625,28 @@ def change_bit(cx, op: ir.ChangeBitOf) -> None:
     e.ins("rrf", s.D, W)
     e.ins("andlw", 0x1F)
     e.ins("addlw", base & 0xFF)
-    e.store(FSR)
-    e.ins("bsf" if base >> 8 else "bcf", STATUS, IRP)
+    e.store(e.fsr)
+    e.point_high(base >> 8)
     e.ins("movlw", 1)
     e.store(s.E)
     e.load(s.B[0])
     e.ins("andlw", 7)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(masked)
     e.store(s.D)
     top = e.new_label("bit")
     e.label(top, loop=True, bound=LoopBound(7, "the mask of a bit number"))
-    e.ins("bcf", STATUS, C)
+    e.ins("bcf", e.status, C)
     e.ins("rlf", s.E, F)
     e.ins("decfsz", s.D, F)
     e.goto(top)
     e.label(masked)
     if op.value:
         e.load(s.E)
-        e.ins("iorwf", INDF, F)
+        e.ins("iorwf", e.indf, F)
     else:
         e.ins("comf", s.E, W)
-        e.ins("andwf", INDF, F)
+        e.ins("andwf", e.indf, F)
     e.label(done)
 
 
@@ -665,7 +668,7 @@ def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
     copy_in(cx, op.a, s.A)
     _count_bits(cx, s)
     e.ins("movf", s.D, F)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(test)
     _repeat(cx, "shr", s.A)
     e.label(test)
@@ -688,12 +691,12 @@ def _count_bits(cx, s) -> None:
     e.load(s.B[1])
     e.ins("iorwf", s.B[2], W)
     e.ins("iorwf", s.B[3], W)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.ins("movlw", 0xFF)
     e.ins("iorwf", s.B[0], W)
     e.ins("sublw", 31)
     e.ins("movlw", 31)
-    e.ins("btfss", STATUS, C)
+    e.ins("btfss", e.status, C)
     e.goto(have)
     e.load(s.B[0])
     e.label(have)

@@ -18,14 +18,14 @@ class EncodingError(ValueError):
     """An operand out of its instruction's range (a back-end bug)."""
 
 
-def _check(value: int, low: int, high: int, what: str) -> int:
+def in_range(value: int, low: int, high: int, what: str) -> int:
     if not low <= value <= high:
         raise EncodingError(f"{what} {value} out of range {low}..{high}")
     return value
 
 
 def _file(f: int) -> int:
-    return _check(f, 0, 0x1FF, "file register") & 0x7F
+    return in_range(f, 0, 0x1FF, "file register") & 0x7F
 
 
 @dataclass(frozen=True)
@@ -37,15 +37,15 @@ class Spec:
 
 
 def _fd(code: int, f: int, d: int) -> int:
-    return code | _check(d, 0, 1, "destination") << 7 | _file(f)
+    return code | in_range(d, 0, 1, "destination") << 7 | _file(f)
 
 
 ENCODERS: dict[str, Callable[..., int]] = {
     "fd": _fd,
     "f": lambda code, f: code | _file(f),
-    "fb": lambda code, f, b: code | _check(b, 0, 7, "bit") << 7 | _file(f),
-    "k8": lambda code, k: code | (_check(k, -128, 255, "literal") & 0xFF),
-    "k11": lambda code, k: code | _check(k, 0, 0x7FF, "address"),
+    "fb": lambda code, f, b: code | in_range(b, 0, 7, "bit") << 7 | _file(f),
+    "k8": lambda code, k: code | (in_range(k, -128, 255, "literal") & 0xFF),
+    "k11": lambda code, k: code | in_range(k, 0, 0x7FF, "address"),
     "": lambda code: code,
 }
 

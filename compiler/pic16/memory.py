@@ -65,6 +65,7 @@ class _Ram:
         self.banked = [a for span in part.ram_ranges() for a in span if a not in shared]
         self.size = len(self.common) + len(self.banked)
         self.used = 0
+        self.bank = part.bank_bytes
 
     def byte(self) -> int:
         """One byte, reachable from every bank if possible."""
@@ -79,7 +80,7 @@ class _Ram:
         for pool in (self.banked, self.common):
             for i in range(len(pool) - size + 1):
                 run = pool[i:i + size]
-                if run[-1] - run[0] == size - 1 and run[0] >> 7 == run[-1] >> 7:
+                if run[-1] - run[0] == size - 1 and run[0] // self.bank == run[-1] // self.bank:
                     del pool[i:i + size]
                     self.used += size
                     return run[0]
@@ -90,9 +91,10 @@ class _Full(Exception):
     pass
 
 
-def _pin_bit(part: Part, machine, name: str) -> FileBit:
+def _pin_bit(part: Part, machine, name: str, kind: str) -> FileBit:
+    """An input reads its pin; an output is its latch's bit."""
     pin = machine.pins[name]
-    return FileBit(part.port(pin.port), pin.bit, False)
+    return FileBit(part.port(pin.port) if kind == ir.INPUT else part.latch(pin.port), pin.bit, False)
 
 
 def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> Layout:
@@ -103,7 +105,7 @@ def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> 
         packed: list[str] = []
         for name, kind in code.bits.items():
             if kind in (ir.INPUT, ir.OUTPUT):
-                bits[name] = _pin_bit(part, machine, name)
+                bits[name] = _pin_bit(part, machine, name, kind)
         memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
         counts = use_counts(code.scan, set(memory))
         packed += sorted(memory, key=lambda n: -counts[n])
@@ -144,6 +146,6 @@ def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> 
     except _Full:
         needed = SCRATCH_BYTES + (len(code.bits) + 7) // 8 + sum(code.vars.values())
         raise fail(RAM_FULL, f"the variables, bits and the compiler's {SCRATCH_BYTES} scratch bytes need about "
-                             f"{needed} bytes of RAM in banks of 128 addresses; the {part.title} has "
+                             f"{needed} bytes of RAM in banks of {part.bank_bytes} addresses; the {part.title} has "
                              f"{ram.size}") from None
     return Layout(bits, variables, scratch, ram.used, ram.size, clock)

@@ -66,6 +66,7 @@ features
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Self
 
 from lang.devices import Device
 
@@ -84,11 +85,14 @@ class ConfigField:
 @dataclass(frozen=True)
 class Part:
     device: Device
-    pic16: dict
+    facts: dict  # the device file's family key ("pic16")
+    bank_bytes = BANK_BYTES  # the addresses one bank selection reaches: a variable stays in one
+    eeprom_hex = (0x4200, 2)  # where a HEX file holds the data EEPROM: byte address, bytes per EEPROM byte
+    pc_step = 1  # program counter counts per word
 
     @classmethod
-    def of(cls, device: Device) -> Part:
-        return cls(device, device.data["pic16"])
+    def of(cls, device: Device) -> Self:
+        return cls(device, device.data[device.family])
 
     @property
     def title(self) -> str:
@@ -96,23 +100,23 @@ class Part:
 
     @property
     def processor(self) -> str:
-        return self.pic16["processor"]
+        return self.facts["processor"]
 
     @property
     def gpsim(self) -> str:
-        return self.pic16["gpsim"]
+        return self.facts["gpsim"]
 
     @property
     def gpsim_exact(self) -> bool:
-        return self.pic16["gpsim_exact"]
+        return self.facts["gpsim_exact"]
 
     @property
     def flash_words(self) -> int:
-        return self.pic16["flash_words"]
+        return self.facts["flash_words"]
 
     @property
     def page_words(self) -> int:
-        return self.pic16["page_words"]
+        return self.facts["page_words"]
 
     @property
     def pages(self) -> int:
@@ -120,26 +124,26 @@ class Part:
 
     @property
     def eeprom(self) -> int:
-        return self.pic16["eeprom"]
+        return self.facts["eeprom"]
 
     @property
     def banks(self) -> int:
-        return self.pic16["banks"]
+        return self.facts["banks"]
 
     def reg(self, name: str) -> int:
         """A register's data address."""
-        return self.pic16["registers"][name]
+        return self.facts["registers"][name]
 
     def has(self, name: str) -> bool:
-        return name in self.pic16["registers"]
+        return name in self.facts["registers"]
 
     def bit(self, register: str, name: str) -> int:
         """A bit's position in its register, by the header's names."""
-        return self.pic16["bits"][register][name]
+        return self.facts["bits"][register][name]
 
     def bits(self, register: str) -> dict[str, int]:
         """The named bits of a register (none for a register the part lacks)."""
-        return self.pic16["bits"].get(register, {})
+        return self.facts["bits"].get(register, {})
 
     @staticmethod
     def bank(address: int) -> int:
@@ -147,47 +151,62 @@ class Part:
 
     def ram_ranges(self) -> list[range]:
         """The general-purpose bytes, each physical byte once."""
-        return [range(first, last + 1) for first, last in self.pic16["ram"]]
+        return [range(first, last + 1) for first, last in self.facts["ram"]]
 
     @property
     def common(self) -> range | None:
         """The bytes every bank reaches, in bank-0 addresses."""
-        span = self.pic16["common"]
+        span = self.facts["common"]
         return range(span[0], span[1] + 1) if span else None
 
     def physical(self, address: int) -> int:
         """The byte a data address reaches: itself, or what it mirrors."""
-        for first, last, target in self.pic16["mirrors"]:
+        for first, last, target in self.facts["mirrors"]:
             if first <= address <= last:
                 return target + address - first
         return address
 
     def port(self, letter: str) -> int:
         """The data register of a Pin's port letter (PORTB, GPIO)."""
-        return self.reg(self.pic16["ports"][letter][0])
+        return self.reg(self.facts["ports"][letter][0])
 
     def tris(self, letter: str) -> int:
         """The direction register of a Pin's port letter (TRISB, TRISIO)."""
-        return self.reg(self.pic16["ports"][letter][1])
+        return self.reg(self.facts["ports"][letter][1])
+
+    def latch(self, letter: str) -> int:
+        """The register an output of a Pin's port letter is written in: its
+        latch where the part has one apart (LATB), else the port."""
+        names = self.facts["ports"][letter]
+        return self.reg(names[2]) if len(names) > 2 else self.port(letter)
+
+    def pullup_switch(self) -> tuple[int, int] | None:
+        """(register, bit) whose clearing turns the weak pull-ups on (RBPU,
+        GPPU), None when the part has none."""
+        for register, named in self.facts["bits"].items():
+            for bit in ("NOT_RBPU", "NOT_GPPU"):
+                if bit in named:
+                    return self.reg(register), named[bit]
+        return None
 
     @property
     def config_words(self) -> tuple[tuple[int, int], ...]:
         """(program address, value) of each configuration word."""
-        return tuple((w["address"], w["value"]) for w in self.pic16["config"]["words"])
+        return tuple((w["address"], w["value"]) for w in self.facts["config"]["words"])
 
     @property
     def ldmicro_config(self) -> bool:
         """The configuration words are LDmicro's own for this part."""
-        return self.pic16["config"]["ldmicro"]
+        return self.facts["config"]["ldmicro"]
 
     def config_field(self, name: str) -> ConfigField | None:
         """A field of the configuration words ("FOSC", "WDTE", "MCLRE"...)."""
-        entry = self.pic16["config"]["fields"].get(name)
+        entry = self.facts["config"]["fields"].get(name)
         return ConfigField(name, **entry) if entry else None
 
     def config_symbols(self, word: int = 0) -> list[str]:
         """The header symbols whose AND is configuration word `word`."""
-        return [f["symbol"] for f in self.pic16["config"]["fields"].values() if f["word"] == word]
+        return [f["symbol"] for f in self.facts["config"]["fields"].values() if f["word"] == word]
 
     def feature(self, name: str, default=None):
-        return self.pic16["features"].get(name, default)
+        return self.facts["features"].get(name, default)

@@ -16,7 +16,7 @@ from ..errors import NOT_COMPILED, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
-from .emit import STATUS, F, W, Z
+from .emit import F, W, Z
 from .memory import FileBit
 from .part import Part
 
@@ -76,7 +76,8 @@ def _spin(cx, cycles: int, what: str) -> None:
 # --- delays ---------------------------------------------------------------------------
 
 def delay(cx, op: ir.Delay) -> None:
-    """A loop of DELAY_LOOP_CYCLES clock cycles per count, clearing the watchdog."""
+    """A loop of the family's delay_loop_cycles clock cycles per count
+    (DELAY_LOOP_CYCLES on a PIC16), clearing the watchdog."""
     e = cx.e
     s = ints.Scratch(cx.layout.scratch)
     done = e.new_label("delay")
@@ -87,14 +88,14 @@ def delay(cx, op: ir.Delay) -> None:
         e.goto(done)  # a negative count waits nothing
     else:
         assert isinstance(op.amount, ir.Const)  # a delay that does not loop is a constant time
-        count = round(op.amount.value * cx.machine.crystal_hz / (1_000_000 * DELAY_LOOP_CYCLES))
+        count = round(op.amount.value * cx.machine.crystal_hz / (1_000_000 * cx.delay_loop_cycles))
         if count <= 0:
             return
         ints.copy_in(cx, ir.Const(count), s.A)
     e.load(s.A[0])
     for reg in s.A[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(done)
     top = e.new_label("delay")
     e.label(top, loop=True, bound=LoopBound(count, "DELAY") if count else LoopBound(None, "a DELAY by a variable"))
@@ -103,7 +104,7 @@ def delay(cx, op: ir.Delay) -> None:
     e.load(s.A[0])
     for reg in s.A[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.goto(top)
     e.label(done)
 
@@ -142,6 +143,9 @@ def analog_setup(cx, channels: set[int]) -> None:
     group = analog_group(part.device, channels)
     assert group is not None  # a part without ANSEL chooses its analog pins by PCFG
     _write(cx, "ADCON1", group[0] | (1 << part.bit("ADCON1", "ADFM") if adfm == "ADCON1" else 0))
+    if "ADFM" in part.bits("ADCON2"):
+        # the PIC18's converter clock and justification (acquisition time 0: the program waits it)
+        _write(cx, "ADCON2", 1 << part.bit("ADCON2", "ADFM") | _adcs(part, "ADCON2", adc_clock(part, cx.machine.crystal_hz)))
 
 
 def _adcs(part: Part, register: str, select: int) -> int:
@@ -195,10 +199,10 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.load(duty[0])
     for reg in duty[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.goto(off)
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
-    e.ins("btfsc", STATUS, 0)
+    e.ins("btfsc", e.status, 0)
     e.goto(on)
     # A = duty * 4 * period, then / full: a 10-bit duty cycle
     ints.copy_in(cx, ir.Const(0), s.A[:3])
@@ -223,7 +227,7 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.ins("iorlw", PWM_MODE)
     e.store(ccp)
     for _ in range(2):
-        e.ins("bcf", STATUS, 0)
+        e.ins("bcf", e.status, 0)
         e.ins("rrf", s.A[1], F)
         e.ins("rrf", s.A[0], F)
     e.load(s.A[0])
@@ -252,7 +256,7 @@ def _disconnect(cx, unit: str, level: bool) -> None:
     e, part = cx.e, cx.part
     e.ins("clrf", part.reg(f"{unit}CON"))
     pin = part.device.pin(next(p for p, u in part.device.pwm.items() if u == unit))
-    bits.write(e, FileBit(part.port(pin.port), pin.bit, False), level)
+    bits.write(e, FileBit(part.latch(pin.port), pin.bit, False), level)
 
 
 def pwm_off(cx, op: ir.PwmOff) -> None:
@@ -357,8 +361,9 @@ def _eeprom_read(cx, address: int) -> None:
     """W = the EEPROM byte."""
     e, part, eeprom = cx.e, cx.part, _eeprom(cx)
     _write(cx, eeprom["address"], address)
-    if "EEPGD" in part.bits(eeprom["control"]):
-        bits.write(e, _bit(cx, eeprom["control"], "EEPGD"), False)
+    for memory in ("EEPGD", "CFGS"):  # the data EEPROM, not program memory or the configuration
+        if memory in part.bits(eeprom["control"]):
+            bits.write(e, _bit(cx, eeprom["control"], memory), False)
     bits.write(e, _bit(cx, eeprom["control"], "RD"), True)
     e.load(part.reg(eeprom["data"]))
 
@@ -388,7 +393,7 @@ def eeprom_save(cx, op: ir.EepromSave) -> None:
         e.store(spare)
         e.load(st.addr + i)
         e.ins("xorwf", spare, W)
-        e.ins("btfsc", STATUS, Z)
+        e.ins("btfsc", e.status, Z)
         e.goto(same)
         e.load(st.addr + i)
         e.store(part.reg(eeprom["data"]))

@@ -14,9 +14,11 @@ Every loop is bounded: mulN runs at most 8N times, udivmodN exactly 8N.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from ..image import LoopBound
 from . import integers as ints
-from .emit import STATUS, C, Emitter, F, W, Z
+from .emit import C, Emitter, F, W, Z
 from .integers import Byte, Scratch
 
 
@@ -28,13 +30,13 @@ def negate(e: Emitter, regs: list[int]) -> None:
 
 def _shift_left(e: Emitter, regs: list[int], clear: bool = True) -> None:
     if clear:
-        e.ins("bcf", STATUS, C)
+        e.ins("bcf", e.status, C)
     for reg in regs:
         e.ins("rlf", reg, F)
 
 
 def _shift_right(e: Emitter, regs: list[int]) -> None:
-    e.ins("bcf", STATUS, C)
+    e.ins("bcf", e.status, C)
     for reg in reversed(regs):
         e.ins("rrf", reg, F)
 
@@ -48,11 +50,11 @@ def mul(e: Emitter, s: Scratch, n: int) -> None:
     e.ins("movf", B[0], W)
     for reg in B[1:]:
         e.ins("iorwf", reg, W)
-    e.ins("btfsc", STATUS, Z)
+    e.ins("btfsc", e.status, Z)
     e.ins("return")
     e.forget_w()
     _shift_right(e, B)
-    e.ins("btfss", STATUS, C)
+    e.ins("btfss", e.status, C)
     e.goto(skip)
     ints.add_files(e, R, A)
     e.label(skip)
@@ -71,7 +73,7 @@ def udivmod(e: Emitter, s: Scratch, n: int) -> None:
     _shift_left(e, A)
     _shift_left(e, R, clear=False)
     ints.compare_files(e, R, B)  # C = R >= B
-    e.ins("btfss", STATUS, C)
+    e.ins("btfss", e.status, C)
     e.goto(next_)
     ints.sub_files(e, R, B)
     e.ins("bsf", A[0], 0)
@@ -115,7 +117,7 @@ def bin2bcd(e: Emitter, s: Scratch) -> None:
         # a 16-bit value holds 65 thousands at most; then fewer than ten of each
         e.label(top, loop=True, bound=LoopBound(66 if step == 1000 else 10, f"BIN2BCD, counting {step}s"))
         ints.compare_files(e, R, [Byte("const", step & 0xFF), Byte("const", step >> 8)])
-        e.ins("btfss", STATUS, C)
+        e.ins("btfss", e.status, C)
         e.goto(done)
         ints.add_constant(e, R, -step)
         e.ins("incf", digit, F)
@@ -146,7 +148,7 @@ def bcd2bin(e: Emitter, s: Scratch) -> None:
         e.ins("movf", digit, W)
         e.ins("andlw", 0x0F)
         e.ins("addwf", R[0], F)
-        e.ins("btfsc", STATUS, C)
+        e.ins("btfsc", e.status, C)
         e.ins("incf", R[1], F)
     for i in range(2):
         e.ins("movf", R[i], W)
@@ -156,24 +158,28 @@ def bcd2bin(e: Emitter, s: Scratch) -> None:
     e.ins("return")
 
 
-def _writer(name: str):
+Multiply = Callable[[Emitter, Scratch, int], None]
+
+
+def _writer(name: str, multiply: Multiply):
     if name in ("bin2bcd", "bcd2bin"):
         return (bin2bcd if name == "bin2bcd" else bcd2bin), None, ()
-    for prefix, fn in (("udivmod", udivmod), ("divmod", divmod_), ("mul", mul)):
+    for prefix, fn in (("udivmod", udivmod), ("divmod", divmod_), ("mul", multiply)):
         if name.startswith(prefix):
             n = int(name[len(prefix):])
             return fn, n, (f"udivmod{n}",) if prefix == "divmod" else ()
     raise KeyError(name)
 
 
-def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str]) -> None:
-    """Each routine asked for (and those it calls), labelled by its name."""
+def write_routines(e: Emitter, scratch: tuple[int, ...], wanted: set[str], multiply: Multiply = mul) -> None:
+    """Each routine asked for (and those it calls), labelled by its name;
+    `multiply` writes mulN (the PIC18 has a hardware multiplier)."""
     s = Scratch(scratch)
     todo = set(wanted)
     for name in list(todo):
-        todo.update(_writer(name)[2])
+        todo.update(_writer(name, multiply)[2])
     for name in sorted(todo):
-        fn, n, _ = _writer(name)
+        fn, n, _ = _writer(name, multiply)
         e.label(name, loop=True)
         if n is None:
             fn(e, s)

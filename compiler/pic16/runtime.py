@@ -24,7 +24,7 @@ from lang.semantics import ir
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
-from .emit import FSR, INDF, IRP, STATUS, W, Z
+from .emit import W, Z
 from .memory import FileBit
 from .peripherals import analog_setup, pwm_setup, uart_setup
 from .select import Context, select
@@ -64,7 +64,7 @@ def _pulled_up(cx: Context) -> int:
 
 
 def _clear(cx: Context, addresses: list[int]) -> None:
-    """Clear the RAM bytes in use: runs of them by FSR, a few with CLRF."""
+    """Clear the RAM bytes in use: runs of them by e.fsr, a few with CLRF."""
     e = cx.e
     runs: list[list[int]] = []
     for address in sorted(addresses):
@@ -77,16 +77,16 @@ def _clear(cx: Context, addresses: list[int]) -> None:
             for address in run:
                 e.ins("clrf", address)
             continue
-        e.ins("bsf" if run[0] >> 8 else "bcf", STATUS, IRP)
+        e.point_high(run[0] >> 8)
         e.load_constant(run[0] & 0xFF)
-        e.store(FSR)
+        e.store(e.fsr)
         top = e.new_label("clear")
         e.label(top, loop=True, bound=LoopBound(len(run), "clearing RAM at start-up"))
-        e.ins("clrf", INDF)
-        e.ins("incf", FSR, 1)
+        e.ins("clrf", e.indf)
+        e.ins("incf", e.fsr, 1)
         e.ins("movlw", (run[-1] + 1) & 0xFF)
-        e.ins("xorwf", FSR, W)
-        e.ins("btfss", STATUS, Z)
+        e.ins("xorwf", e.fsr, W)
+        e.ins("btfss", e.status, Z)
         e.goto(top)
 
 
@@ -100,7 +100,7 @@ def _start(cx: Context, code: ir.Code) -> None:
     analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
     outputs = _pins(cx)
     for letter in sorted(outputs):
-        cx.e.ins("clrf", part.port(letter))
+        cx.e.ins("clrf", part.latch(letter))
     for letter, mask in sorted(outputs.items()):
         direction = ~mask & 0xFF
         if "PSPMODE" in part.bits(f"TRIS{letter}"):
@@ -112,7 +112,9 @@ def _start(cx: Context, code: ir.Code) -> None:
         for register in ("WPUB", "WPU"):
             if part.has(register):
                 _write(cx, register, pulled)
-        cx.e.ins("bcf", part.reg("OPTION_REG"), 7)  # RBPU/GPPU low: the weak pull-ups on
+        switch = part.pullup_switch()
+        assert switch is not None  # a port with weak pull-ups has their switch
+        cx.e.ins("bcf", *switch)  # RBPU/GPPU low: the weak pull-ups on
     uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
@@ -190,7 +192,7 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     e.store(count[0])
     e.load(timer_high)
     e.ins("xorwf", count[1], 0)
-    e.ins("btfss", STATUS, Z)
+    e.ins("btfss", e.status, Z)
     e.goto(read)
     e.load(high)
     e.store(count[2])
@@ -216,7 +218,7 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
 def _duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
-    return FileBit(cx.part.port(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None
+    return FileBit(cx.part.latch(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None
 
 
 def free_running(code: ir.Code, part, machine) -> bool:

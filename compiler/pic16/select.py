@@ -27,6 +27,7 @@ class Context:
     part: Part
     layout: Layout
     machine: Machine
+    delay_loop_cycles: int = peripherals.DELAY_LOOP_CYCLES  # clock cycles of one pass of DELAY's loop
     loops: set[str] = field(default_factory=set)  # labels reached by backward jumps or calls
     routines: set[str] = field(default_factory=set)
     tables: dict[bytes, str] = field(default_factory=dict)

@@ -28,16 +28,17 @@ from lang.sim.trace import format_time
 from . import c as c_run
 from . import gpsim
 from . import simavr as sa
-from .record import Event, FirmwareError, FirmwareSim, Recording, erase_eeprom, record_avr, record_c, record_pic16
+from .record import Event, FirmwareError, FirmwareSim, Recording, erase_eeprom, pic_part, record_avr, record_c, record_pic16
 
-TITLES = {"avr": "the AVR image in simavr", "pic16": "the PIC16 image in gpsim", "c": "the C built on this machine"}
+TITLES = {"avr": "the AVR image in simavr", "pic16": "the PIC16 image in gpsim", "pic18": "the PIC18 image in gpsim",
+          "c": "the C built on this machine"}
 
 
 def missing_tool(on: str) -> str | None:
     """Why `--on` cannot run here (naming the Debian package), or None."""
     if on == "avr":
         return sa.missing()
-    if on == "pic16":
+    if on in ("pic16", "pic18"):
         return None if gpsim.available() else "gpsim is not installed (Debian package: gpsim)"
     return None if c_run.available() else f"no C compiler (Debian package: {c_run.DEBIAN_PACKAGES})"
 
@@ -100,9 +101,8 @@ def record(on: str, program: Program, events: list[Event], scans: int, wanted: s
         build.write(hex_path)
         if on == "avr":
             return record_avr(build, hex_path, events, scans, names)[0]
-        from ..pic16.part import Part
-
-        erase_eeprom(hex_path, Part.of(build.device).eeprom)
+        part = pic_part(build.device)
+        erase_eeprom(hex_path, part.eeprom, part.eeprom_hex)
         # the simulator starts an input at 0; a PIC pin with a pull-up would read 1
         given = {e.name for e in events if e.scan == 0}
         low = [Event(0, n, 0) for n in sorted(program.pins) if n[0] == "X" and n not in given]

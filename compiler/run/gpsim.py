@@ -1,4 +1,4 @@
-"""Run a PIC16 Intel HEX image in gpsim (Debian package gpsim), headless, under a timed
+"""Run a PIC16 or PIC18 Intel HEX image in gpsim (Debian package gpsim), headless, under a timed
 stimulus: for the tests, the benchmarks and anyone checking a compiled image.
 
 gpsim runs a generated command script (``gpsim -i -I script.stc < /dev/null``) always under
@@ -11,12 +11,14 @@ missing HEX still exits 0, so the output is scanned for error messages.
 * Outputs: ``log w portX`` / ``log w trisX`` record every write to the watched ports' latch
   and direction registers with the instruction cycle of the write, so every output edge is
   known to the cycle (an output pin's level is its latch bit while its TRIS bit is 0; a pin
-  set as input counts as 0, as an undriven pin does).
+  set as input counts as 0, as an undriven pin does). A PIC18 has its latch apart, LATX: a
+  write to PORTX writes it, so ``log w latX`` sees every write.
 * UART: ``log w txreg`` records every transmitted byte with its cycle (gpsim's usart module
   captured nothing).
 
 Times in the API are milliseconds; one instruction cycle is 4 / freq_hz seconds.
-gpsim honours the configuration word in the HEX (LDmicro's is at byte address 0x400E).
+gpsim honours the configuration word in the HEX (LDmicro's is at byte address 0x400E; a PIC18's
+configuration bytes are at 0x300000).
 """
 
 from __future__ import annotations
@@ -55,9 +57,9 @@ def available() -> bool:
 
 
 def processor_name(name: str) -> str:
-    """gpsim processor name: ``"PIC16F877"``, ``"p16f877"`` or LDmicro's
+    """gpsim processor name: ``"PIC16F877"``, ``"p16f877"``, ``"pic18f4520"`` or LDmicro's
     ``"Microchip PIC16F876 28-PDIP or 28-SOIC"`` -> ``"p16f876"``."""
-    m = re.search(r"(?:pic|p)?(1[026][a-z]*\d+[a-z0-9]*)", name.lower())
+    m = re.search(r"(?:pic|p)?(1[0268][a-z]*\d+[a-z0-9]*)", name.lower())
     if not m:
         raise GpsimError(f"not a PIC name: {name!r}")
     return "p" + m.group(1)
@@ -80,17 +82,20 @@ def _pin_label(port: str, bit: int) -> str:
     return f"GP{bit}" if port == GPIO else f"R{port.upper()}{bit}"
 
 
-def _registers(port: str) -> tuple[str, str]:
-    """gpsim's names of a port's data and direction registers."""
-    return ("gpio", "trisio") if port == GPIO else (f"port{port}", f"tris{port}")
+def _registers(port: str, processor: str = "") -> tuple[str, str]:
+    """gpsim's names of a port's data and direction registers: the latch a
+    PIC18's outputs are written in (LATB), else the port."""
+    if port == GPIO:
+        return "gpio", "trisio"
+    return (f"lat{port}" if processor.startswith("p18") else f"port{port}"), f"tris{port}"
 
 
 def _port_of(register: str) -> tuple[str, str] | None:
     """(port, "data" or "tris") of a register gpsim logged, or None."""
     if register in ("gpio", "trisio"):
         return GPIO, "data" if register == "gpio" else "tris"
-    if register[:4] in ("port", "tris") and len(register) == 5:
-        return register[4], "data" if register.startswith("port") else "tris"
+    if register[:-1] in ("port", "tris", "lat") and len(register) in (4, 5):
+        return register[-1], "tris" if register.startswith("tris") else "data"
     return None
 
 
@@ -210,7 +215,7 @@ def _script(plan: _Plan, processor: str, hex_file: Path, freq_hz: int, log: Path
                   f"attach n_{mod} {mod}.pin {_registers(port)[0]}{bit}"]
     s.append(f"log on {log}")
     for port in plan.ports:
-        s += [f"log w {register}" for register in _registers(port)]
+        s += [f"log w {register}" for register in _registers(port, processor)]
     if uart is None or uart:
         s.append("log w txreg")
     timeline: dict[int, list[str]] = {}

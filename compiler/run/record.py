@@ -221,15 +221,27 @@ class CycleOverrun(FirmwareError):
         self.scan = scan
 
 
-def erase_eeprom(hex_path: Path, size: int) -> None:
+def pic_part(device):
+    """The PIC16 or PIC18 back end's view of a PIC part."""
+    from ..pic16.part import Part
+    from ..pic18.part import Part as Pic18Part
+
+    return (Pic18Part if device.family == "pic18" else Part).of(device)
+
+
+def erase_eeprom(hex_path: Path, size: int, place: tuple[int, int] = (0x4200, 2)) -> None:
     """Add the data EEPROM as a new chip has it (every byte 0xFF) to the HEX:
-    gpsim starts it at 0. EEPROM data lies at word 0x2100, a byte a word."""
+    gpsim starts it at 0. `place`: its first byte address and the bytes each
+    EEPROM byte takes (the back end's Part.eeprom_hex): a PIC16's EEPROM data
+    lies at word 0x2100, a byte a word; a PIC18's at byte 0xF00000."""
     from intelhex import IntelHex
 
+    start, stride = place
     image = IntelHex(str(hex_path))
     for i in range(size):
-        image[0x4200 + 2 * i] = 0xFF
-        image[0x4200 + 2 * i + 1] = 0x00
+        image[start + stride * i] = 0xFF
+        for pad in range(1, stride):
+            image[start + stride * i + pad] = 0x00
     image.write_hex_file(str(hex_path))
 
 
@@ -241,8 +253,6 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
     write to TXREG is a byte sent, at the cycle of the write (gpsim logs
     them; its usart module gives nothing out), and the bytes received come
     from a usart module on the RX pin, sent 0.75 cycle before their scan."""
-    from ..pic16.part import Part
-
     settings = build.program.settings
     per_ms = settings.crystal_hz / 4000
     cycle_ms = settings.cycle_us / 1000
@@ -273,8 +283,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
         timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
         timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
-    uart = Part.of(device).feature("uart")
-    lines = [f"processor {Part.of(device).gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
+    part = pic_part(device)
+    uart = part.feature("uart")
+    lines = [f"processor {part.gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
     if modules:
         lines.append("module library libgpsim_modules")
         for pin_name, module in sorted(modules.items()):
@@ -311,7 +322,8 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
     values = [int(m.group(2), 16) for m in map(_VALUE.match, text.splitlines()) if m]
     if len(values) != scans * len(addresses):
         raise FirmwareError(f"gpsim printed {len(values)} register values, expected {scans * len(addresses)}")
-    pcs = [int(m.group(1), 16) for m in map(_PC.match, text.splitlines()) if m]
+    # gpsim gives a PIC18's PC in bytes, a PIC16's in words
+    pcs = [int(m.group(1), 16) // part.pc_step for m in map(_PC.match, text.splitlines()) if m]
     if len(pcs) != scans:
         raise FirmwareError(f"gpsim printed {len(pcs)} PCs, expected {scans}")
     waiting = range(build.image.labels["wait"], build.image.labels["waited"])
