@@ -747,14 +747,21 @@ def _moved_rung(rung: Rung, delta: int) -> Rung:
 
 
 def _move_circuit(node: Node, delta: int) -> None:
-    """Every position in a circuit `delta` lines further down, in place."""
-    pending = [node]  # a list, not recursion: blocks may nest a thousand deep
+    """Every position in a circuit `delta` lines further down, in place: a line
+    added above moves every rung below, so this is written for speed (locals,
+    the classes compared, the operands' spans replaced in their dict)."""
+    new_span, span_class, element_class, series_class = _new_span, Span, Element, Series
+    pending: list[Node] = [node]  # a list, not recursion: blocks may nest a thousand deep
+    pop, extend = pending.pop, pending.extend
     while pending:
-        node = pending.pop()
-        if isinstance(node, Element):
-            node.span = shift_span(node.span, delta)
-            node.arg_spans = {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3]))
-                              for k, v in node.arg_spans.items()}
+        node = pop()
+        span = node.span
+        if span is not None:
+            node.span = new_span(span_class, (span[0] + delta, span[1], span[2] + delta, span[3]))
+        cls = node.__class__
+        if cls is element_class:
+            spans = node.arg_spans  # type: ignore[union-attr]
+            for key, at in spans.items():
+                spans[key] = new_span(span_class, (at[0] + delta, at[1], at[2] + delta, at[3]))
         else:
-            node.span = shift_span(node.span, delta)
-            pending.extend(children(node))
+            extend(node.items if cls is series_class else node.branches)  # type: ignore[union-attr]
