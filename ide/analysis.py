@@ -176,20 +176,25 @@ def still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,
 
 
 def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,
-                moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+                moved: dict[int, tuple[Rung, int]], previous: Program | None = None) -> dict[int, tuple[Rung, int]]:
     """The rungs of `program` moved since the program checked last, given
-    those the previous version (read, never checked) had moved, `earlier`, and
-    those the reader moved since it."""
+    those the previous version (read, never checked), `previous`, had moved,
+    `earlier`, and those the reader moved since it. A rung read again after
+    it had moved is given too, with the checked rung whose circuit the reader
+    had moved in place: the checker knows it by its other circuit."""
     if not earlier:
         return moved
+    before = previous.rungs if previous is not None and len(previous.rungs) == len(program.rungs) else None
     found = {}
-    for rung in program.rungs:
+    for number, rung in enumerate(program.rungs):
         step = moved.get(id(rung))
         if step is None:
             origin = earlier.get(id(rung))  # the same rung as in the previous version
+            if origin is None and before is not None and before[number] is not rung:
+                origin = earlier.get(id(before[number]))  # read again after moving
         else:
-            before = earlier.get(id(step[0]))
-            origin = (before[0], before[1] + step[1]) if before is not None else step
+            was = earlier.get(id(step[0]))
+            origin = (was[0], was[1] + step[1]) if was is not None else step
         if origin is not None:
             found[id(rung)] = origin
     return found

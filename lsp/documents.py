@@ -191,7 +191,7 @@ class Documents:
         program, problems = reader.read(text, edited)
         moved = reader.moved
         if cached is not None and not cached.checked and cached.moved is not moved:
-            moved = moved_since(cached.moved, program, moved)  # the version before was read, not checked
+            moved = moved_since(cached.moved, program, moved, cached.program)  # the version before was read, not checked
         analysis = Analysis(uri, document.version, kind, text, program, problems,
                             self.server.workspace.position_codec, self._checkers[uri], moved)
         analysis.severities = self.severities(uri)

@@ -125,10 +125,11 @@ def test_versions_read_but_not_checked_in_between():
     lines = text.splitlines(keepends=True)
     blanks = [i for i, line in enumerate(lines) if line.strip().replace(" ", "") == "||||"]
     moved: dict = {}
+    program = checker.index.program
     for at in (blanks[40], blanks[10], blanks[60] + 1):  # rungs below move 1, 2 or 3 lines
         lines.insert(at, lines[at])
-        program, _ = reader.read("".join(lines))
-        moved = moved_since(moved, program, reader.moved)
+        previous, (program, _) = program, reader.read("".join(lines))
+        moved = moved_since(moved, program, reader.moved, previous)
     assert full(checker.check(program, moved)) == full(check_program(program))
     assert checker.last == "edit"
 
@@ -179,3 +180,25 @@ def test_an_edit_of_one_rung_of_18000_touches_that_rung_only(monkeypatch):
     assert counted == {"rungs parsed": 1, "rungs indexed": 2, "rungs a rule saw": 2 * len(rung_rules),
                        "rungs DETAILS named": 1}
     assert found == check_program(program_after) and not [p for p in problems if p.severity == "error"]
+
+
+@settings(max_examples=150, suppress_health_check=[HealthCheck.too_slow], deadline=None)
+@given(data=st.data())
+def test_edits_checked_now_and_then(data):
+    """As the server does while typing: every version is read, only some are
+    checked, the moves of those in between composed (ide.analysis.moved_since)."""
+    from ide.analysis import moved_since
+
+    reader, checker = IncrementalReader("ladder"), Checker()
+    text = big_text(24)
+    program = reader.read(text)[0]
+    checker.check(program)
+    moved: dict = {}
+    for step in data.draw(edits(text)):
+        text = apply(text, step)
+        previous, (program, _) = program, reader.read(text)
+        moved = moved_since(moved, program, reader.moved, previous)
+        if data.draw(st.booleans()):
+            assert full(checker.check(program, moved)) == full(check_program(program))
+            moved = {}
+    assert full(checker.check(program, moved)) == full(check_program(program))

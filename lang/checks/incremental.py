@@ -171,10 +171,14 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
     for number in compress(count(), map(is_not, new.rungs, old.rungs)):
         rung, was = new.rungs[number], old.rungs[number]
         origin = moved.get(id(rung))
-        if origin is not None and origin[0] is was and rung.circuit is was.circuit and was.span is not None:
+        if origin is not None and origin[0] is was and was.span is not None:
+            # moved, or read again after the reader had moved its circuit in place (versions
+            # read but not checked): what it gave is where its elements were moved to
             edit.starts.append(was.span.line)
             edit.ends.append(was.span.end_line)
             edit.lines.append(origin[1])
+            if rung.circuit is not was.circuit:
+                edit.changed.append(number)
         else:
             edit.changed.append(number)
     if 2 * len(edit.changed) > len(new.rungs):

@@ -1,0 +1,43 @@
+"""LD132: a bit written by coils in more than one rung, one of them a plain
+coil (Rockwell's "duplicate destructive bit")."""
+
+from __future__ import annotations
+
+from ..codes import rule_code
+from ..diagnostics import Diagnostic, Related, report
+from ..index import ProgramIndex
+from ..labels import label
+from ..model import Program
+from .common import NAMES, rung_no
+
+CODE = rule_code(__name__)
+SCOPE = NAMES
+
+SHOWN = 4  # rungs named in the message
+PLAIN = (" ", "/")  # `( )` and `(/)` write the bit on every scan; S, R and T only on their condition
+
+
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    found = []
+    for name, uses in index.uses.items():
+        coils = [use for use in uses if use.element.kind == "COIL"]
+        if len(coils) < 2 or len({use.rung for use in coils}) < 2:
+            continue
+        plain = [use for use in coils if use.element.args.get("type", " ") in PLAIN]
+        if not plain:
+            continue  # set and reset coils in different rungs: a latch
+        first = plain[0]
+        others = [use for use in coils if use.rung != first.rung]
+        rungs = [str(rung + 1) for rung in sorted({use.rung for use in coils})]
+        listed = f"{', '.join(rungs[:-1])} and {rungs[-1]}" if len(rungs) <= SHOWN else \
+            f"{', '.join(rungs[:SHOWN])} and {len(rungs) - SHOWN} more"
+        found.append(report(
+            CODE,
+            f"'{name}' is written by coils in rungs {listed}; the "
+            f"{label(first.element)} in {rung_no(first.rung)} writes it on every scan, so on each scan only "
+            "the coil that comes last counts",
+            first.span,
+            *(Related(use.span, f"the {label(use.element)} in {rung_no(use.rung)} also writes '{name}'")
+              for use in others if use.span is not None),
+        ))
+    return found
