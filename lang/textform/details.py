@@ -6,7 +6,6 @@ LDmicro's defaults is written, so most programs have neither section."""
 
 from __future__ import annotations
 
-import copy
 import re
 from dataclasses import fields as dataclass_fields
 from functools import lru_cache
@@ -273,14 +272,14 @@ def _parse_line(text: str) -> tuple[tuple[str, str], int | None, tuple[tuple[str
     return (instruction.key, match.group("name") or ""), occurrence, values
 
 
-def with_details(rung: Rung, placed: Placed) -> Rung:
-    """A copy of the rung with its DETAILS values set: read rungs come from
-    the reader's cache, shared with earlier versions, which must not keep them."""
-    detailed = copy.deepcopy(rung)
-    elements = list(detailed.elements())
+def set_details(rung: Rung, placed: Placed) -> Rung:
+    """The rung with its DETAILS values set, in place: the reader gives it a
+    copy (read rungs come from its cache, shared with earlier versions, which
+    must not keep them)."""
+    elements = list(rung.elements())
     for position, values in placed:
         elements[position].args.update(values)
-    return detailed
+    return rung
 
 
 def _parse_values(instruction: Instruction, rest: str) -> dict[str, object]:

@@ -415,7 +415,7 @@ class TextReader:
                     result = _moved_rung(result, step[1])
                     self.moved[id(result)] = (kept[2], step[1])
             else:
-                result = details.with_details(rung, placed)
+                result = details.set_details(shift_rung(rung, 0), placed)  # a copy: its own operands
                 self.details_copied += 1
             detailed[id(rung.circuit)] = (rung.circuit, placed, result)
             program.rungs[index] = result
