@@ -403,6 +403,8 @@ class Scenario:
     actions: list[Action] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
     run_until_us: int = 0
+    # `property TEXT` lines (line number, column of the text, text): `ladder verify` proves them
+    properties: list[tuple[int, int, str]] = field(default_factory=list)
 
 
 @dataclass
@@ -437,6 +439,10 @@ def parse_scenarios(text: str, path: str) -> list[Scenario]:
                     scenario.program = scenario.program or program
             elif word == "scenario":
                 scenarios.append(Scenario(rest.strip() or f"scenario {len(scenarios) + 1}", path, number, program))
+            elif word == "property":
+                if not scenarios:
+                    scenarios.append(Scenario(Path(path).stem, path, number, program))
+                scenarios[-1].properties.append((number, raw.index(rest.strip()), rest.strip()))
             else:
                 if not scenarios:
                     scenarios.append(Scenario(Path(path).stem, path, number, program))

@@ -1,0 +1,412 @@
+"""One scan of a lowered program as a formula: the intermediate code
+(lang.semantics.ir, the code the simulator and the back ends run) executed
+symbolically over the SMT solver's bit-vectors.
+
+Bits are Booleans; a variable of n bytes is a bit-vector of 8n bits, read as
+its signed value (sign-extended to 64 bits, as wide as any operation needs)
+and truncated when written, as docs/semantics.md says. An `If` runs both
+branches and merges what they wrote; a GOTO (a forward jump between rungs)
+carries what was written so far to its target rung, where it is merged with
+the code that ran on. The peripherals the program reads are free inputs:
+every X input, each A/D reading (0 to 1023), and the EEPROM's contents at
+power-up (docs/verify.md says why).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import z3
+
+from ..numbers import wrap
+from ..semantics import ir
+from ..sim.peripherals import ADC_MAX
+
+WIDE = 64  # every operand is read as a signed 64-bit value
+ERASED = 0xFF  # the byte an erased EEPROM reads
+
+
+class NotModelled(Exception):
+    """An op the prover has no formula for; `element` is where it comes from."""
+
+    def __init__(self, message: str, element):
+        super().__init__(message)
+        self.element = element
+
+
+@dataclass
+class Machine:
+    """What one scan reads and keeps: the state carried from scan to scan
+    (every bit but the inputs and the rung's power bits, every variable, the
+    EEPROM bytes PERSIST uses) and the inputs each scan reads afresh."""
+
+    code: ir.Code
+    state_bits: list[str]
+    state_vars: dict[str, int]  # name -> bytes
+    inputs: list[str]  # the X inputs
+    adcs: list[str]  # the variables READ_ADC writes
+    eeprom: dict[int, int]  # address -> bytes of the PERSIST variable kept there
+
+    @staticmethod
+    def of(code: ir.Code) -> Machine:
+        inputs = sorted(name for name, kind in code.bits.items() if kind != ir.TEMP and name.startswith("X"))
+        state_bits = sorted(name for name, kind in code.bits.items() if kind != ir.TEMP and name not in inputs)
+        adcs: set[str] = set()
+        eeprom: dict[int, int] = {}
+        for op in walk(code.scan):
+            if isinstance(op, ir.ReadAdc):
+                adcs.add(op.dst.name)
+            elif isinstance(op, ir.EepromLoad | ir.EepromSave):
+                eeprom[op.address] = op.var.size
+        return Machine(code, state_bits, dict(sorted(code.vars.items())), inputs, sorted(adcs), eeprom)
+
+    def fresh_state(self, tag: str) -> dict[str, z3.ExprRef]:
+        """A state of free values named after `tag`."""
+        state: dict[str, z3.ExprRef] = {name: z3.Bool(f"{name}@{tag}") for name in self.state_bits}
+        state.update({name: z3.BitVec(f"{name}@{tag}", 8 * size) for name, size in self.state_vars.items()})
+        state.update({eeprom_name(address): z3.BitVec(f"{eeprom_name(address)}@{tag}", 8 * size)
+                      for address, size in self.eeprom.items()})
+        return state
+
+    def initial_state(self, eeprom: dict[str, z3.ExprRef]) -> dict[str, z3.ExprRef]:
+        """Power-up: everything 0 but what the lowering's `init` sets; the
+        EEPROM's bytes as given."""
+        state: dict[str, z3.ExprRef] = {name: z3.BoolVal(False) for name in self.state_bits}
+        state.update({name: z3.BitVecVal(0, 8 * size) for name, size in self.state_vars.items()})
+        for op in self.code.init:
+            assert isinstance(op, ir.Move) and isinstance(op.dst, ir.Var) and isinstance(op.src, ir.Const)
+            state[op.dst.name] = z3.BitVecVal(wrap(op.src.value, op.dst.size), 8 * op.dst.size)
+        state.update(eeprom)
+        return state
+
+    def fresh_inputs(self, tag: str) -> dict[str, z3.ExprRef]:
+        inputs: dict[str, z3.ExprRef] = {name: z3.Bool(f"{name}@{tag}") for name in self.inputs}
+        inputs.update({_adc(name): z3.BitVec(f"{_adc(name)}@{tag}", 16) for name in self.adcs})
+        return inputs
+
+    def input_bounds(self, inputs: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
+        return [z3.ULE(inputs[_adc(name)], ADC_MAX) for name in self.adcs]
+
+    def erased(self, state: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
+        """The EEPROM bytes of `state` as a new part's: erased."""
+        return [state[eeprom_name(address)] == (1 << 8 * size) - 1 for address, size in self.eeprom.items()]
+
+    def scan(self, state: dict[str, z3.ExprRef], inputs: dict[str, z3.ExprRef]) -> dict[str, z3.ExprRef]:
+        """Every value after one scan from `state` with `inputs`: the next
+        state, and the inputs as the scan read them."""
+        env = dict(state)
+        env.update(inputs)
+        for name in self.code.bits:
+            env.setdefault(name, z3.BoolVal(False))  # the rung's power bits, written before they are read
+        for name, size in self.code.vars.items():
+            env.setdefault(name, z3.BitVecVal(0, 8 * size))
+        run = _Run(self, env)
+        run.block(self.code.scan)
+        return run.env
+
+    def eeprom_names(self) -> list[str]:
+        return [eeprom_name(address) for address in self.eeprom]
+
+
+def eeprom_name(address: int) -> str:
+    """The state that holds the EEPROM's copy of the PERSIST variable at `address`."""
+    return f"$eeprom@{address}"
+
+
+def _adc(name: str) -> str:
+    return f"$adc:{name}"
+
+
+def adc_input(name: str) -> str:
+    """The input holding the A/D reading READ_ADC copies into `name`."""
+    return _adc(name)
+
+
+def walk(ops: list[ir.Op]):
+    for op in ops:
+        yield op
+        if isinstance(op, ir.If):
+            yield from walk(op.then)
+            yield from walk(op.otherwise or [])
+
+
+def merge(cond: z3.BoolRef, then: dict, otherwise: dict) -> dict:
+    """The values after an if: each written in either branch is chosen by `cond`."""
+    merged = dict(otherwise)
+    for name, value in then.items():
+        other = otherwise[name]
+        if value is not other:
+            merged[name] = z3.If(cond, value, other)
+    return merged
+
+
+class _Run:
+    """The symbolic execution of one scan: `env` holds every value so far;
+    `alive` is when the code being run is reached (None: always; a GOTO
+    above may have left it), `path` the conditions of the Ifs around it,
+    `pending` what each jump carries to its target (when it jumped, what
+    had been written)."""
+
+    def __init__(self, machine: Machine, env: dict[str, z3.ExprRef]):
+        self.machine = machine
+        self.env = env
+        self.alive: z3.BoolRef | None = None
+        self.path: list[z3.BoolRef] = []
+        self.pending: dict[str, list[tuple[z3.BoolRef, dict]]] = {}
+        self.element = None
+        self.seen_labels: set[str] = set()
+
+    # --- structure ---------------------------------------------------------------
+
+    def block(self, ops: list[ir.Op]) -> None:
+        for op in ops:
+            handler = OPS.get(type(op))
+            if handler is None:
+                raise NotModelled(f"{_what(op)} is not modelled by the prover", self.element)
+            handler(self, op)
+
+    def branch(self, op: ir.If) -> None:
+        cond = self.condition(op.cond)
+        before_env, before_alive = self.env, self.alive
+        self.env = dict(before_env)
+        self.path.append(cond)
+        self.block(op.then)
+        self.path[-1] = z3.Not(cond)
+        then_env, then_alive = self.env, self.alive
+        self.env, self.alive = dict(before_env), before_alive
+        if op.otherwise:
+            self.block(op.otherwise)
+        self.path.pop()
+        self.env = merge(cond, then_env, self.env)
+        if then_alive is not self.alive:
+            self.alive = z3.If(cond, _reached(then_alive), _reached(self.alive))
+
+    def label(self, op: ir.Label) -> None:
+        self.seen_labels.add(op.name)
+        for alive, env in self.pending.pop(op.name, []):
+            self.env = merge(alive, env, self.env)
+            if self.alive is not None:
+                self.alive = z3.Or(alive, self.alive)
+
+    def jump(self, op: ir.Jump) -> None:
+        if op.target in self.seen_labels:
+            raise NotModelled("a GOTO back to an earlier rung (a loop inside the scan) is not modelled by the prover",
+                              self.element)
+        taken = z3.And(*self.path, _reached(self.alive))
+        self.pending.setdefault(op.target, []).append((taken, dict(self.env)))
+        self.alive = z3.BoolVal(False)
+
+    # --- operands ------------------------------------------------------------------
+
+    def read(self, operand: ir.Operand) -> z3.BitVecRef:
+        if isinstance(operand, ir.Const):
+            return z3.BitVecVal(operand.value, WIDE)
+        if isinstance(operand, ir.Byte):
+            whole = self.env[operand.var.name]
+            return z3.ZeroExt(WIDE - 8, z3.Extract(8 * operand.index + 7, 8 * operand.index, whole))
+        return z3.SignExt(WIDE - 8 * operand.size, self.env[operand.name])
+
+    def write(self, target: ir.Target, value: z3.BitVecRef) -> None:
+        if isinstance(target, ir.Byte):
+            var, low = target.var, 8 * target.index
+            whole = self.env[var.name]
+            parts = [z3.Extract(8 * var.size - 1, low + 8, whole)] if low + 8 < 8 * var.size else []
+            parts.append(z3.Extract(7, 0, value))
+            if low:
+                parts.append(z3.Extract(low - 1, 0, whole))
+            self.set(var.name, z3.Concat(*parts) if len(parts) > 1 else parts[0])
+            return
+        self.set(target.name, z3.Extract(8 * target.size - 1, 0, value))
+
+    def set(self, name: str, value: z3.ExprRef) -> None:
+        """A write, which happens only where the code is reached."""
+        self.env[name] = value if self.alive is None else z3.If(self.alive, value, self.env[name])
+
+    def bit(self, bit: ir.Bit) -> z3.BoolRef:
+        return self.env[bit.name]
+
+    def condition(self, cond: ir.Condition) -> z3.BoolRef:
+        if isinstance(cond, ir.IsSet):
+            bit = self.bit(cond.bit)
+            return bit if cond.value else z3.Not(bit)
+        if isinstance(cond, ir.Holds):
+            return RELATIONS[cond.rel](self.read(cond.a), self.read(cond.b))
+        tested = (self.read(cond.a) & bit_mask(self.read(cond.index))) != 0
+        return tested if cond.value else z3.Not(tested)
+
+
+def _reached(alive: z3.BoolRef | None) -> z3.BoolRef:
+    return z3.BoolVal(True) if alive is None else alive
+
+
+RELATIONS: dict[str, Callable] = {
+    "==": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b,
+}
+
+
+def bit_mask(index: z3.BitVecRef) -> z3.BitVecRef:
+    """lang.numbers.bit_mask: 1 << index, none for a negative index, bit 63 past it."""
+    capped = z3.If(index > 63, z3.BitVecVal(63, WIDE), index)
+    return z3.If(index < 0, z3.BitVecVal(0, WIDE), z3.BitVecVal(1, WIDE) << capped)
+
+
+def _what(op: ir.Op) -> str:
+    names = {ir.Call: "GOSUB", ir.Return: "RETURN", ir.Halt: "LOCK", ir.Sleep: "SLEEP",
+             ir.UartSend: "sending on the UART", ir.UartReady: "the UART's transmitter",
+             ir.UartAvailable: "receiving on the UART", ir.UartTake: "receiving on the UART"}
+    return names.get(type(op), type(op).__name__)
+
+
+# --- each op -------------------------------------------------------------------------
+
+def _note(run: _Run, op: ir.Note) -> None:
+    if op.element is not None:
+        run.element = op.element
+
+
+def _set_bit(run: _Run, op: ir.SetBit) -> None:
+    run.set(op.dst.name, z3.BoolVal(op.value))
+
+
+def _copy_bit(run: _Run, op: ir.CopyBit) -> None:
+    src = run.bit(op.src)
+    run.set(op.dst.name, z3.Not(src) if op.invert else src)
+
+
+def _and_bit(run: _Run, op: ir.AndBit) -> None:
+    src = run.bit(op.src)
+    run.set(op.dst.name, z3.And(run.bit(op.dst), z3.Not(src) if op.invert else src))
+
+
+def _or_bit(run: _Run, op: ir.OrBit) -> None:
+    run.set(op.dst.name, z3.Or(run.bit(op.dst), run.bit(op.src)))
+
+
+def _move(run: _Run, op: ir.Move) -> None:
+    run.write(op.dst, run.read(op.src))
+
+
+ARITH: dict[str, Callable] = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
+                              "and": lambda a, b: a & b, "or": lambda a, b: a | b, "xor": lambda a, b: a ^ b}
+
+
+def _arith(run: _Run, op: ir.Arith) -> None:
+    result = ARITH[op.op](run.read(op.a), run.read(op.b))
+    run.write(op.dst, result)
+    if op.overflow is not None:
+        # signed overflow of the destination's size; the flag is never cleared
+        run.set(op.overflow.name, z3.Or(run.bit(op.overflow), run.read(op.dst) != result))
+
+
+def _divide(run: _Run, op: ir.Divide) -> None:
+    # the SMT division truncates toward zero and its remainder has the
+    # dividend's sign, as C's (lang.numbers.cdiv, cmod); a division by zero,
+    # where the simulator stops, gets the solver's value (docs/verify.md)
+    a, b = run.read(op.a), run.read(op.b)
+    quotient = a / b if op.op == "div" else z3.SRem(a, b)
+    run.write(op.dst, quotient)
+    if op.remainder is not None:
+        run.write(op.remainder, z3.SRem(a, b))
+
+
+def _unary(run: _Run, op: ir.Unary) -> None:
+    a = run.read(op.a)
+    run.write(op.dst, -a if op.op == "neg" else ~a)
+
+
+def _shift(run: _Run, op: ir.Shift) -> None:
+    """lang.numbers.shift, bit for bit."""
+    bits = 8 * op.width
+    mask = z3.BitVecVal((1 << bits) - 1, WIDE)
+    value, count = run.read(op.a), run.read(op.count)
+    count = z3.If(count < 0, z3.BitVecVal(0, WIDE), count)
+    capped = z3.If(count > bits, z3.BitVecVal(bits, WIDE), count)
+    unsigned = value & mask
+    if op.op == "shr":
+        result = value >> capped
+    elif op.op == "shl":
+        result = (unsigned << capped) & mask
+    elif op.op == "sr0":
+        result = z3.LShR(unsigned, capped)
+    else:
+        turn = z3.URem(count, bits)
+        left, right = (turn, bits - turn) if op.op == "rol" else (bits - turn, turn)
+        result = ((unsigned << left) | z3.LShR(unsigned, right)) & mask
+    run.write(op.dst, result)
+
+
+def _change_bit_of(run: _Run, op: ir.ChangeBitOf) -> None:
+    mask = bit_mask(run.read(op.index))
+    dst = run.read(op.dst)
+    run.write(op.dst, dst | mask if op.value else dst & ~mask)
+
+
+def _convert(run: _Run, op: ir.Convert) -> None:
+    value = run.read(op.src)
+    if op.op == "bin2bcd":
+        # a value outside 0..9999 stops the simulator; here it converts as the digits fall
+        result = z3.BitVecVal(0, WIDE)
+        for position in range(4):
+            digit = z3.URem(z3.UDiv(value, 10 ** position), 10)
+            result = result | digit << 8 * position
+    elif op.op == "bcd2bin":
+        result = z3.BitVecVal(0, WIDE)
+        for position in range(4):
+            result = result + (z3.LShR(value, 8 * position) & 0x0F) * 10 ** position
+    elif op.op == "swap" and op.width == 1:
+        result = z3.ZeroExt(WIDE - 8, z3.Concat(z3.Extract(3, 0, value), z3.Extract(7, 4, value)))
+    elif op.op == "swap":
+        parts = [z3.Extract(8 * i + 7, 8 * i, value) for i in range(op.width)]
+        result = z3.ZeroExt(WIDE - 8 * op.width, z3.Concat(*parts))
+    else:  # opposite: the bits in reverse order
+        parts = [z3.Extract(i, i, value) for i in range(8 * op.width)]
+        result = z3.ZeroExt(WIDE - 8 * op.width, z3.Concat(*parts))
+    run.write(op.dst, result)
+
+
+def _table(run: _Run, op: ir.Table) -> None:
+    # an index out of range stops the simulator; here it reads 0
+    index = run.read(op.index)
+    result = z3.BitVecVal(0, WIDE)
+    for position in range(len(op.values) - 1, -1, -1):
+        result = z3.If(index == position, z3.BitVecVal(op.values[position], WIDE), result)
+    run.write(op.dst, result)
+
+
+def _permute(run: _Run, op: ir.Permute) -> None:
+    src = run.read(op.src)
+    result = z3.BitVecVal(0, WIDE)
+    for source, dest in op.pairs:
+        result = result | ((z3.LShR(src, source) & 1) << dest)
+    run.write(op.dst, result)
+
+
+def _read_adc(run: _Run, op: ir.ReadAdc) -> None:
+    run.write(op.dst, z3.ZeroExt(WIDE - 16, run.env[_adc(op.dst.name)]))
+
+
+def _eeprom_load(run: _Run, op: ir.EepromLoad) -> None:
+    run.write(op.var, z3.SignExt(WIDE - 8 * op.var.size, run.env[eeprom_name(op.address)]))
+
+
+def _eeprom_save(run: _Run, op: ir.EepromSave) -> None:
+    # the simulator's EEPROM is never busy: the copy follows the variable at once
+    run.set(eeprom_name(op.address), run.env[op.var.name])
+
+
+def _nothing(run: _Run, op: ir.Op) -> None:
+    """No effect on what the program computes: a busy-wait, the watchdog,
+    the editor's trace, the PWM unit's own registers (its P bit is set by
+    the lowering)."""
+
+
+OPS: dict[type, Callable] = {
+    ir.Label: _Run.label, ir.Note: _note, ir.Trace: _nothing, ir.Jump: _Run.jump, ir.If: _Run.branch,
+    ir.SetBit: _set_bit, ir.CopyBit: _copy_bit, ir.AndBit: _and_bit, ir.OrBit: _or_bit,
+    ir.Move: _move, ir.Arith: _arith, ir.Divide: _divide, ir.Unary: _unary, ir.Shift: _shift,
+    ir.ChangeBitOf: _change_bit_of, ir.Convert: _convert, ir.Table: _table, ir.Permute: _permute,
+    ir.ReadAdc: _read_adc, ir.EepromLoad: _eeprom_load, ir.EepromSave: _eeprom_save,
+    ir.SetPwm: _nothing, ir.PwmOff: _nothing, ir.Delay: _nothing, ir.ClearWatchdog: _nothing,
+}
