@@ -20,17 +20,19 @@ never to hold by induction, it fails.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import z3
 
 from ..properties import Property
+from ..sim.peripherals import ADC_MAX
 from ..sim.scenario import Logic
-from .transition import Machine, adc_input, eeprom_name
+from .transition import Machine, Step, adc_input, eeprom_name
 
 SMT = Logic(all=lambda values: z3.And(*values), any=lambda values: z3.Or(*values), negate=z3.Not,
             implies=z3.Implies)
 WIDE = 64
+WAITING = 32  # bits of a `within` monitor's count of scans
 
 PROVED, FAILS, UNKNOWN = "proved", "fails", "unknown"
 
@@ -60,36 +62,73 @@ class Result:
 
 
 class Unrolling:
-    """The scans of one run, each with the values after it as the
-    properties read them; `start` is power-up or any state at all."""
+    """The scans of a run, shared by every property: the value of each name
+    at each scan, and the constraint that makes a state's value after scan
+    k the scan's result. A state before the first scan is power-up's (the
+    EEPROM's contents free) or, `from_anywhere`, free."""
 
-    def __init__(self, machine: Machine, solver: z3.Solver, tag: str, from_power_up: bool):
-        self.machine, self.solver, self.tag = machine, solver, tag
-        first = machine.fresh_state(f"{tag}0")
-        self.first = first
-        if from_power_up:
-            eeprom = {name: first[name] for name in machine.eeprom_names()}
-            start = machine.initial_state(eeprom)
-            solver.add([first[name] == value for name, value in start.items() if name not in eeprom])
-        self.state = first
-        self.inputs: list[dict[str, z3.ExprRef]] = []
-        self.after: list[dict[str, z3.ExprRef]] = []
+    def __init__(self, step: Step, tag: str, from_anywhere: bool):
+        self.step, self.tag, self.from_anywhere = step, tag, from_anywhere
+        machine = step.machine
+        eeprom = machine.eeprom_names()
+        self.first = machine.fresh_state(f"{tag}0")
+        self.start = dict(self.first) if from_anywhere else \
+            machine.initial_state({name: self.first[name] for name in eeprom})
+        self._values: dict[tuple[str, int], z3.ExprRef] = {}
+        self._links: dict[tuple[str, int], z3.BoolRef] = {}
 
-    def extend(self) -> None:
-        k = len(self.after)
-        inputs = self.machine.fresh_inputs(f"{self.tag}{k}")
-        self.solver.add(self.machine.input_bounds(inputs))
-        env = self.machine.scan(self.state, inputs)
-        following = self.machine.fresh_state(f"{self.tag}{k + 1}")
-        self.solver.add([following[name] == env[name] for name in following])
-        self.state = following
-        self.inputs.append(inputs)
-        self.after.append({**following, **inputs})
+    def value(self, name: str, scan: int) -> z3.ExprRef:
+        """A state's value before `scan` (0: the start), or an input's during it."""
+        key = (name, scan)
+        if key not in self._values:
+            if name in self.step.inputs:
+                template = self.step.inputs[name]
+            elif scan == 0:
+                return self.start[name]
+            else:
+                template = self.step.state[name]
+            self._values[key] = z3.Const(f"{name}@{self.tag}{scan}", template.sort())
+        return self._values[key]
+
+    def after(self, name: str, scan: int) -> z3.ExprRef:
+        """The value a property reads after `scan`."""
+        return self.value(name, scan) if name in self.step.inputs else self.value(name, scan + 1)
+
+    def link(self, name: str, scan: int) -> z3.BoolRef:
+        """The state `name` after `scan` is what the scan computes."""
+        key = (name, scan)
+        if key not in self._links:
+            step = self.step
+            pairs = [(step.state[r] if r in step.state else step.inputs[r], self.value(r, scan))
+                     for r in step.reads[name]]
+            computed = z3.substitute(step.next[name], *pairs) if pairs else step.next[name]
+            self._links[key] = self.value(name, scan + 1) == computed
+        return self._links[key]
 
 
-def read(values: dict[str, z3.ExprRef], name: str) -> z3.BitVecRef:
+class Frame:
+    """A solver that holds one property's cone of the unrolling, scan by scan."""
+
+    def __init__(self, unrolling: Unrolling, cone: set[str]):
+        self.unrolling = unrolling
+        # a solver for bit-vectors alone: several times faster than the default's
+        self.solver = z3.SolverFor("QF_BV")
+        step = unrolling.step
+        self.states = sorted(n for n in cone if n in step.state)
+        self.adcs = [n for n in step.machine.adcs if adc_input(n) in cone]
+        self.scans = 0
+
+    def cover(self, scan: int) -> None:
+        """Constrain the scans up to `scan`."""
+        while self.scans <= scan:
+            k, unrolling = self.scans, self.unrolling
+            self.solver.add([unrolling.link(name, k) for name in self.states])
+            self.solver.add([z3.ULE(unrolling.value(adc_input(n), k), ADC_MAX) for n in self.adcs])
+            self.scans += 1
+
+
+def read(value: z3.ExprRef) -> z3.BitVecRef:
     """A signal as a property reads it: its signed value (a bit is 0 or 1)."""
-    value = values[name]
     if z3.is_bool(value):
         return z3.If(value, z3.BitVecVal(1, WIDE), z3.BitVecVal(0, WIDE))
     return z3.SignExt(WIDE - value.size(), value)
@@ -98,28 +137,26 @@ def read(values: dict[str, z3.ExprRef], name: str) -> z3.BitVecRef:
 class Monitor:
     """A property's `bad` for each scan of one unrolling."""
 
-    def __init__(self, prop: Property, scans: int, unrolling: Unrolling, from_power_up: bool):
-        self.prop, self.scans, self.unrolling = prop, scans, unrolling
+    def __init__(self, prop: Property, scans: int, frame: Frame):
+        self.prop, self.scans, self.frame = prop, scans, frame
         self.bad: list[z3.BoolRef] = []
-        self.waiting: z3.ArithRef = z3.IntVal(-1)
-        if prop.kind == "within" and not from_power_up:
+        self.waiting: z3.BitVecRef = z3.BitVecVal(-1, WAITING)
+        if prop.kind == "within" and frame.unrolling.from_anywhere:
             # any count a run where the property held may have reached
-            self.waiting = z3.Int(f"waiting{id(self)}")
-            unrolling.solver.add(self.waiting >= -1, self.waiting < scans)
+            self.waiting = z3.BitVec(f"waiting@{frame.unrolling.tag}", WAITING)
+            frame.solver.add(self.waiting >= -1, self.waiting < scans)
 
     def upto(self, k: int) -> list[z3.BoolRef]:
+        self.frame.cover(k)
         while len(self.bad) <= k:
-            scan = len(self.bad)
-            while len(self.unrolling.after) <= scan:
-                self.unrolling.extend()
-            self.bad.append(self._bad(self.unrolling.after[scan]))
+            self.bad.append(self._bad(len(self.bad)))
         return self.bad[:k + 1]
 
-    def _bad(self, values: dict[str, z3.ExprRef]) -> z3.BoolRef:
-        prop = self.prop
+    def _bad(self, scan: int) -> z3.BoolRef:
+        prop, unrolling = self.prop, self.frame.unrolling
 
         def holds(condition) -> z3.BoolRef:
-            return condition.evaluate(lambda name: read(values, name), SMT)
+            return condition.evaluate(lambda name: read(unrolling.after(name, scan)), SMT)
 
         if prop.kind == "always":
             return z3.Not(holds(prop.condition))
@@ -127,25 +164,25 @@ class Monitor:
             return holds(prop.condition)
         assert prop.trigger is not None
         response, trigger = holds(prop.condition), holds(prop.trigger)
-        self.waiting = z3.If(response, -1, z3.If(self.waiting >= 0, self.waiting + 1, z3.If(trigger, 0, -1)))
+        none, waiting = z3.BitVecVal(-1, WAITING), self.waiting
+        # the count is a state of its own: a variable each scan, linked to the last
+        self.waiting = z3.BitVec(f"waiting@{self.frame.unrolling.tag}{scan + 1}", WAITING)
+        self.frame.solver.add(self.waiting == z3.If(response, none, z3.If(
+            waiting >= 0, waiting + 1, z3.If(trigger, z3.BitVecVal(0, WAITING), none))))
         return self.waiting >= self.scans
 
 
-@dataclass
 class Search:
-    """The two unrollings and each property's monitors on them."""
+    """The two unrollings every property shares, and the time left."""
 
-    machine: Machine
-    cycle_us: int
-    deadline: float
-    base: z3.Solver = field(default_factory=z3.Solver)
-    step: z3.Solver = field(default_factory=z3.Solver)
-
-    def __post_init__(self):
-        self.from_power_up = Unrolling(self.machine, self.base, "b", True)
-        self.from_anywhere = Unrolling(self.machine, self.step, "s", False)
+    def __init__(self, machine: Machine, cycle_us: int, deadline: float):
+        self.step = Step.of(machine)
+        self.machine, self.cycle_us, self.deadline = machine, cycle_us, deadline
+        self.from_power_up = Unrolling(self.step, "b", from_anywhere=False)
+        self.from_anywhere = Unrolling(self.step, "s", from_anywhere=True)
 
     def check(self, solver: z3.Solver, *facts: z3.BoolRef) -> z3.CheckSatResult:
+        """Whether the facts can hold; on sat they stay pushed (the caller pops)."""
         left = self.deadline - time.monotonic()
         if left <= 0:
             return z3.unknown
@@ -174,23 +211,26 @@ def prove(machine: Machine, properties: list[Property], cycle_us: int, bound: in
 
 def _prove_one(search: Search, prop: Property, bound: int) -> Result:
     scans = prop.scans(search.cycle_us)
-    base = Monitor(prop, scans, search.from_power_up, True)
-    step = Monitor(prop, scans, search.from_anywhere, False)
+    machine, step = search.machine, search.step
+    names = [adc_input(n) if n in machine.adcs and n not in step.state else n for n in prop.names()]
+    cone = step.cone(names)
+    base = Monitor(prop, scans, Frame(search.from_power_up, cone))
+    induction = Monitor(prop, scans, Frame(search.from_anywhere, cone))
     reach = prop.kind == "reachable"
     for k in range(bound):
         bad = base.upto(k)[k]
-        found = search.check(search.base, bad)
+        found = search.check(base.frame.solver, bad)
         if found == z3.sat:
-            witness = _witness(search, prop, k, scans, bad)
+            witness = _witness(search, base.frame, prop, k, scans, bad)
             return Result(prop, PROVED if reach else FAILS, k + 1 if reach else k, witness=witness)
         if found == z3.unknown:
             return Result(prop, UNKNOWN, k, why="the time allowed ran out")
         # held at scan k whatever the inputs: a fact about every run from power-up
-        search.base.add(z3.Not(bad))
-        assumed = step.upto(k + 1)
-        stepped = search.check(search.step, *[z3.Not(b) for b in assumed[:-1]], assumed[-1])
+        base.frame.solver.add(z3.Not(bad))
+        assumed = induction.upto(k + 1)
+        stepped = search.check(induction.frame.solver, *[z3.Not(b) for b in assumed[:-1]], assumed[-1])
         if stepped == z3.sat:
-            search.step.pop()
+            induction.frame.solver.pop()
         elif stepped == z3.unsat:
             return Result(prop, FAILS if reach else PROVED, k + 1, k=k + 1)
         else:
@@ -198,27 +238,27 @@ def _prove_one(search: Search, prop: Property, bound: int) -> Result:
     return Result(prop, UNKNOWN, bound)
 
 
-def _witness(search: Search, prop: Property, k: int, scans: int, bad: z3.BoolRef) -> Witness:
+def _witness(search: Search, frame: Frame, prop: Property, k: int, scans: int, bad: z3.BoolRef) -> Witness:
     """The input sequence of the model found (left on the solver's stack, which
     this pops); one from an erased EEPROM, as the simulator starts, when
-    there is one."""
-    solver, machine, unrolling = search.base, search.machine, search.from_power_up
+    there is one. Inputs outside the property's cone are 0."""
+    solver, machine, unrolling = frame.solver, search.machine, search.from_power_up
     model = solver.model()
     solver.pop()
-    if machine.eeprom:
-        erased = machine.erased(unrolling.first)
-        if search.check(solver, bad, *erased) == z3.sat:
-            model = solver.model()
-            solver.pop()
+    erased = [fact for fact in machine.erased(unrolling.first)]
+    if machine.eeprom and search.check(solver, bad, *erased) == z3.sat:
+        model = solver.model()
+        solver.pop()
+
+    def value(expr: z3.ExprRef) -> int:
+        found = model.eval(expr, model_completion=True)
+        return int(z3.is_true(found)) if z3.is_bool(found) else found.as_signed_long()
+
     inputs = []
-    for values in unrolling.inputs[:k + 1]:
-        scan = {name: int(z3.is_true(model.eval(values[name], model_completion=True))) for name in machine.inputs}
-        scan.update({name: model.eval(values[adc_input(name)], model_completion=True).as_long()
-                     for name in machine.adcs})
-        inputs.append(scan)
-    eeprom = {}
-    for address, size in machine.eeprom.items():
-        raw = model.eval(unrolling.first[eeprom_name(address)], model_completion=True).as_long()
-        eeprom[address] = raw - (1 << 8 * size) if raw >> (8 * size - 1) else raw
+    for scan in range(k + 1):
+        values = {name: value(unrolling.value(name, scan)) for name in machine.inputs}
+        values.update({name: value(unrolling.value(adc_input(name), scan)) for name in machine.adcs})
+        inputs.append(values)
+    eeprom = {address: value(unrolling.first[eeprom_name(address)]) for address in machine.eeprom}
     trigger = k - scans if prop.kind == "within" else None
     return Witness(inputs, eeprom, k, trigger)

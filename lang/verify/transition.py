@@ -109,6 +109,64 @@ class Machine:
         return [eeprom_name(address) for address in self.eeprom]
 
 
+@dataclass
+class Step:
+    """One scan over placeholders, built once: `next` is each state's value
+    after the scan, in terms of the `state` before it and the `inputs` it
+    reads; `reads[name]` are the placeholders `next[name]` depends on."""
+
+    machine: Machine
+    state: dict[str, z3.ExprRef]
+    inputs: dict[str, z3.ExprRef]
+    next: dict[str, z3.ExprRef]
+    reads: dict[str, frozenset[str]]
+
+    @staticmethod
+    def of(machine: Machine) -> Step:
+        state, inputs = machine.fresh_state("pre"), machine.fresh_inputs("in")
+        after = machine.scan(state, inputs)
+        following = {name: after[name] for name in state}
+        return Step(machine, state, inputs, following, _reads(following, {**state, **inputs}))
+
+    def cone(self, names: list[str]) -> set[str]:
+        """The names whose values decide those of `names`, scan after scan
+        (the cone of influence): only these need to be unrolled."""
+        seen: set[str] = set()
+        todo = list(names)
+        while todo:
+            name = todo.pop()
+            if name not in seen:
+                seen.add(name)
+                todo.extend(self.reads.get(name, ()))
+        return seen
+
+
+def _reads(exprs: dict[str, z3.ExprRef], leaves: dict[str, z3.ExprRef]) -> dict[str, frozenset[str]]:
+    """The leaves each expression contains (shared subterms visited once)."""
+    names = {leaf.get_id(): name for name, leaf in leaves.items()}
+    memo: dict[int, frozenset[str]] = {}
+    for expr in exprs.values():
+        stack = [expr]
+        while stack:
+            node = stack[-1]
+            key = node.get_id()
+            if key in memo:
+                stack.pop()
+                continue
+            if key in names:
+                memo[key] = frozenset((names[key],))
+                stack.pop()
+                continue
+            children = [node.arg(i) for i in range(node.num_args())]
+            waiting = [child for child in children if child.get_id() not in memo]
+            if waiting:
+                stack.extend(waiting)
+                continue
+            memo[key] = frozenset().union(*(memo[child.get_id()] for child in children))
+            stack.pop()
+    return {name: memo[expr.get_id()] for name, expr in exprs.items()}
+
+
 def eeprom_name(address: int) -> str:
     """The state that holds the EEPROM's copy of the PERSIST variable at `address`."""
     return f"$eeprom@{address}"
