@@ -79,6 +79,20 @@ def parse_property(text: str, line: int, column: int = 0) -> Property:
                     body, span, _condition(within.group("trigger"), line, start + within.start("trigger")), time_us)
 
 
+def name_span(prop: Property, name: str) -> Span:
+    """Where `name` is first written, as a whole word, in the property."""
+    text, start = prop.text, 0
+    while True:
+        at = text.find(name, start)
+        if at < 0:
+            return prop.span
+        before, after = text[at - 1:at] or " ", text[at + len(name):at + len(name) + 1] or " "
+        if not (before.isalnum() or before in "_$#") and not (after.isalnum() or after in "_$#["):
+            column = prop.span.col + at
+            return Span.at(prop.span.line, column, column + len(name))
+        start = at + 1
+
+
 def _group_span(match: re.Match, group: str, line: int, start: int) -> Span:
     return Span.at(line, start + match.start(group), start + match.end(group))
 

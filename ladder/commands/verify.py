@@ -115,9 +115,9 @@ def _targets(args) -> tuple[list[Target] | None, int]:
                 continue
             program = str(scenario.program)
             targets.setdefault(program, Target(program, [], path)).properties.append(prop)
-    for problem in bad:
-        line, col = problem.span.line + 1, problem.span.col + 1
-        print(f"{path}:{line}:{col}: error LD215 {problem}", file=sys.stderr)
+    for unread in bad:
+        line, col = unread.span.line + 1, unread.span.col + 1
+        print(f"{path}:{line}:{col}: error LD215 {unread}", file=sys.stderr)
     if bad:
         return None, EXIT_PROBLEMS
     if not targets:
@@ -129,6 +129,7 @@ def _targets(args) -> tuple[list[Target] | None, int]:
 def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     from lang.diagnostics import ERROR
     from lang.loader import load_path
+    from lang.properties import name_span
     from lang.sim import SimulationError, Simulator
     from lang.verify import verify
     from lang.verify.prover import FAILS
@@ -149,7 +150,8 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
         return EXIT_USAGE
     unknown = [(prop, name) for prop in target.properties for name in prop.names() if name not in known]
     for prop, name in unknown:
-        print(f"{target.source}:{prop.span.line + 1}:{prop.span.col + 1}: error LD216 the property reads "
+        span = name_span(prop, name)
+        print(f"{target.source}:{span.line + 1}:{span.col + 1}: error LD216 the property reads "
               f"'{name}', which the program does not use", file=sys.stderr)
     if unknown:
         return EXIT_PROBLEMS

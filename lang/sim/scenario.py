@@ -322,7 +322,8 @@ class _Parser:
         word = self.take("word")
         if word is not None:
             return Compare(name[1], op, word[1])
-        if self.peek() is None or self.peek()[0] != "literal":
+        following = self.peek()
+        if following is None or following[0] != "literal":
             raise self.error("expected a number or a name")
         return Compare(name[1], op, self._literal())
 

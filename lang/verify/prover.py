@@ -20,13 +20,13 @@ never to hold by induction, it fails.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import z3
 
 from ..properties import Property
 from ..sim.peripherals import ADC_MAX
-from ..sim.scenario import Logic
+from ..sim.scenario import Implies, Logic
 from .transition import Machine, Step, adc_input, eeprom_name
 
 SMT = Logic(all=lambda values: z3.And(*values), any=lambda values: z3.Or(*values), negate=z3.Not,
@@ -210,6 +210,13 @@ def prove(machine: Machine, properties: list[Property], cycle_us: int, bound: in
 
 
 def _prove_one(search: Search, prop: Property, bound: int) -> Result:
+    if prop.trigger is not None:
+        # a response in the very scan of its trigger is a stronger property whose
+        # induction is short, where the count of scans waited would need as many
+        same_scan = replace(prop, kind="always", condition=Implies(prop.trigger, prop.condition), trigger=None)
+        lemma = _prove_one(search, same_scan, bound)
+        if lemma.verdict == PROVED:
+            return replace(lemma, prop=prop)
     scans = prop.scans(search.cycle_us)
     machine, step = search.machine, search.step
     names = [adc_input(n) if n in machine.adcs and n not in step.state else n for n in prop.names()]

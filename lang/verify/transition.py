@@ -16,12 +16,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import z3
 
 from ..numbers import wrap
 from ..semantics import ir
 from ..sim.peripherals import ADC_MAX
+
+if TYPE_CHECKING:
+    from ..model import Element
 
 WIDE = 64  # every operand is read as a signed 64-bit value
 ERASED = 0xFF  # the byte an erased EEPROM reads
@@ -212,7 +216,7 @@ class _Run:
         self.alive: z3.BoolRef | None = None
         self.path: list[z3.BoolRef] = []
         self.pending: dict[str, list[tuple[z3.BoolRef, dict]]] = {}
-        self.element = None
+        self.element: Element | None = None
         self.seen_labels: set[str] = set()
 
     # --- structure ---------------------------------------------------------------
