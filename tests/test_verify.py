@@ -173,9 +173,10 @@ def test_properties_in_a_scenario_file(tmp_path, capsys):
 
 @needs_z3
 def test_what_the_prover_does_not_model_is_a_located_error(tmp_path, capsys):
-    uart = [[contact("Xgo"), el("UART_SEND", var="v", bytes=1, wait=0)], [contact("Xgo"), coil("Yon")]]
-    status, _, err = _verify(capsys, _write(tmp_path, "uart", uart, ["always Yon implies Xgo"]))
-    assert status == 2 and re.search(r"uart\.ladder:\d+:\d+: error LD620 sending on the UART is not modelled", err)
+    call = [[contact("Xgo"), el("GOSUB", label="sub")], [el("SUBPROG", label="sub")], [contact("Xgo"), coil("Yon")],
+            [el("ENDSUB", label="sub")]]
+    status, _, err = _verify(capsys, _write(tmp_path, "call", call, ["always Yon implies Xgo"]))
+    assert status == 2 and re.search(r"call\.ladder:\d+:\d+: error LD620 GOSUB is not modelled", err)
 
 
 def test_without_the_solver_one_message_names_the_pip_command(tmp_path, capsys, monkeypatch):
@@ -248,3 +249,23 @@ def test_scenario_expectations_take_conditions(tmp_path, capsys):
     out = capsys.readouterr().out
     assert f"{scenario}:5: at 30 ms: Yrev, Xstop: expected Yrev or Xstop, got Yrev = 0, Xstop = 0" in out
     assert len(re.findall(rf"{re.escape(str(scenario))}:\d+:", out)) == 1 and path.exists()
+
+
+@needs_z3
+def test_bytes_received_on_the_uart_are_inputs_and_a_counterexample_sends_them(tmp_path, capsys):
+    # a byte taken when Xgo asks for one; 'A' then lights Ygot; a send keeps the transmitter busy
+    uart = [[contact("Xgo"), el("UART_RECV", var="vin", bytes=1, wait=0)],
+            [el("EQU", op1="vin", op2="'A'"), coil("Ygot", "S")],
+            [contact("Xsend"), el("UART_SEND", var="vin", bytes=1, wait=0), coil("Ybusy")]]
+    properties = ["never Ygot", "reachable Ygot and Ybusy", "always Ybusy implies Xsend"]
+    status, lines, _ = _verify(capsys, _write(tmp_path, "uart", uart, properties), "--bound", "10")
+    assert status == 1
+    assert _verdicts(lines) == ["fails at 0 ms (scan 1): never Ygot", "proved: reached at 0 ms (scan 1): "
+                                "reachable Ygot and Ybusy", "proved (k = 1): always Ybusy implies Xsend"]
+    for verdict, _, scenario in _reported(lines):
+        assert 'uart "A' in scenario.read_text(encoding="utf-8")  # then any bytes left untaken
+        status = main(["test", str(scenario)])
+        out = capsys.readouterr().out
+        assert status == (0 if "reachable" in verdict else 1), out
+        assert "reachable" in verdict or f"{scenario}:" in out and ": at 0 ms: " in out
+    assert "note:" not in "\n".join(lines)

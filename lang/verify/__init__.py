@@ -52,6 +52,7 @@ def verify(program: Program, properties: list[Property], bound: int = DEFAULT_BO
     except lowering.LoweringError as problem:
         raise SimulationError([located(LOWERING_CODES[problem.kind], problem.message, problem.element)]) from None
     try:
-        return prove(Machine.of(code), properties, program.settings.cycle_us, bound, timeout_s)
+        settings = program.settings
+        return prove(Machine.of(code, settings.cycle_us, settings.baud), properties, settings.cycle_us, bound, timeout_s)
     except NotModelled as problem:
         raise SimulationError([located(NOT_MODELLED, str(problem), problem.element)]) from None

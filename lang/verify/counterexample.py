@@ -12,6 +12,7 @@ from ..properties import Property
 from ..sim import Simulator
 from ..sim.scenario import Not, parse_scenarios, run_scenario
 from ..sim.trace import Trace, format_time
+from ..sim.uart import show_bytes
 from ..sim.vcd import write_vcd
 from .prover import Witness
 
@@ -49,6 +50,8 @@ def scenario_text(program_ref: str, prop: Property, witness: Witness, cycle_us: 
         changed = {name: value for name, value in inputs.items() if scan == 0 or previous.get(name) != value}
         if changed:
             lines.append(f"at {_at(scan, cycle_us)} set " + ", ".join(f"{n} = {v}" for n, v in changed.items()))
+        if scan < len(witness.uart) and witness.uart[scan]:
+            lines.append(f"at {_at(scan, cycle_us)} uart {show_bytes(witness.uart[scan])}")
         previous = inputs
     lines.append(expectation(prop, witness, cycle_us))
     return "\n".join(lines) + "\n", len(lines)
@@ -75,9 +78,11 @@ def write_run(program: Program, prop: Property, witness: Witness, out: TextIO) -
     known = sim.variables()
     names = sorted({*witness.inputs[0], *prop.names()} & known.keys()) if witness.inputs else prop.names()
     trace = Trace.watching(sim, names)
-    for inputs in witness.inputs:
+    for scan, inputs in enumerate(witness.inputs):
         for name, value in inputs.items():
             sim.set(name, value)
+        if scan < len(witness.uart):
+            sim.uart_receive(witness.uart[scan])
         sim.step()
         trace.record(sim)
     write_vcd(trace, out)

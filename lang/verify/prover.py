@@ -20,14 +20,13 @@ never to hold by induction, it fails.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import z3
 
 from ..properties import Property
-from ..sim.peripherals import ADC_MAX
 from ..sim.scenario import Implies, Logic
-from .transition import Machine, Step, adc_input, eeprom_name
+from .transition import UART_ARRIVALS, UART_QUEUE, Machine, Step, adc_input, eeprom_name, taken_byte, took
 
 SMT = Logic(all=lambda values: z3.And(*values), any=lambda values: z3.Or(*values), negate=z3.Not,
             implies=z3.Implies)
@@ -48,6 +47,7 @@ class Witness:
     eeprom: dict[int, int]
     scan: int
     trigger: int | None = None
+    uart: list[bytes] = field(default_factory=list)  # the bytes arriving before each scan
 
 
 @dataclass
@@ -94,15 +94,17 @@ class Unrolling:
         """The value a property reads after `scan`."""
         return self.value(name, scan) if name in self.step.inputs else self.value(name, scan + 1)
 
+    def computed(self, name: str, scan: int) -> z3.ExprRef:
+        """What scan `scan` computes for `name` (a state, or whether a UartTake took a byte)."""
+        step = self.step
+        pairs = [(step.state[r] if r in step.state else step.inputs[r], self.value(r, scan)) for r in step.reads[name]]
+        return z3.substitute(step.next[name], *pairs) if pairs else step.next[name]
+
     def link(self, name: str, scan: int) -> z3.BoolRef:
         """The state `name` after `scan` is what the scan computes."""
         key = (name, scan)
         if key not in self._links:
-            step = self.step
-            pairs = [(step.state[r] if r in step.state else step.inputs[r], self.value(r, scan))
-                     for r in step.reads[name]]
-            computed = z3.substitute(step.next[name], *pairs) if pairs else step.next[name]
-            self._links[key] = self.value(name, scan + 1) == computed
+            self._links[key] = self.value(name, scan + 1) == self.computed(name, scan)
         return self._links[key]
 
 
@@ -115,15 +117,19 @@ class Frame:
         self.solver = z3.SolverFor("QF_BV")
         step = unrolling.step
         self.states = sorted(n for n in cone if n in step.state)
-        self.adcs = [n for n in step.machine.adcs if adc_input(n) in cone]
+        self.inputs = sorted(n for n in cone if n in step.inputs)
         self.scans = 0
+        if unrolling.from_anywhere:
+            start = {name: unrolling.value(name, 0) for name in self.states}
+            self.solver.add(step.machine.invariants(start))
 
     def cover(self, scan: int) -> None:
         """Constrain the scans up to `scan`."""
         while self.scans <= scan:
             k, unrolling = self.scans, self.unrolling
             self.solver.add([unrolling.link(name, k) for name in self.states])
-            self.solver.add([z3.ULE(unrolling.value(adc_input(n), k), ADC_MAX) for n in self.adcs])
+            machine = unrolling.step.machine
+            self.solver.add([fact for n in self.inputs for fact in machine.bounds(n, unrolling.value(n, k))])
             self.scans += 1
 
 
@@ -218,9 +224,8 @@ def _prove_one(search: Search, prop: Property, bound: int) -> Result:
         if lemma.verdict == PROVED:
             return replace(lemma, prop=prop)
     scans = prop.scans(search.cycle_us)
-    machine, step = search.machine, search.step
-    names = [adc_input(n) if n in machine.adcs and n not in step.state else n for n in prop.names()]
-    cone = step.cone(names)
+    step = search.step
+    cone = step.cone(prop.names())
     base = Monitor(prop, scans, Frame(search.from_power_up, cone))
     induction = Monitor(prop, scans, Frame(search.from_anywhere, cone))
     reach = prop.kind == "reachable"
@@ -268,4 +273,17 @@ def _witness(search: Search, frame: Frame, prop: Property, k: int, scans: int, b
         inputs.append(values)
     eeprom = {address: value(unrolling.first[eeprom_name(address)]) for address in machine.eeprom}
     trigger = k - scans if prop.kind == "within" else None
-    return Witness(inputs, eeprom, k, trigger)
+    return Witness(inputs, eeprom, k, trigger, _received(machine, unrolling, value, k))
+
+
+def _received(machine: Machine, unrolling: Unrolling, value, k: int) -> list[bytes]:
+    """The bytes arriving before each scan: as many as the model says, the
+    first of them the bytes the program took, in the order it took them."""
+    if UART_QUEUE not in machine.state_vars:
+        return []
+    arrivals = [value(unrolling.value(UART_ARRIVALS, scan)) for scan in range(k + 1)]
+    taken = [value(unrolling.value(taken_byte(j), scan)) & 0xFF
+             for scan in range(k + 1) for j in sorted(machine.takes.values())
+             if value(unrolling.computed(took(j), scan))]
+    stream = iter(taken + [0] * sum(arrivals))
+    return [bytes(next(stream) for _ in range(count)) for count in arrivals]

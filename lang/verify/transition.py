@@ -28,7 +28,12 @@ if TYPE_CHECKING:
     from ..model import Element
 
 WIDE = 64  # every operand is read as a signed 64-bit value
-ERASED = 0xFF  # the byte an erased EEPROM reads
+# The UART: the time until the transmitter is free, in microseconds x baud (a byte's
+# 10 bits are then exactly BYTE_TIME); the bytes received and not taken yet; the
+# bytes that arrive before a scan (an input), at most MAX_ARRIVALS a scan.
+UART_BUSY, UART_QUEUE, UART_ARRIVALS = "$uart_busy", "$uart_queue", "$uart_arrivals"
+BYTE_TIME = 10_000_000
+MAX_ARRIVALS = 8
 
 
 class NotModelled(Exception):
@@ -51,19 +56,33 @@ class Machine:
     inputs: list[str]  # the X inputs
     adcs: list[str]  # the variables READ_ADC writes
     eeprom: dict[int, int]  # address -> bytes of the PERSIST variable kept there
+    cycle_us: int
+    baud: int
+    takes: dict[int, int]  # id of each UartTake op -> its number, in the scan's order
+    waits: bool = False  # some UartSend waits for the transmitter
 
     @staticmethod
-    def of(code: ir.Code) -> Machine:
+    def of(code: ir.Code, cycle_us: int, baud: int) -> Machine:
         inputs = sorted(name for name, kind in code.bits.items() if kind != ir.TEMP and name.startswith("X"))
         state_bits = sorted(name for name, kind in code.bits.items() if kind != ir.TEMP and name not in inputs)
+        state_vars = dict(sorted(code.vars.items()))
         adcs: set[str] = set()
         eeprom: dict[int, int] = {}
+        takes: dict[int, int] = {}
+        waits = False
         for op in walk(code.scan):
             if isinstance(op, ir.ReadAdc):
                 adcs.add(op.dst.name)
             elif isinstance(op, ir.EepromLoad | ir.EepromSave):
                 eeprom[op.address] = op.var.size
-        return Machine(code, state_bits, dict(sorted(code.vars.items())), inputs, sorted(adcs), eeprom)
+            elif isinstance(op, ir.UartSend | ir.UartReady):
+                state_vars[UART_BUSY] = 8
+                waits = waits or isinstance(op, ir.UartSend) and op.wait
+            elif isinstance(op, ir.UartAvailable | ir.UartTake):
+                state_vars[UART_QUEUE] = 4
+                if isinstance(op, ir.UartTake):
+                    takes[id(op)] = len(takes)
+        return Machine(code, state_bits, state_vars, inputs, sorted(adcs), eeprom, cycle_us, baud, takes, waits)
 
     def fresh_state(self, tag: str) -> dict[str, z3.ExprRef]:
         """A state of free values named after `tag`."""
@@ -85,12 +104,30 @@ class Machine:
         return state
 
     def fresh_inputs(self, tag: str) -> dict[str, z3.ExprRef]:
+        """A scan's inputs: the X inputs, the A/D readings, the bytes arriving
+        on the UART and the value of each byte a UartTake op takes."""
         inputs: dict[str, z3.ExprRef] = {name: z3.Bool(f"{name}@{tag}") for name in self.inputs}
         inputs.update({_adc(name): z3.BitVec(f"{_adc(name)}@{tag}", 16) for name in self.adcs})
+        if UART_QUEUE in self.state_vars:
+            inputs[UART_ARRIVALS] = z3.BitVec(f"{UART_ARRIVALS}@{tag}", 8)
+            inputs.update({taken_byte(j): z3.BitVec(f"{taken_byte(j)}@{tag}", 8) for j in self.takes.values()})
         return inputs
 
-    def input_bounds(self, inputs: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
-        return [z3.ULE(inputs[_adc(name)], ADC_MAX) for name in self.adcs]
+    def bounds(self, name: str, value: z3.ExprRef) -> list[z3.BoolRef]:
+        """What an input can be: an A/D reading 0..1023, a few bytes arriving."""
+        if name.startswith("$adc:"):
+            return [z3.ULE(value, ADC_MAX)]
+        if name == UART_ARRIVALS:
+            return [z3.ULE(value, MAX_ARRIVALS)]
+        return []
+
+    def invariants(self, state: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
+        """What holds of every state a run reaches, beyond what the state's
+        types say: with no UartSend that waits, the transmitter is busy for one
+        byte at most (a byte sent while it is busy is lost)."""
+        if UART_BUSY in state and not self.waits:
+            return [z3.ULE(state[UART_BUSY], BYTE_TIME)]
+        return []
 
     def erased(self, state: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
         """The EEPROM bytes of `state` as a new part's: erased."""
@@ -105,8 +142,15 @@ class Machine:
             env.setdefault(name, z3.BoolVal(False))  # the rung's power bits, written before they are read
         for name, size in self.code.vars.items():
             env.setdefault(name, z3.BitVecVal(0, 8 * size))
+        env.update({took(j): z3.BoolVal(False) for j in self.takes.values()})
+        if UART_QUEUE in env:
+            env[UART_QUEUE] = env[UART_QUEUE] + z3.ZeroExt(24, env[UART_ARRIVALS])
         run = _Run(self, env)
         run.block(self.code.scan)
+        if UART_BUSY in env:
+            # the next scan comes one cycle later
+            busy, step = run.env[UART_BUSY], self.cycle_us * self.baud
+            run.env[UART_BUSY] = z3.If(z3.UGT(busy, step), busy - step, z3.BitVecVal(0, 64))
         return run.env
 
     def eeprom_names(self) -> list[str]:
@@ -122,14 +166,14 @@ class Step:
     machine: Machine
     state: dict[str, z3.ExprRef]
     inputs: dict[str, z3.ExprRef]
-    next: dict[str, z3.ExprRef]
+    next: dict[str, z3.ExprRef]  # and, for a counterexample, whether each UartTake took a byte
     reads: dict[str, frozenset[str]]
 
     @staticmethod
     def of(machine: Machine) -> Step:
         state, inputs = machine.fresh_state("pre"), machine.fresh_inputs("in")
         after = machine.scan(state, inputs)
-        following = {name: after[name] for name in state}
+        following = {name: after[name] for name in [*state, *map(took, machine.takes.values())]}
         return Step(machine, state, inputs, following, _reads(following, {**state, **inputs}))
 
     def cone(self, names: list[str]) -> set[str]:
@@ -180,6 +224,17 @@ def _adc(name: str) -> str:
     return f"$adc:{name}"
 
 
+def took(j: int) -> str:
+    """Whether UartTake op number j took a byte in the scan (what a
+    counterexample needs to know to send the bytes in order)."""
+    return f"$uart_took:{j}"
+
+
+def taken_byte(j: int) -> str:
+    """The input holding the byte UartTake op number j takes."""
+    return f"$uart_byte:{j}"
+
+
 def adc_input(name: str) -> str:
     """The input holding the A/D reading READ_ADC copies into `name`."""
     return _adc(name)
@@ -193,29 +248,28 @@ def walk(ops: list[ir.Op]):
             yield from walk(op.otherwise or [])
 
 
-def merge(cond: z3.BoolRef, then: dict, otherwise: dict) -> dict:
-    """The values after an if: each written in either branch is chosen by `cond`."""
-    merged = dict(otherwise)
-    for name, value in then.items():
-        other = otherwise[name]
-        if value is not other:
-            merged[name] = z3.If(cond, value, other)
-    return merged
+def choose(cond: z3.BoolRef, then: z3.ExprRef, otherwise: z3.ExprRef) -> z3.ExprRef:
+    """z3.If of two values of one sort, without the conversions z3.If tries
+    first: a scan makes thousands."""
+    ctx = then.ctx
+    return then.__class__(z3.Z3_mk_ite(ctx.ref(), cond.as_ast(), then.as_ast(), otherwise.as_ast()), ctx)
 
 
 class _Run:
-    """The symbolic execution of one scan: `env` holds every value so far;
-    `alive` is when the code being run is reached (None: always; a GOTO
-    above may have left it), `path` the conditions of the Ifs around it,
-    `pending` what each jump carries to its target (when it jumped, what
-    had been written)."""
+    """The symbolic execution of one scan: `env` holds every value so far.
+    Both branches of an If run, one after the other; a write takes effect
+    under `guard`: the conditions of the Ifs around it (`path`), and that no
+    GOTO above has left the code for a rung below (`pending`: the conditions
+    under which the jumps to each label were taken). At its label a jump's
+    condition no longer holds the writes back: what the skipped code wrote
+    under the guard kept the values from before the jump."""
 
     def __init__(self, machine: Machine, env: dict[str, z3.ExprRef]):
         self.machine = machine
         self.env = env
-        self.alive: z3.BoolRef | None = None
         self.path: list[z3.BoolRef] = []
-        self.pending: dict[str, list[tuple[z3.BoolRef, dict]]] = {}
+        self.pending: dict[str, list[z3.BoolRef]] = {}
+        self.guard: z3.BoolRef | None = None  # None: always
         self.element: Element | None = None
         self.seen_labels: set[str] = set()
 
@@ -228,36 +282,37 @@ class _Run:
                 raise NotModelled(f"{_what(op)} is not modelled by the prover", self.element)
             handler(self, op)
 
+    def _reguard(self) -> None:
+        parts = list(self.path)
+        jumped = [cond for conds in self.pending.values() for cond in conds]
+        if jumped:
+            parts.append(z3.Not(z3.Or(*jumped)) if len(jumped) > 1 else z3.Not(jumped[0]))
+        self.guard = None if not parts else parts[0] if len(parts) == 1 else z3.And(*parts)
+
     def branch(self, op: ir.If) -> None:
+        # the condition is read before either branch writes anything
         cond = self.condition(op.cond)
-        before_env, before_alive = self.env, self.alive
-        self.env = dict(before_env)
         self.path.append(cond)
+        self._reguard()
         self.block(op.then)
-        self.path[-1] = z3.Not(cond)
-        then_env, then_alive = self.env, self.alive
-        self.env, self.alive = dict(before_env), before_alive
         if op.otherwise:
+            self.path[-1] = z3.Not(cond)
+            self._reguard()
             self.block(op.otherwise)
         self.path.pop()
-        self.env = merge(cond, then_env, self.env)
-        if then_alive is not self.alive:
-            self.alive = z3.If(cond, _reached(then_alive), _reached(self.alive))
+        self._reguard()
 
     def label(self, op: ir.Label) -> None:
         self.seen_labels.add(op.name)
-        for alive, env in self.pending.pop(op.name, []):
-            self.env = merge(alive, env, self.env)
-            if self.alive is not None:
-                self.alive = z3.Or(alive, self.alive)
+        if self.pending.pop(op.name, None):
+            self._reguard()
 
     def jump(self, op: ir.Jump) -> None:
         if op.target in self.seen_labels:
             raise NotModelled("a GOTO back to an earlier rung (a loop inside the scan) is not modelled by the prover",
                               self.element)
-        taken = z3.And(*self.path, _reached(self.alive))
-        self.pending.setdefault(op.target, []).append((taken, dict(self.env)))
-        self.alive = z3.BoolVal(False)
+        self.pending.setdefault(op.target, []).append(self.guard if self.guard is not None else z3.BoolVal(True))
+        self._reguard()
 
     # --- operands ------------------------------------------------------------------
 
@@ -283,7 +338,7 @@ class _Run:
 
     def set(self, name: str, value: z3.ExprRef) -> None:
         """A write, which happens only where the code is reached."""
-        self.env[name] = value if self.alive is None else z3.If(self.alive, value, self.env[name])
+        self.env[name] = value if self.guard is None else choose(self.guard, value, self.env[name])
 
     def bit(self, bit: ir.Bit) -> z3.BoolRef:
         return self.env[bit.name]
@@ -296,10 +351,6 @@ class _Run:
             return RELATIONS[cond.rel](self.read(cond.a), self.read(cond.b))
         tested = (self.read(cond.a) & bit_mask(self.read(cond.index))) != 0
         return tested if cond.value else z3.Not(tested)
-
-
-def _reached(alive: z3.BoolRef | None) -> z3.BoolRef:
-    return z3.BoolVal(True) if alive is None else alive
 
 
 RELATIONS: dict[str, Callable] = {
@@ -315,9 +366,7 @@ def bit_mask(index: z3.BitVecRef) -> z3.BitVecRef:
 
 
 def _what(op: ir.Op) -> str:
-    names = {ir.Call: "GOSUB", ir.Return: "RETURN", ir.Halt: "LOCK", ir.Sleep: "SLEEP",
-             ir.UartSend: "sending on the UART", ir.UartReady: "the UART's transmitter",
-             ir.UartAvailable: "receiving on the UART", ir.UartTake: "receiving on the UART"}
+    names = {ir.Call: "GOSUB", ir.Return: "RETURN", ir.Halt: "LOCK", ir.Sleep: "SLEEP"}
     return names.get(type(op), type(op).__name__)
 
 
@@ -458,6 +507,31 @@ def _eeprom_save(run: _Run, op: ir.EepromSave) -> None:
     run.set(eeprom_name(op.address), run.env[op.var.name])
 
 
+def _uart_ready(run: _Run, op: ir.UartReady) -> None:
+    run.set(op.dst.name, run.env[UART_BUSY] == 0)
+
+
+def _uart_send(run: _Run, op: ir.UartSend) -> None:
+    """lang.sim.peripherals.Uart.send: a byte written while the transmitter
+    is busy is lost, or (wait) queued behind the one in progress."""
+    busy = run.env[UART_BUSY]
+    later = busy + BYTE_TIME if op.wait else busy
+    run.set(UART_BUSY, z3.If(busy == 0, z3.BitVecVal(BYTE_TIME, 64), later))
+
+
+def _uart_available(run: _Run, op: ir.UartAvailable) -> None:
+    run.set(op.dst.name, run.env[UART_QUEUE] != 0)
+
+
+def _uart_take(run: _Run, op: ir.UartTake) -> None:
+    # with `wait` and nothing received the simulator stops (LD616); here the byte comes
+    j = run.machine.takes[id(op)]
+    queue = run.env[UART_QUEUE]
+    run.set(took(j), queue != 0)
+    run.write(op.dst, z3.ZeroExt(WIDE - 8, run.env[taken_byte(j)]))
+    run.set(UART_QUEUE, z3.If(queue != 0, queue - 1, queue))
+
+
 def _nothing(run: _Run, op: ir.Op) -> None:
     """No effect on what the program computes: a busy-wait, the watchdog,
     the editor's trace, the PWM unit's own registers (its P bit is set by
@@ -471,4 +545,5 @@ OPS: dict[type, Callable] = {
     ir.ChangeBitOf: _change_bit_of, ir.Convert: _convert, ir.Table: _table, ir.Permute: _permute,
     ir.ReadAdc: _read_adc, ir.EepromLoad: _eeprom_load, ir.EepromSave: _eeprom_save,
     ir.SetPwm: _nothing, ir.PwmOff: _nothing, ir.Delay: _nothing, ir.ClearWatchdog: _nothing,
+    ir.UartReady: _uart_ready, ir.UartSend: _uart_send, ir.UartAvailable: _uart_available, ir.UartTake: _uart_take,
 }
