@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import sys
 from pathlib import Path
+from xml.etree import ElementTree
 
 import pytest
 from builders import coil, contact, counter, el, par
@@ -269,3 +270,29 @@ def test_bytes_received_on_the_uart_are_inputs_and_a_counterexample_sends_them(t
         assert status == (0 if "reachable" in verdict else 1), out
         assert "reachable" in verdict or f"{scenario}:" in out and ": at 0 ms: " in out
     assert "note:" not in "\n".join(lines)
+
+
+@needs_z3
+def test_junit_has_a_case_per_property_and_out_chooses_the_folder(tmp_path, capsys):
+    press = [[contact("Xleft"), contact("Xright"), coil("Ypress")]]
+    path = _write(tmp_path, "press", press, ["always Ypress implies Xleft", "never Ypress and not Xright",
+                                             "always Ypress implies not Xleft"])
+    junit, out = tmp_path / "results.xml", tmp_path / "cex"
+    status, lines, _ = _verify(capsys, path, "--junit", str(junit), "--out", str(out))
+    assert status == 1 and (out / "press-property3.scn").exists() and (out / "press-property3.vcd").exists()
+    root = ElementTree.parse(junit).getroot()
+    cases = root.findall("./testsuite/testcase")
+    assert [case.get("name") for case in cases] == ["always Ypress implies Xleft", "never Ypress and not Xright",
+                                                    "always Ypress implies not Xleft"]
+    assert [case.find("failure") is not None for case in cases] == [False, False, True]
+    # the scenario names the program from where it is written
+    assert "program ../press.ladder" in (out / "press-property3.scn").read_text(encoding="utf-8")
+
+
+@needs_z3
+def test_the_time_allowed_stops_the_search_with_what_was_searched(tmp_path, capsys):
+    status, lines, _ = _verify(capsys, _write(tmp_path, "slow", COUNTER, ["always Ccount <= 100"]),
+                               "--bound", "100000", "--timeout", "0.5")
+    assert status == 0
+    assert re.fullmatch(r"holds up to \d+ scans \(not proved\); the time allowed ran out: always Ccount <= 100",
+                        _verdicts(lines)[0])
