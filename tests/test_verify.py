@@ -174,10 +174,9 @@ def test_properties_in_a_scenario_file(tmp_path, capsys):
 
 @needs_z3
 def test_what_the_prover_does_not_model_is_a_located_error(tmp_path, capsys):
-    call = [[contact("Xgo"), el("GOSUB", label="sub")], [el("SUBPROG", label="sub")], [contact("Xgo"), coil("Yon")],
-            [el("ENDSUB", label="sub")]]
-    status, _, err = _verify(capsys, _write(tmp_path, "call", call, ["always Yon implies Xgo"]))
-    assert status == 2 and re.search(r"call\.ladder:\d+:\d+: error LD620 GOSUB is not modelled", err)
+    loop = [[el("LABEL", label="again"), contact("Xgo"), coil("Yon")], [contact("Xloop"), el("GOTO", label="again")]]
+    status, _, err = _verify(capsys, _write(tmp_path, "loop", loop, ["always Yon implies Xgo"]))
+    assert status == 2 and re.search(r"loop\.ladder:\d+:\d+: error LD620 a GOTO back to an earlier rung", err)
 
 
 def test_without_the_solver_one_message_names_the_pip_command(tmp_path, capsys, monkeypatch):

@@ -34,6 +34,7 @@ WIDE = 64  # every operand is read as a signed 64-bit value
 UART_BUSY, UART_QUEUE, UART_ARRIVALS = "$uart_busy", "$uart_queue", "$uart_arrivals"
 BYTE_TIME = 10_000_000
 MAX_ARRIVALS = 8
+CALL_DEPTH = 8  # GOSUBs inside each other, as the simulator's stack holds
 
 
 class NotModelled(Exception):
@@ -272,6 +273,8 @@ class _Run:
         self.guard: z3.BoolRef | None = None  # None: always
         self.element: Element | None = None
         self.seen_labels: set[str] = set()
+        self.returns: list[str] = []  # the labels the subroutines being run return to, innermost last
+        self.calls = 0
 
     # --- structure ---------------------------------------------------------------
 
@@ -305,6 +308,38 @@ class _Run:
     def label(self, op: ir.Label) -> None:
         self.seen_labels.add(op.name)
         if self.pending.pop(op.name, None):
+            self._reguard()
+
+    def call(self, op: ir.Call) -> None:
+        """GOSUB: the subroutine's rungs run here, from its first to the
+        RETURN of its ENDSUB; a RETURN on the way holds back what follows it
+        until then. It comes back right after the GOSUB element."""
+        if len(self.returns) >= CALL_DEPTH:
+            raise NotModelled(f"GOSUB nested more than {CALL_DEPTH} deep (the simulator's stack overflows)",
+                              self.element)
+        scan = self.machine.code.scan
+        self.calls += 1
+        back = f"$return{self.calls}"
+        self.returns.append(back)
+        caller = self.element
+        position = next(i for i, o in enumerate(scan) if isinstance(o, ir.Label) and o.name == op.target)
+        for body in scan[position:]:
+            if isinstance(body, ir.Return):
+                break
+            self.block([body])
+        else:
+            raise NotModelled("a subroutine that does not end in ENDSUB", caller)
+        self.returns.pop()
+        self.element = caller
+        if self.pending.pop(back, None):
+            self._reguard()
+
+    def return_(self, op: ir.Return) -> None:
+        # outside a subroutine (only reached in a scan the simulator stops, LD613), nothing after it runs
+        where = self.returns[-1] if self.returns else "$stopped"
+        reached = self.guard if self.guard is not None else z3.BoolVal(True)
+        if not z3.is_false(z3.simplify(reached)):
+            self.pending.setdefault(where, []).append(reached)
             self._reguard()
 
     def jump(self, op: ir.Jump) -> None:
@@ -366,7 +401,7 @@ def bit_mask(index: z3.BitVecRef) -> z3.BitVecRef:
 
 
 def _what(op: ir.Op) -> str:
-    names = {ir.Call: "GOSUB", ir.Return: "RETURN", ir.Halt: "LOCK", ir.Sleep: "SLEEP"}
+    names = {ir.Halt: "LOCK", ir.Sleep: "SLEEP"}
     return names.get(type(op), type(op).__name__)
 
 
@@ -540,6 +575,7 @@ def _nothing(run: _Run, op: ir.Op) -> None:
 
 OPS: dict[type, Callable] = {
     ir.Label: _Run.label, ir.Note: _note, ir.Trace: _nothing, ir.Jump: _Run.jump, ir.If: _Run.branch,
+    ir.Call: _Run.call, ir.Return: _Run.return_,
     ir.SetBit: _set_bit, ir.CopyBit: _copy_bit, ir.AndBit: _and_bit, ir.OrBit: _or_bit,
     ir.Move: _move, ir.Arith: _arith, ir.Divide: _divide, ir.Unary: _unary, ir.Shift: _shift,
     ir.ChangeBitOf: _change_bit_of, ir.Convert: _convert, ir.Table: _table, ir.Permute: _permute,
