@@ -17,9 +17,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .model import Program, PropertyLine, Span
-from .sim.scenario import Condition, ConditionError, parse_condition, parse_time
+
+if TYPE_CHECKING:
+    from .sim.scenario import Condition
 
 # the words that start a property, and `within` ... `after` between a response and its trigger
 KINDS = ("always", "never", "reachable")
@@ -58,6 +61,9 @@ class Property:
 def parse_property(text: str, line: int, column: int = 0) -> Property:
     """The property `text`, which starts at `column` of `line` (for the
     spans of the property and of its errors)."""
+    # the scenario language comes with the simulator: imported only for a program with properties
+    from .sim.scenario import parse_time
+
     body = text.strip()
     start = column + len(text) - len(text.lstrip())
     span = Span.at(line, start, start + len(body))
@@ -98,6 +104,8 @@ def _group_span(match: re.Match, group: str, line: int, start: int) -> Span:
 
 
 def _condition(text: str, line: int, column: int) -> Condition:
+    from .sim.scenario import ConditionError, parse_condition
+
     try:
         return parse_condition(text)
     except ConditionError as bad:
