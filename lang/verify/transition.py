@@ -438,23 +438,48 @@ ARITH: dict[str, Callable] = {"add": lambda a, b: a + b, "sub": lambda a, b: a -
                               "and": lambda a, b: a & b, "or": lambda a, b: a | b, "xor": lambda a, b: a ^ b}
 
 
+def _width(operand: ir.Operand) -> int:
+    """The bits that hold the operand's signed value."""
+    if isinstance(operand, ir.Const):
+        return max(operand.value.bit_length(), (-operand.value - 1).bit_length()) + 1
+    return 9 if isinstance(operand, ir.Byte) else 8 * operand.size
+
+
+def _narrow(value: z3.BitVecRef, bits: int) -> z3.BitVecRef:
+    return z3.Extract(bits - 1, 0, value) if bits < WIDE else value
+
+
 def _arith(run: _Run, op: ir.Arith) -> None:
-    result = ARITH[op.op](run.read(op.a), run.read(op.b))
-    run.write(op.dst, result)
     if op.overflow is not None:
-        # signed overflow of the destination's size; the flag is never cleared
-        run.set(op.overflow.name, z3.Or(run.bit(op.overflow), run.read(op.dst) != result))
+        # exact, one bit wider than the operands and the destination: signed
+        # overflow of the destination's size sets the flag, which is never cleared
+        bits = min(WIDE, max(_width(op.a), _width(op.b), 8 * op.dst.size) + 1)
+        result = ARITH[op.op](_narrow(run.read(op.a), bits), _narrow(run.read(op.b), bits))
+        run.write(op.dst, result)
+        kept = z3.Extract(8 * op.dst.size - 1, 0, result)
+        fits = z3.SignExt(bits - 8 * op.dst.size, kept) == result if bits > 8 * op.dst.size else z3.BoolVal(True)
+        run.set(op.overflow.name, z3.Or(run.bit(op.overflow), z3.Not(fits)))
+        return
+    # the result is truncated to the destination: its bits of the operands are enough
+    # (a multiplication as wide as the destination is far cheaper for the solver)
+    bits = 8 * op.dst.size
+    run.write(op.dst, ARITH[op.op](_narrow(run.read(op.a), bits), _narrow(run.read(op.b), bits)))
 
 
 def _divide(run: _Run, op: ir.Divide) -> None:
     # the SMT division truncates toward zero and its remainder has the
-    # dividend's sign, as C's (lang.numbers.cdiv, cmod); a division by zero,
-    # where the simulator stops, gets the solver's value (docs/verify.md)
-    a, b = run.read(op.a), run.read(op.b)
-    quotient = a / b if op.op == "div" else z3.SRem(a, b)
-    run.write(op.dst, quotient)
+    # dividend's sign, as C's (lang.numbers.cdiv, cmod), at one bit more than
+    # the operands need (-2^31 / -1 fits); a division by zero, where the
+    # simulator stops, gets the solver's value (docs/verify.md)
+    bits = min(WIDE, max(_width(op.a), _width(op.b)) + 1)
+    a, b = _narrow(run.read(op.a), bits), _narrow(run.read(op.b), bits)
+
+    def wide(value: z3.BitVecRef) -> z3.BitVecRef:
+        return z3.SignExt(WIDE - bits, value) if bits < WIDE else value
+
+    run.write(op.dst, wide(a / b if op.op == "div" else z3.SRem(a, b)))
     if op.remainder is not None:
-        run.write(op.remainder, z3.SRem(a, b))
+        run.write(op.remainder, wide(z3.SRem(a, b)))
 
 
 def _unary(run: _Run, op: ir.Unary) -> None:
