@@ -46,7 +46,7 @@ def _erased(machine: Machine) -> dict:
     return {f"$eeprom@{address}": z3.BitVecVal(-1, 8 * size) for address, size in machine.eeprom.items()}
 
 
-@settings(max_examples=25, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
 @given(case=cases((BOARD,)))
 def test_the_formula_of_a_scan_agrees_with_the_simulator(case):
     _agree(case, SCANS)
@@ -55,7 +55,7 @@ def test_the_formula_of_a_scan_agrees_with_the_simulator(case):
 @settings(max_examples=12, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
 @given(case=cases((UART_BOARD,)))
 def test_the_uart_in_the_formula_agrees_with_the_simulator(case):
-    _agree(case, 40)
+    _agree(case, 30)
 
 
 def _agree(case, scans: int) -> None:
