@@ -11,7 +11,7 @@ import importlib
 import sys
 from importlib import metadata
 
-COMMANDS = ("check", "fmt", "convert", "dump", "explain", "parts", "new", "sim", "test", "build", "lsp")
+COMMANDS = ("check", "fmt", "convert", "dump", "explain", "parts", "new", "sim", "test", "verify", "build", "lsp")
 
 
 def _version() -> str:

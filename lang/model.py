@@ -128,6 +128,14 @@ class PinAssignment:
         return str(self.pin).strip() not in ("", "0", "None")
 
 
+@dataclass(frozen=True)
+class PropertyLine:
+    """A line of the PROPERTIES section as written, and where (0-based)."""
+
+    text: str
+    line: int = field(default=-1, compare=False)
+
+
 @dataclass
 class Program:
     settings: Settings = field(default_factory=Settings)
@@ -138,6 +146,8 @@ class Program:
     # what follows a name on its VAR LIST line: LDmicro 5.4 writes " \tNow not used !!!" (or its
     # translation) for a variable its last compile did not allocate; kept as written
     var_notes: dict[str, str] = field(default_factory=dict)
+    # the text form's PROPERTIES section, for `ladder verify` (lang/properties.py reads it)
+    properties: list[PropertyLine] = field(default_factory=list)
 
     def elements(self) -> Iterator[tuple[int, Element]]:
         """Every element with the index of its rung, in evaluation order."""

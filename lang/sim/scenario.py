@@ -19,12 +19,14 @@ undecided is listed as not checked.
 
 from __future__ import annotations
 
+import operator
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
 
-from ..values import is_literal, literal_value
+from ..values import literal_value
 from .errors import SimulationError
 from .runtime import Simulator
 from .trace import Trace, diagram, format_time
@@ -32,8 +34,6 @@ from .uart import ESCAPES, show_bytes
 
 _TIME = re.compile(r"\s*(\d+(?:\.\d*)?|\.\d+)\s*(us|ms|s)?\s*$")
 _UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, None: 1000}
-_CONDITION = re.compile(r"(?P<name>[A-Za-z_$#][\w$#.\[\]]*)\s*(?:(?P<op>==|=|!=|<=|>=|<|>)\s*(?P<value>\S+)"
-                        r"|\s+in\s+(?P<low>\S+?)\s*\.\.\s*(?P<high>\S+))\s*$")
 
 
 class ScenarioError(Exception):
@@ -91,6 +91,252 @@ def parse_string(text: str) -> bytes:
     return bytes(out)
 
 
+# --- conditions: what `expect` checks, and what properties (lang/properties.py) say -------
+
+_TOKEN = re.compile(r"\s*(?:(?P<paren>[()])|(?P<rel>==|!=|<=|>=|=|<|>)|(?P<range>\.\.)"
+                    r"|(?P<literal>'(?:\\.|[^'\\])+'|[-+]?\d\w*)|(?P<word>[A-Za-z_$#](?:[\w$#\[\]]|\.(?!\.))*))")
+KEYWORDS = frozenset({"and", "or", "not", "implies", "in"})
+RELATIONS: dict[str, Callable] = {"=": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le,
+                                  ">": operator.gt, ">=": operator.ge}
+
+
+class ConditionError(ValueError):
+    """A condition that cannot be read; `start` and `end` are the columns of
+    the offending text in the condition."""
+
+    def __init__(self, message: str, start: int, end: int):
+        super().__init__(message)
+        self.start, self.end = start, end
+
+
+@dataclass(frozen=True)
+class Logic:
+    """How a condition combines truth values: Python's for a simulation, an
+    SMT solver's for the prover (lang/verify)."""
+
+    all: Callable = all
+    any: Callable = any
+    negate: Callable = operator.not_
+    implies: Callable = lambda a, b: (not a) or b
+
+
+PYTHON = Logic()
+
+
+@dataclass(frozen=True)
+class Signal:
+    """A bare name: true while the signal is not 0."""
+
+    name: str
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        return read(self.name) != 0
+
+    def names(self) -> list[str]:
+        return [self.name]
+
+    def __str__(self) -> str:
+        return self.name
+
+
+@dataclass(frozen=True)
+class Compare:
+    name: str
+    op: str  # one of RELATIONS
+    value: int | str  # a literal, or another signal read in the same scan
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        return RELATIONS[self.op](read(self.name), read(self.value) if isinstance(self.value, str) else self.value)
+
+    def names(self) -> list[str]:
+        return [self.name] + ([self.value] if isinstance(self.value, str) else [])
+
+    def __str__(self) -> str:
+        return f"{self.name} {self.op} {self.value}"
+
+
+@dataclass(frozen=True)
+class InRange:
+    name: str
+    low: int
+    high: int
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        value = read(self.name)
+        return logic.all([value >= self.low, value <= self.high])
+
+    def names(self) -> list[str]:
+        return [self.name]
+
+    def __str__(self) -> str:
+        return f"{self.name} in {self.low}..{self.high}"
+
+
+@dataclass(frozen=True)
+class Not:
+    arg: Condition
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        return logic.negate(self.arg.evaluate(read, logic))
+
+    def names(self) -> list[str]:
+        return self.arg.names()
+
+    def __str__(self) -> str:
+        return f"not {_operand(self.arg, Not)}"
+
+
+@dataclass(frozen=True)
+class Both:
+    """`and` of its parts (`any` False) or `or` (`any` True)."""
+
+    parts: tuple[Condition, ...]
+    any: bool
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        values = [part.evaluate(read, logic) for part in self.parts]
+        return logic.any(values) if self.any else logic.all(values)
+
+    def names(self) -> list[str]:
+        return list(dict.fromkeys(n for part in self.parts for n in part.names()))
+
+    def __str__(self) -> str:
+        return f" {'or' if self.any else 'and'} ".join(_operand(part, self) for part in self.parts)
+
+
+@dataclass(frozen=True)
+class Implies:
+    premise: Condition
+    conclusion: Condition
+
+    def evaluate(self, read: Callable, logic: Logic = PYTHON):
+        return logic.implies(self.premise.evaluate(read, logic), self.conclusion.evaluate(read, logic))
+
+    def names(self) -> list[str]:
+        return list(dict.fromkeys(self.premise.names() + self.conclusion.names()))
+
+    def __str__(self) -> str:
+        return f"{_operand(self.premise, self)} implies {_operand(self.conclusion, self)}"
+
+
+Condition = Signal | Compare | InRange | Not | Both | Implies
+
+
+def _operand(part: Condition, outer) -> str:
+    """A part as written inside `outer`, in parentheses where it binds less tightly."""
+    simple = isinstance(part, Signal | Compare | InRange | Not)
+    same = isinstance(part, Both) and isinstance(outer, Both) and part.any == outer.any
+    return str(part) if simple or same else f"({part})"
+
+
+def parse_condition(text: str) -> Condition:
+    """`Yred = 1`, `Cpos in 0..100`, `Xa and not (Xb or Cn > 3)`, `Ya implies Xb`
+    (`implies` binds least, then `or`, then `and`, then `not`); a bare name
+    is true while not 0. ConditionError, with columns, for anything else."""
+    parser = _Parser(text)
+    condition = parser.implication()
+    if parser.peek() is not None:
+        raise parser.error("expected `and`, `or`, `implies` or the end of the condition")
+    return condition
+
+
+class _Parser:
+    def __init__(self, text: str):
+        self.text = text
+        self.tokens: list[tuple[str, str, int, int]] = []  # (kind, text, start, end)
+        position = 0
+        while text[position:].strip():
+            match = _TOKEN.match(text, position)
+            if not match or match.end() == position:
+                start = len(text) - len(text[position:].lstrip())
+                raise ConditionError(f"unexpected {text[start:].split()[0]!r}", start, start + 1)
+            group = match.lastgroup or ""
+            word = match.group(group)
+            kind = word if group == "word" and word in KEYWORDS else group
+            self.tokens.append((kind, word, match.start(group), match.end(group)))
+            position = match.end()
+        self.next = 0
+
+    def peek(self) -> tuple[str, str, int, int] | None:
+        return self.tokens[self.next] if self.next < len(self.tokens) else None
+
+    def take(self, kind: str) -> tuple[str, str, int, int] | None:
+        token = self.peek()
+        if token is not None and token[0] == kind:
+            self.next += 1
+            return token
+        return None
+
+    def error(self, message: str) -> ConditionError:
+        token = self.peek()
+        if token is None:
+            end = len(self.text.rstrip())
+            return ConditionError(f"{message}, at the end of {self.text.strip()!r}", end, end + 1)
+        return ConditionError(f"{message}, not {token[1]!r}", token[2], token[3])
+
+    def implication(self) -> Condition:
+        premise = self.either()
+        if self.take("implies"):
+            return Implies(premise, self.implication())
+        return premise
+
+    def either(self) -> Condition:
+        parts = [self.both()]
+        while self.take("or"):
+            parts.append(self.both())
+        return parts[0] if len(parts) == 1 else Both(tuple(parts), any=True)
+
+    def both(self) -> Condition:
+        parts = [self.negation()]
+        while self.take("and"):
+            parts.append(self.negation())
+        return parts[0] if len(parts) == 1 else Both(tuple(parts), any=False)
+
+    def negation(self) -> Condition:
+        if self.take("not"):
+            return Not(self.negation())
+        return self.primary()
+
+    def primary(self) -> Condition:
+        token = self.peek()
+        if token is not None and token[1] == "(":
+            self.next += 1
+            inner = self.implication()
+            closing = self.peek()
+            if closing is None or closing[1] != ")":
+                raise self.error("expected `)`")
+            self.next += 1
+            return inner
+        name = self.take("word")
+        if name is None:
+            raise self.error("expected a name")
+        if self.take("in"):
+            low = self._literal()
+            if not self.take("range"):
+                raise self.error("expected `..` between the bounds")
+            return InRange(name[1], low, self._literal())
+        relation = self.take("rel")
+        if relation is None:
+            return Signal(name[1])
+        op = "=" if relation[1] == "==" else relation[1]
+        word = self.take("word")
+        if word is not None:
+            return Compare(name[1], op, word[1])
+        following = self.peek()
+        if following is None or following[0] != "literal":
+            raise self.error("expected a number or a name")
+        return Compare(name[1], op, self._literal())
+
+    def _literal(self) -> int:
+        token = self.take("literal")
+        if token is None:
+            raise self.error("expected a number")
+        try:
+            return literal_value(token[1])
+        except ValueError as bad:
+            raise ConditionError(str(bad), token[2], token[3]) from None
+
+
 @dataclass
 class Action:
     line: int
@@ -100,8 +346,9 @@ class Action:
     value: int | bytes = 0  # bytes for "uart"
 
 
-# bytes for the UART, (low, high) for `in`, another signal's name, or a number
-Expected = bytes | tuple[int, int] | str | int
+# bytes for the UART, (low, high) for `in`, another signal's name, a number, or a
+# condition of several signals (or of a bare name)
+Expected = bytes | tuple[int, int] | str | int | Condition
 
 
 @dataclass
@@ -111,8 +358,8 @@ class Check:
     mode: str  # "at", "always" (from..to) or "sometime" (sometime from..to)
     start_us: int
     end_us: int
-    name: str  # a signal, or "uart"
-    op: str  # = != < <= > >= in, "equals"/"contains" for the UART
+    name: str  # a signal (the first a condition reads), or "uart"
+    op: str  # = != < <= > >= in, "equals"/"contains" for the UART, "holds" for a condition
     expected: Expected
     failed: bool = False
     seen: bool = False
@@ -123,13 +370,25 @@ class Check:
             return f"UART output {'containing ' if self.op == 'contains' else ''}{show_bytes(expected)}"
         if isinstance(expected, tuple):
             return f"{self.name} in {expected[0]}..{expected[1]}"
+        if self.op == "holds":
+            return str(expected)
         return f"{self.name} {self.op} {expected}"
+
+    def signals(self) -> list[str]:
+        """The signals the expectation reads."""
+        if self.name == "uart":
+            return []
+        if isinstance(self.expected, Signal | Compare | InRange | Not | Both | Implies):
+            return self.expected.names()
+        return [self.name] + ([self.expected] if isinstance(self.expected, str) else [])
 
     def holds(self, actual, sim: Simulator) -> bool:
         if isinstance(self.expected, bytes):
             return self.expected in actual if self.op == "contains" else actual == self.expected
         if isinstance(self.expected, tuple):
             return self.expected[0] <= actual <= self.expected[1]
+        if not isinstance(self.expected, str | int):
+            return bool(self.expected.evaluate(sim.value))
         # the expected value may be another signal, read in the same scan
         expected = sim.value(self.expected) if isinstance(self.expected, str) else self.expected
         return {"=": actual == expected, "!=": actual != expected, "<": actual < expected,
@@ -145,6 +404,8 @@ class Scenario:
     actions: list[Action] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
     run_until_us: int = 0
+    # `property TEXT` lines (line number, column of the text, text): `ladder verify` proves them
+    properties: list[tuple[int, int, str]] = field(default_factory=list)
 
 
 @dataclass
@@ -179,6 +440,10 @@ def parse_scenarios(text: str, path: str) -> list[Scenario]:
                     scenario.program = scenario.program or program
             elif word == "scenario":
                 scenarios.append(Scenario(rest.strip() or f"scenario {len(scenarios) + 1}", path, number, program))
+            elif word == "property":
+                if not scenarios:
+                    scenarios.append(Scenario(Path(path).stem, path, number, program))
+                scenarios[-1].properties.append((number, raw.index(rest.strip()), rest.strip()))
             else:
                 if not scenarios:
                     scenarios.append(Scenario(Path(path).stem, path, number, program))
@@ -243,22 +508,19 @@ def _check(number: int, line: str, mode: str, start: int, end: int, rest: str) -
     if uart:
         return Check(number, line, mode, start, end, "uart", "contains" if uart.group(1) else "equals",
                      parse_string(uart.group(2)))
-    condition = _CONDITION.match(rest)
-    if not condition:
-        raise ValueError(f"cannot read the expectation {rest!r}: write NAME = VALUE, NAME in LOW..HIGH "
-                         "or uart \"text\"")
-    if condition.group("name") == "uart":
+    try:
+        condition = parse_condition(rest)
+    except ConditionError as bad:
+        raise ValueError(f"cannot read the expectation {rest!r}: {bad}; write NAME = VALUE, NAME in LOW..HIGH, "
+                         "conditions joined by and, or, not, implies, or uart \"text\"") from None
+    if "uart" in condition.names():
         raise ValueError(f"cannot read the expectation {rest!r}: the UART's output is bytes, write "
                          "uart \"text\" or uart contains \"text\"")
-    expected: Expected
-    if condition.group("low") is not None:
-        expected = (literal_value(condition.group("low")), literal_value(condition.group("high")))
-        op = "in"
-    else:
-        op = "=" if condition.group("op") in ("=", "==") else condition.group("op")
-        value = condition.group("value")
-        expected = literal_value(value) if is_literal(value) else value
-    return Check(number, line, mode, start, end, condition.group("name"), op, expected)
+    if isinstance(condition, InRange):
+        return Check(number, line, mode, start, end, condition.name, "in", (condition.low, condition.high))
+    if isinstance(condition, Compare):
+        return Check(number, line, mode, start, end, condition.name, condition.op, condition.value)
+    return Check(number, line, mode, start, end, condition.names()[0], "holds", condition)
 
 
 def run_scenario(scenario: Scenario, sim: Simulator) -> list[Failure]:
@@ -268,7 +530,7 @@ def run_scenario(scenario: Scenario, sim: Simulator) -> list[Failure]:
     trace = Trace.watching(sim, names)
     failures: list[Failure] = []
     for check in scenario.checks:
-        missing = [n for n in (check.name, check.expected) if isinstance(n, str) and n != "uart" and n not in names]
+        missing = [n for n in check.signals() if n not in names]
         if missing:
             failures.append(Failure(check.line, format_time(check.start_us, cycle), check.name,
                                     check.describe(), f"no signal {missing[0]} in the program"))
@@ -330,8 +592,7 @@ def _last_due(check: Check, cycle: int) -> int:
 
 def _signals(scenario: Scenario, sim: Simulator) -> list[str]:
     known = sim.variables()
-    wanted = [a.name for a in scenario.actions if a.kind == "set"] + [c.name for c in scenario.checks] \
-        + [c.expected for c in scenario.checks if isinstance(c.expected, str)]
+    wanted = [a.name for a in scenario.actions if a.kind == "set"] + [n for c in scenario.checks for n in c.signals()]
     return sorted({n for n in wanted if n in known})
 
 
@@ -361,15 +622,22 @@ def _evaluate(check: Check, sim: Simulator, now: int, cycle: int, trace: Trace, 
     if check.mode == "sometime":
         return
     check.failed = True
-    failures.append(Failure(check.line, format_time(now, cycle), check.name, check.describe(),
-                            show_bytes(actual) if isinstance(actual, bytes) else str(actual),
+    if isinstance(actual, bytes):
+        shown = show_bytes(actual)
+    elif check.op == "holds":
+        shown = ", ".join(f"{name} = {sim.value(name)}" for name in check.signals())
+    else:
+        shown = str(actual)
+    what = ", ".join(check.signals()) if check.op == "holds" else check.name
+    failures.append(Failure(check.line, format_time(now, cycle), what, check.describe(), shown,
                             _chart(trace, check, trace.names, now)))
 
 
 def _chart(trace: Trace, check: Check, names: list[str], at_us: int) -> str:
     if check.name == "uart":
         return ""
-    shown = [check.name] + [n for n in names if n != check.name][:7]
+    own = check.signals()
+    shown = (own + [n for n in names if n not in own])[:max(8, len(own))]
     start = max(0, min(check.start_us, at_us - 40 * trace.cycle_us))
     start -= start % trace.cycle_us
     return diagram(trace, shown, start, trace.end_us)

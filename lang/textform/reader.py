@@ -17,11 +17,11 @@ from operator import attrgetter, is_not
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
-from ..model import Element, Node, Parallel, PinAssignment, Program, Rung, Series, Settings, Span, children
+from ..model import Element, Node, Parallel, PinAssignment, Program, PropertyLine, Rung, Series, Settings, Span, children
 from . import details
 from .alignment import shifted
 from .rungs import Line, read_rung
-from .sections import DETAILS, DIAGRAM, IO, SETTINGS, VARS, Section, split_sections
+from .sections import DETAILS, DIAGRAM, IO, PROPERTIES, SETTINGS, VARS, Section, split_sections
 
 HEADER_RE = re.compile(
     r"\s*(?:for\s+'(?P<mcu>.*)',|no MCU assigned,)\s*"
@@ -393,6 +393,9 @@ class TextReader:
                 details.read_settings(section, program, problems)
             elif section.title == DETAILS:
                 self._attach_details(section, program, problems)
+            elif section.title == PROPERTIES:
+                # read by the checks (LD215, LD216) and `ladder verify`: lang/properties.py
+                program.properties = [PropertyLine(text, number) for number, text in section.lines]
             else:
                 problems.append(error(codes.SECTION, f"unknown section {section.title!r}",
                                       Span.at(section.title_line, 0, len(section.title) + 1)))

@@ -1,5 +1,5 @@
 """The blocks of a text file: header, LADDER DIAGRAM, I/O ASSIGNMENT, VAR LIST
-and our own SETTINGS and DETAILS, located by shape as much as by title
+and our own SETTINGS, DETAILS and PROPERTIES, located by shape as much as by title
 (LDmicro translates some titles)."""
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ IO = "I/O ASSIGNMENT"
 VARS = "VAR LIST"
 SETTINGS = "SETTINGS"
 DETAILS = "DETAILS"
+PROPERTIES = "PROPERTIES"
 
 _TITLE_RE = re.compile(r"([^\s|:][^|:]*):\s*\Z")
 
@@ -47,7 +48,7 @@ def _title(text: str, lines: list[str], number: int, current: Section) -> str | 
         return None
     name = match.group(1).strip()
     upper = name.upper()
-    for known in (DIAGRAM, VARS, SETTINGS, DETAILS):
+    for known in (DIAGRAM, VARS, SETTINGS, DETAILS, PROPERTIES):
         if upper == known:
             return known
     if upper == IO or _is_io_table(lines, number):

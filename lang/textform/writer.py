@@ -224,4 +224,11 @@ def render_program(program: Program, columns: int | None = None) -> str:
     extra = details.write_details(program)
     if extra:
         lines += ["", "DETAILS:"] + extra
+    properties = [line.text.strip() for line in program.properties]
+    while properties and not properties[-1]:
+        properties.pop()
+    while properties and not properties[0]:
+        properties.pop(0)
+    if properties:
+        lines += ["", "PROPERTIES:"] + [f"  {text}" if text else "" for text in properties]
     return "\n".join(line.rstrip() for line in lines) + "\n"

@@ -1,0 +1,221 @@
+"""`ladder verify FILE`: prove a program's properties (its PROPERTIES section,
+or the `property` lines of a scenario file) for every input sequence
+(lang/verify, docs/verify.md). Exit 0 when none fails, 1 when one fails or
+the program has errors, 2 when the file cannot be read or verified or the
+solver is not installed."""
+
+from __future__ import annotations
+
+import io
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, load, report, write_output
+
+
+def register(subparsers) -> None:
+    from lang.verify import DEFAULT_BOUND, DEFAULT_TIMEOUT_S
+
+    parser = subparsers.add_parser(
+        "verify", help="prove a program's properties for every input sequence",
+        description="Prove the properties of a program's PROPERTIES section (or of a scenario file's `property` "
+                    "lines) for every input sequence, by bounded model checking and k-induction. A property that "
+                    "fails gets a counterexample: a scenario file `ladder test` replays, and a VCD. Exit 0 when no "
+                    "property fails, 1 when one does, 2 when the file cannot be read or verified.")
+    parser.add_argument("file", metavar="FILE", help="a program with a PROPERTIES section, or a scenario file")
+    parser.add_argument("--bound", type=int, default=DEFAULT_BOUND, metavar="N",
+                        help=f"scans to search from power-up and longest induction (default {DEFAULT_BOUND})")
+    parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, metavar="SECONDS",
+                        help=f"time for all the properties together (default {DEFAULT_TIMEOUT_S:g} s)")
+    parser.add_argument("--junit", metavar="OUT.xml", help="also write the results as JUnit XML")
+    parser.add_argument("--out", metavar="DIR",
+                        help="where to write the counterexamples (default: the folder of FILE)")
+    add_encoding(parser)
+    parser.set_defaults(func=run)
+
+
+@dataclass
+class Target:
+    """A program and the properties to prove on it, with the file each comes from."""
+
+    program_path: str
+    properties: list  # lang.properties.Property
+    source: str  # the file the properties are written in
+
+
+def run(args) -> int:
+    from lang.verify import SolverMissing
+
+    if args.bound < 1 or args.timeout <= 0:
+        print("ladder verify: error: --bound must be at least 1 and --timeout positive", file=sys.stderr)
+        return EXIT_USAGE
+    targets, status = _targets(args)
+    if targets is None:
+        return status
+    cases: list[dict[str, Any]] = []
+    for target in targets:
+        try:
+            result = _verify(target, args, cases)
+        except SolverMissing as missing:
+            print(f"ladder verify: error: {missing}", file=sys.stderr)
+            return EXIT_USAGE
+        status = max(status, result)
+    if args.junit:
+        from .test import _junit
+
+        if not write_output(args.junit, _junit([{"name": args.file, "cases": cases}])):
+            return EXIT_USAGE
+    return status
+
+
+def _targets(args) -> tuple[list[Target] | None, int]:
+    """What to prove, or None and the exit status after the problems are printed."""
+    from lang.checks import check_program
+    from lang.diagnostics import ERROR
+    from lang.loader import checkable, checked
+    from lang.properties import PropertyError, parse_property, read_properties
+    from lang.sim.scenario import ScenarioError, parse_scenarios
+
+    path = args.file
+    if Path(path).suffix != ".scn":
+        loaded = load(path, args.encoding)
+        if loaded is None:
+            return None, EXIT_USAGE
+        diagnostics = list(loaded.diagnostics)
+        if checkable(loaded.program, diagnostics):
+            diagnostics += checked(loaded.program, check_program(loaded.program))
+        if any(d.severity == ERROR for d in diagnostics):
+            report(path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
+            return None, EXIT_PROBLEMS
+        properties = read_properties(loaded.program)[0]
+        if not properties:
+            print(f"{path}: error: no property to prove (write them in a PROPERTIES section, docs/verify.md)",
+                  file=sys.stderr)
+            return None, EXIT_USAGE
+        return [Target(path, properties, path)], EXIT_OK
+    try:
+        scenarios = parse_scenarios(Path(path).read_text(encoding="utf-8"), path)
+    except (OSError, UnicodeDecodeError) as problem:
+        print(f"{path}: error: {getattr(problem, 'strerror', None) or problem}", file=sys.stderr)
+        return None, EXIT_USAGE
+    except ScenarioError as problem:
+        print(problem, file=sys.stderr)
+        return None, EXIT_USAGE
+    targets: dict[str, Target] = {}
+    bad = []
+    for scenario in scenarios:
+        for number, column, text in scenario.properties:
+            try:
+                prop = parse_property(text, number - 1, column)
+            except PropertyError as problem:
+                bad.append(problem)
+                continue
+            program = str(scenario.program)
+            targets.setdefault(program, Target(program, [], path)).properties.append(prop)
+    for unread in bad:
+        line, col = unread.span.line + 1, unread.span.col + 1
+        print(f"{path}:{line}:{col}: error LD215 {unread}", file=sys.stderr)
+    if bad:
+        return None, EXIT_PROBLEMS
+    if not targets:
+        print(f"{path}: error: no `property` line to prove (docs/verify.md)", file=sys.stderr)
+        return None, EXIT_USAGE
+    return list(targets.values()), EXIT_OK
+
+
+def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
+    from lang.diagnostics import ERROR
+    from lang.loader import load_path
+    from lang.properties import name_span
+    from lang.sim import SimulationError, Simulator
+    from lang.verify import verify
+    from lang.verify.prover import FAILS
+
+    try:
+        program, diagnostics = load_path(target.program_path, args.encoding)
+    except OSError as problem:
+        print(f"{target.program_path}: error: {problem.strerror or problem}", file=sys.stderr)
+        return EXIT_USAGE
+    errors = [d for d in diagnostics if d.severity == ERROR]
+    if errors:
+        report(target.program_path, errors, sys.stderr)
+        return EXIT_PROBLEMS
+    try:
+        known = Simulator(program).variables()
+    except SimulationError as problem:
+        report(target.program_path, problem.diagnostics, sys.stderr)
+        return EXIT_USAGE
+    unknown = [(prop, name) for prop in target.properties for name in prop.names() if name not in known]
+    for prop, name in unknown:
+        span = name_span(prop, name)
+        print(f"{target.source}:{span.line + 1}:{span.col + 1}: error LD216 the property reads "
+              f"'{name}', which the program does not use", file=sys.stderr)
+    if unknown:
+        return EXIT_PROBLEMS
+    try:
+        results = verify(program, target.properties, args.bound, args.timeout)
+    except SimulationError as problem:
+        report(target.program_path, problem.diagnostics, sys.stderr)
+        return EXIT_USAGE
+    status = EXIT_OK
+    out = Path(args.out) if args.out else Path(target.source).parent
+    for number, result in enumerate(results, 1):
+        prop = result.prop
+        where = f"{target.source}:{prop.span.line + 1}"
+        print(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}")
+        case: dict[str, Any] = {"name": prop.text, "failures": [], "error": None, "seconds": result.seconds}
+        if result.witness is not None:
+            files = _write_witness(program, target, result, out / f"{Path(target.program_path).stem}-property{number}")
+            if files is None:
+                return EXIT_USAGE
+            print("  " + files)
+            if result.verdict == FAILS:
+                case["failures"].append(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}; {files}")
+        elif result.verdict == FAILS:
+            case["failures"].append(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}")
+        if result.verdict == FAILS:
+            status = EXIT_PROBLEMS
+        cases.append(case)
+    return status
+
+
+def _verdict(result, cycle_us: int) -> str:
+    from lang.sim.trace import format_time
+    from lang.verify.prover import FAILS, PROVED
+
+    reach = result.prop.kind == "reachable"
+    witness = result.witness
+    if witness is not None:
+        when = f"{format_time(witness.scan * cycle_us, cycle_us)} ms (scan {witness.scan + 1})"
+        return f"proved: reached at {when}" if reach else f"fails at {when}"
+    if result.verdict == PROVED:
+        return f"proved (k = {result.k})"
+    if result.verdict == FAILS:
+        return f"fails: never reached, whatever the inputs (k = {result.k})"
+    why = f"; {result.why}" if result.why else ""
+    if reach:
+        return f"not reached in {result.depth} scans (not proved){why}"
+    return f"holds up to {result.depth} scans (not proved){why}"
+
+
+def _write_witness(program, target: Target, result, stem: Path) -> str | None:
+    """Write the scenario and the VCD; what to tell the user about them (None
+    when a file could not be written)."""
+    from lang.verify.counterexample import replays, scenario_text, write_run
+
+    scenario, vcd = stem.with_suffix(".scn"), stem.with_suffix(".vcd")
+    reference = os.path.relpath(Path(target.program_path).resolve(), stem.parent.resolve())
+    text, line = scenario_text(Path(reference).as_posix(), result.prop, result.witness, program.settings.cycle_us)
+    dump = io.StringIO()
+    write_run(program, result.prop, result.witness, dump)
+    if not (write_output(scenario, text.encode("utf-8")) and write_output(vcd, dump.getvalue().encode("ascii"))):
+        return None
+    kind = "witness" if result.prop.kind == "reachable" else "counterexample"
+    told = f"{kind}: {scenario} (ladder test replays it), {vcd}"
+    if not replays(program, text, str(scenario), line, result.prop, result.witness):
+        told += ("\n  note: the simulator does not decide the scenario as the prover did"
+                 + (": it starts with the EEPROM erased" if result.witness.eeprom else ""))
+    return told
