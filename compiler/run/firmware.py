@@ -122,9 +122,14 @@ def run_on(on: str, scenario: Scenario, program: Program, program_path: str,
     unsupported = _unsupported(on, scenario, program, cycle)
     given, stop_scan, stop = _cut(on, scenario, unsupported, cycle)
     events, scans = stimulus(scenario, cycle, given)
+    # the simulator starts every input at 0: so do the pins, which a part's pull-ups would
+    # otherwise hold at 1 (a normally closed stop button the scenario never presses)
+    set_first = {event.name for event in events if event.scan == 0}
+    events = [Event(0, name, 0) for name in sorted(program.pins) if name[:1] == "X" and name not in set_first] + events
     scans = scans if stop_scan is None else min(scans, stop_scan)
+    # every signal an expectation reads, those of a compound condition included
     wanted = {a.name for a in scenario.actions} | {c.name for c in scenario.checks} \
-        | {c.expected for c in scenario.checks if isinstance(c.expected, str)}
+        | {name for c in scenario.checks for name in c.signals()}
     try:
         recording = record(on, program, events, scans, wanted) if scans else Recording(sorted(wanted), [])
         failures = run_scenario(copy.deepcopy(scenario), FirmwareSim(program, recording, stop))
