@@ -194,7 +194,12 @@ def moved_since(earlier: dict[int, tuple[Rung, int]], program: Program,
                 origin = earlier.get(id(before[number]))  # read again after moving
         else:
             was = earlier.get(id(step[0]))
-            origin = (was[0], was[1] + step[1]) if was is not None else step
+            if was is None:
+                origin = step
+            elif step[0].circuit is was[0].circuit:
+                origin = (was[0], was[1] + step[1])
+            else:
+                origin = was  # read again since the check: this move is not its checked circuit's
         if origin is not None:
             found[id(rung)] = origin
     return found

@@ -346,10 +346,10 @@ class TextReader:
                 state = replace(previous, lines=lines)
                 sections = previous.sections
             else:
-                moved = _moved_sections(previous, lines, change)
-                if moved is not None:
-                    state = self._update(previous, lines, change, previous.title_line,
-                                         previous.body_last + change[2])
+                found = _moved_sections(previous, lines, change)
+                if found is not None:
+                    moved, body_last = found
+                    state = self._update(previous, lines, change, previous.title_line, body_last)
                     if state is not None:
                         sections = moved
         if sections is None:
@@ -637,11 +637,14 @@ def _title_like(text: str) -> bool:
     return bool(text) and not text[:1].isspace() and "|" not in text and text.rstrip().endswith(":")
 
 
-def _moved_sections(state: _State, lines: list[str], change) -> list[Section] | None:
-    """The sections of the new text without splitting it again, when the
-    change is inside the diagram's body and makes or removes no title."""
+def _moved_sections(state: _State, lines: list[str], change) -> tuple[list[Section], int] | None:
+    """The sections of the new text without splitting it again, and the
+    diagram's last line, when the change is inside the diagram's body or
+    inside one section after the diagram (not on the lines right under its
+    title, which can make a translated title an I/O table's) and makes or
+    removes no title."""
     p, old_end, delta = change
-    if not state.sections or p <= state.title_line or old_end > state.body_last + 1:
+    if not state.sections or p <= state.title_line:
         return None
     if any(_title_like(lines[n]) for n in range(p, old_end + delta)):
         return None
@@ -649,16 +652,27 @@ def _moved_sections(state: _State, lines: list[str], change) -> list[Section] | 
         return None
     if sum(1 for s in state.sections if s.title == DIAGRAM) != 1:
         return None
+    if old_end <= state.body_last + 1:
+        changed, body_last = None, state.body_last + delta  # in the diagram, read through its blocks
+    else:
+        titles = [s.title_line for s in state.sections]
+        at = bisect_right(titles, p) - 1
+        changed, body_last = state.sections[at], state.body_last
+        following = titles[at + 1] if at + 1 < len(titles) else len(state.lines)
+        if changed.title_line <= state.title_line or old_end > following or p <= changed.title_line + 3:
+            return None
     moved = []
     for section in state.sections:
-        if section.title_line <= state.title_line:
-            moved.append(section)  # the header and the diagram (read through its blocks)
-        elif delta == 0:
-            moved.append(section)
+        if section is changed:
+            end = (following if at + 1 < len(titles) else len(state.lines)) + delta
+            moved.append(Section(section.title, section.title_line,
+                                 [(n, lines[n]) for n in range(section.title_line + 1, end)]))
+        elif section.title_line <= state.title_line or section.title_line < p or delta == 0:
+            moved.append(section)  # before the change (the diagram is read through its blocks)
         else:
             moved.append(Section(section.title, section.title_line + delta,
                                  [(n + delta, lines[n + delta]) for n, _ in section.lines]))
-    return moved
+    return moved, body_last
 
 
 def _numbered(text: str) -> bool:
