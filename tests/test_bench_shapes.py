@@ -36,6 +36,13 @@ def test_a_generated_shape_reads_and_checks_clean(shape):
     assert check_program(read(shape.text(RUNGS))) == []
 
 
+@pytest.mark.slow  # 10,001 rungs written and read: 5 s, more on a busy machine
+def test_the_big_document_reads_clean_past_rung_9999():
+    text = next(s for s in GENERATED if s.rungs).text(10_001)
+    program, problems = parse(text, TEXT_KIND)
+    assert problems == [] and len(program.rungs) == 10_001
+
+
 def test_the_io_table_has_a_row_per_rung_and_the_edit_lands_in_it():
     lines = next(s for s in GENERATED if s.name == "io-table").text(200).splitlines()  # 80 pins, then Modbus
     title = lines.index("I/O ASSIGNMENT:")
