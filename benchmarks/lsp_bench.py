@@ -39,7 +39,7 @@ The shapes (`--shape`, repeated to add more):
   every fourth with a parallel branch), long-comments, wide-rungs (its own
   target: open <= 500 ms), io-table (a Modbus slave whose I/O table has a
   row per rung: 80 pins, the rest Modbus addresses), of `--rungs` rungs;
-  chain-18000, the chain at 18,000 rungs (5.1 MB), whose targets are an edit
+  chain-18000, the chain at 18,000 rungs (5.2 MB), whose targets are an edit
   (either kind) to its diagnostics <= 60 ms and hover or completion during
   typing <= 20 ms (no target for its open);
 * corpus:<dialect>/<path>: each `.ld` file of the corpus beside the checkout
@@ -113,7 +113,6 @@ WIDE_TARGETS = {**TARGETS, "open": [("median", 500)]}
 BIG_TARGETS = {**TARGETS, "open": [], "1-character edit": [("median", 60)], "line added/removed": [("median", 60)],
                "hover during typing": [("median", 20)], "completion during typing": [("median", 20)]}
 BIG_RUNGS = 18000
-FIVE_DIGITS = re.compile(r"^(\d{5})\|", re.MULTILINE)  # a rung number over 9,999 on its line
 IDLE = re.compile(r"'(poll|select)' of 'select\.")  # the event loop waiting for input: not work
 
 
@@ -135,27 +134,17 @@ def generated(build: Callable[[int], str]) -> Callable[[int], str]:
     return text
 
 
-def numbered_to_9999(text_of: Callable[[int], str]) -> Callable[[int], str]:
-    """The program with the rung numbers from 10,000 on written modulo
-    10,000. LDmicro stops at 9,999 rungs, and the writer draws a number of
-    five digits one column wider, so that the reader finds every junction of
-    those rungs a column off (LD014); rung numbers need not be in sequence."""
-    return lambda rungs: FIVE_DIGITS.sub(lambda m: f"{int(m.group(1)) % 10000:04d}|", text_of(rungs))
-
-
 GENERATED = [Shape("chain-timers-parallels", generated(shapes.chain_timers_parallels)),
              Shape("long-comments", generated(shapes.long_comments)),
              Shape("wide-rungs", generated(shapes.wide_rungs), targets=WIDE_TARGETS),
              Shape("io-table", generated(shapes.io_table)),
-             Shape(f"chain-{BIG_RUNGS}", numbered_to_9999(generated(shapes.chain_timers_parallels)), BIG_RUNGS,
-                   BIG_TARGETS)]
+             Shape(f"chain-{BIG_RUNGS}", generated(shapes.chain_timers_parallels), BIG_RUNGS, BIG_TARGETS)]
 
 
-def corpus_shapes() -> tuple[list[Shape], list[tuple[str, str]]]:
+def corpus_shapes(root: Path) -> tuple[list[Shape], list[tuple[str, str]]]:
     """A shape for each `.ld` file of the corpus, `corpus:<dialect>/<path>`,
     and a note for each file that is a byte-for-byte copy of one before it
     (run once), with the name of that one."""
-    root = shapes.corpus_root()
     found: list[Shape] = []
     copies: list[tuple[str, str]] = []
     first_of: dict[bytes, str] = {}
@@ -169,10 +158,10 @@ def corpus_shapes() -> tuple[list[Shape], list[tuple[str, str]]]:
     return found, copies
 
 
-def selected(patterns: list[str]) -> tuple[list[Shape], list[str]]:
+def selected(patterns: list[str], corpus_folder: Path) -> tuple[list[Shape], list[str]]:
     """The shapes the --shape patterns name, in the order given, and the
     notes on the corpus's copies when it is part of them."""
-    corpus, copies = corpus_shapes()
+    corpus, copies = corpus_shapes(corpus_folder)
     chosen: list[Shape] = []
     for pattern in patterns:
         if pattern == "all":
@@ -621,6 +610,8 @@ async def bench_shape(shape: Shape, args, many_corpus: bool) -> Row:
     except Exception as problem:  # a server that stopped answering, a shape with no name to edit
         print(f"  FAILED: {type(problem).__name__}: {problem}")
         return replace(row, failure=f"FAILED during a run: {type(problem).__name__}: {problem}")
+    print("  load average of the machine after the runs (1, 5, 15 min): " + ", ".join(f"{load:.1f}" for load in os.getloadavg())
+          + f" on {os.cpu_count()} CPUs")
     codes = results[0][1]["codes at open"]
     row.diagnostics = len(codes)
     print(f"  {row.diagnostics} diagnostics at open")
@@ -695,10 +686,12 @@ def main() -> None:
                              "over the corpus shapes' names, e.g. 'corpus:0.1/*' (a dialect), 'corpus:*blink*' "
                              "(one file); repeat to add more; default chain-timers-parallels")
     parser.add_argument("--rungs", type=int, default=2000, help="of the 2,000-rung shapes")
+    parser.add_argument("--corpus", type=Path, default=shapes.corpus_root(),
+                        help="the folder of LDmicro programs the corpus shapes come from (default: %(default)s)")
     parser.add_argument("--runs", type=int, default=None, help="fresh server each run (default 3; 1 with --profile)")
     parser.add_argument("--edits", "--rounds", type=int, default=None,
                         help="edits (and requests) timed per measure and run (default 30; 10 for each corpus file "
-                             "when more than one is run); at least 30 over all runs")
+                             "when more than one is run); at least 20 over all runs")
     parser.add_argument("--storm-seconds", type=float, default=None,
                         help="0 skips the storm (default 30; 5 for each corpus file when more than one is run)")
     parser.add_argument("--delay-ms", type=int, default=None,
@@ -712,10 +705,10 @@ def main() -> None:
                              "document) to N in the server's process, to see how it would fare on a bigger one")
     args = parser.parse_args()
     args.runs = args.runs or (1 if args.profile else 3)
-    chosen, notes = selected(args.shape or ["chain-timers-parallels"])
+    chosen, notes = selected(args.shape or ["chain-timers-parallels"], args.corpus)
     many_corpus = sum(s.corpus for s in chosen) > 1
-    if args.edits is not None and args.edits * args.runs < 30 and args.profile is None:
-        parser.error("--edits times --runs must be at least 30 (but for a profile)")
+    if args.edits is not None and args.edits * args.runs < 20 and args.profile is None:
+        parser.error("--edits times --runs must be at least 20 (but for a profile): a p90 of fewer is the worst")
     if args.profile is not None:
         args.profile.mkdir(parents=True, exist_ok=True)
     rows = [asyncio.run(bench_shape(shape, args, many_corpus)) for shape in chosen]
