@@ -11,7 +11,9 @@ client takes about 35 ms to parse the 1.4 MB outline of a 2,000-rung program
 (an editor in Node about a tenth of that), and every reply behind it waits
 as long. lsp_bench.py gives both figures. Only the first and last bytes of each message are searched,
 which is where the client and the server put the id, the method and a
-document's version; the relay's own cost is a few microseconds a message."""
+document's version; a message's time is when its last bytes were read, and
+the relay's own cost is a few microseconds a message, whatever its size (the
+bytes of a message are kept once, not searched again as more come)."""
 
 from __future__ import annotations
 
@@ -46,28 +48,30 @@ def relay(source: int, sink: int, direction: str, log, lock: threading.Lock) -> 
 
     writer = threading.Thread(target=deliver, daemon=True)
     writer.start()
-    pending = b""
+    pending = bytearray()  # the bytes of the messages not yet complete
+    start = size = 0  # where the first of them has its body, and its length with its header, once that is in
     while chunk := os.read(source, 1 << 16):
+        now = time.monotonic()  # when the bytes came: a message's time is that of its last ones
         outbox.put(chunk)
         pending += chunk
         while True:
-            end = pending.find(b"\r\n\r\n")
-            if end < 0:
+            if not size:
+                end = pending.find(b"\r\n\r\n")
+                if end < 0:
+                    break
+                length = re.search(rb"Content-Length:\s*(\d+)", pending[:end])
+                if length is None:  # not a header we understand: nothing more to note
+                    pending.clear()
+                    break
+                start, size = end + 4, end + 4 + int(length.group(1))
+            if len(pending) < size:
                 break
-            length = re.search(rb"Content-Length:\s*(\d+)", pending[:end])
-            start = end + 4
-            if length is None:  # not a header we understand: nothing more to note
-                pending = b""
-                break
-            stop = start + int(length.group(1))
-            if len(pending) < stop:
-                break
-            now = time.monotonic()
-            head, tail = pending[start:min(stop, start + HEAD)], pending[max(start, stop - HEAD):stop]
+            head, tail = bytes(pending[start:min(size, start + HEAD)]), bytes(pending[max(start, size - HEAD):size])
             with lock:
                 log.write(f"{now:.6f}\t{direction}\t{_field(head, tail, 'method')}\t{_field(head, tail, 'id')}\t"
                           f"{_field(head, tail, 'version')}\n")
-            pending = pending[stop:]
+            del pending[:size]
+            size = 0
     outbox.put(None)
     writer.join()
 

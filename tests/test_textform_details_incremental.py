@@ -15,14 +15,16 @@ from lang.textform.reader import TextReader
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from lsp_bench import CONVERTED, converted, middle_name  # noqa: E402
+from lsp_bench import middle_name  # noqa: E402
+from shapes import converted, corpus_root  # noqa: E402
 
 RUNGS = 2000
+TIMERS_COUNTERS = corpus_root() / "ldmicro" / "reg" / "tests" / "timers-counters.ld"  # LDmicro0.1, with timers
 
 
 @pytest.fixture(scope="module")
 def text() -> str:
-    return converted(CONVERTED["converted-0.1"], RUNGS)
+    return converted(TIMERS_COUNTERS, RUNGS)
 
 
 def read_twice(first: str, second: str):
@@ -70,7 +72,7 @@ def test_a_changed_detail_gives_only_its_rung_its_details_again(text):
 
 def test_random_edits_read_as_a_fresh_reader_does():
     rng = random.Random(21)
-    start = converted(CONVERTED["converted-0.1"], 40)
+    start = converted(TIMERS_COUNTERS, 40)
     for _ in range(30):
         text, reader = start, TextReader()
         for _ in range(6):

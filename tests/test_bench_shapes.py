@@ -1,0 +1,73 @@
+"""The programs benchmarks/lsp_bench.py opens, at a small size: each reads
+without a problem, the I/O table shape has its rows, and every `.ld` file of
+the corpus is a shape (or a copy of one) whose repeated copies keep the
+original's pins."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from lang.checks import check_program
+from lang.diagnostics import ERROR
+from lang.loader import TEXT_KIND, load_path, parse
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+from lsp_bench import GENERATED, corpus_shapes, middle_name, selected, table_row  # noqa: E402
+from shapes import corpus_root  # noqa: E402
+
+RUNGS = 40
+CORPUS_SHAPES, COPIES = corpus_shapes(corpus_root())
+
+
+def read(text: str):
+    program, problems = parse(text, TEXT_KIND)
+    assert problems == []
+    assert len(program.rungs) == RUNGS
+    middle_name(text.splitlines(), RUNGS)  # the benchmark finds a name to edit
+    return program
+
+
+@pytest.mark.parametrize("shape", GENERATED, ids=lambda s: s.name)
+def test_a_generated_shape_reads_and_checks_clean(shape):
+    assert check_program(read(shape.text(RUNGS))) == []
+
+
+def test_the_io_table_has_a_row_per_rung_and_the_edit_lands_in_it():
+    lines = next(s for s in GENERATED if s.name == "io-table").text(200).splitlines()  # 80 pins, then Modbus
+    title = lines.index("I/O ASSIGNMENT:")
+    rows = lines[title + 3:lines.index("", title)]
+    assert len(rows) == 200
+    assert {row.split("|")[1].strip() for row in rows} == {"digital in", "digital out", "modbus contact", "modbus coil"}
+    line, column = table_row(lines)
+    assert lines[line] == rows[100] and lines[line][column + 1] == " "
+
+
+def test_every_corpus_file_is_a_shape_or_a_copy_of_one():
+    names = {s.name for s in CORPUS_SHAPES}
+    files = sorted(corpus_root().rglob("*.ld"))
+    assert len(CORPUS_SHAPES) + len(COPIES) == len(files) > 30
+    assert all(original in names for _, original in COPIES)
+    assert {name.split("/")[0] for name in names} == {"corpus:0.1", "corpus:0.2"}
+
+
+def test_a_dialect_or_a_file_is_chosen_by_a_pattern():
+    old, _ = selected(["corpus:0.1/*"], corpus_root())
+    assert old and all(s.name.startswith("corpus:0.1/") for s in old)
+    one, copies = selected(["corpus:*/sample/blink.ld"], corpus_root())
+    assert [s.name for s in one] == ["corpus:0.1/ldmicro/sample/blink.ld"] and len(copies) == 1
+    everything, _ = selected(["all"], corpus_root())
+    assert len(everything) == len(GENERATED) + len(CORPUS_SHAPES)
+
+
+@pytest.mark.parametrize("shape", CORPUS_SHAPES, ids=lambda s: s.name)
+def test_a_corpus_file_repeated_reads_clean_and_adds_no_kind_of_error(shape):
+    """Its copies' names are renamed but for those with a pin, so no copy
+    lacks one (LD407) unless the original does."""
+    repeated = read(shape.text(RUNGS))
+    original, _ = load_path(corpus_root() / shape.name.split("/", 1)[1])
+    errors = [{d.code for d in check_program(program) if d.severity == ERROR} for program in (repeated, original)]
+    assert errors[0] <= errors[1]
