@@ -202,3 +202,18 @@ def test_edits_checked_now_and_then(data):
             assert full(checker.check(program, moved)) == full(check_program(program))
             moved = {}
     assert full(checker.check(program, moved)) == full(check_program(program))
+
+
+def test_an_edit_of_the_io_table_is_checked_as_an_edit():
+    """A pin changed in the I/O table checks again the rungs that use that
+    name and the name itself, not the whole program."""
+    session = Session()
+    text = big_text(40)
+    session.same(text)
+    row = next(line for line in text.splitlines() if line.startswith("  Xstop "))
+    for edited in (text.replace(row, row.replace("|   5 |", "|   4 |")),  # Xstart's pin too: LD401
+                   text.replace(row, row.replace("|   5 | PD3", "|     |    ")),  # no pin at all
+                   text):
+        assert edited == text or row not in edited
+        session.same(edited)
+        assert session.checker.last == "edit"

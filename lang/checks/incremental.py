@@ -21,8 +21,9 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
   offered only to an unused name);
 * the PROGRAM rules run on the whole index, every time.
 
-Anything else (other settings, pins or variable sizes, another number of
-rungs, most rungs changed) is checked whole.
+A row of the I/O table changed: the rungs that use its name are changed too,
+and the name's NAMES rules run again. Anything else (other settings or
+variable sizes, another number of rungs, most rungs changed) is checked whole.
 """
 
 from __future__ import annotations
@@ -69,14 +70,16 @@ def position(diagnostic: Diagnostic) -> tuple:
 
 
 def same_context(old: Program, new: Program) -> bool:
-    """Everything a RUNGS or NAMES rule reads besides the rungs is unchanged."""
-    return (old.settings == new.settings and old.pins == new.pins and old.var_sizes == new.var_sizes
-            and len(old.rungs) == len(new.rungs))
+    """Everything a RUNGS or NAMES rule reads besides the rungs and the pins
+    is unchanged (a name's pin counts for the rungs that use the name and
+    for the name: `_Edit.pinned`)."""
+    return old.settings == new.settings and old.var_sizes == new.var_sizes and len(old.rungs) == len(new.rungs)
 
 
 @dataclass
 class _Edit:
     changed: list[int] = field(default_factory=list)  # rung numbers
+    pinned: set[str] = field(default_factory=set)  # names whose I/O table row changed
     # the moved rungs' old lines, sorted: first lines, last lines, how far each moved
     starts: list[int] = field(default_factory=list)
     ends: list[int] = field(default_factory=list)
@@ -135,9 +138,13 @@ class Checker:
         self.last = "edit"
         old_program = index.program
         changed = edit.changed
+        if edit.pinned:  # the rungs that use a name whose pin changed are checked again
+            changed = sorted(set(changed).union(
+                *({use.rung for use in index.uses.get(name, ())} | {mark.rung for mark in index.marks.get(name, ())}
+                  for name in edit.pinned)))
         before = index.view(changed)
         after = index._part(program, changed)
-        names = _names(before) | _names(after)
+        names = _names(before) | _names(after) | edit.pinned
         came_or_went = {name for name in names
                         if (name in index.uses) != (len(index.uses.get(name, ())) - len(before.uses.get(name, ()))
                                                     + len(after.uses.get(name, ())) > 0)}
@@ -183,6 +190,8 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
             edit.changed.append(number)
     if 2 * len(edit.changed) > len(new.rungs):
         return None
+    if old.pins != new.pins:
+        edit.pinned = {name for name in old.pins.keys() | new.pins.keys() if old.pins.get(name) != new.pins.get(name)}
     return edit
 
 
