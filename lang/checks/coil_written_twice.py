@@ -13,7 +13,7 @@ from .common import NAMES, rung_no
 CODE = rule_code(__name__)
 SCOPE = NAMES
 
-SHOWN = 4  # rungs named in the message
+SHOWN = 4  # rungs named in the message, other coils given as related places
 PLAIN = (" ", "/")  # `( )` and `(/)` write the bit on every scan; S, R and T only on their condition
 
 
@@ -37,7 +37,8 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             f"{label(first.element)} in {rung_no(first.rung)} writes it on every scan, so on each scan only "
             "the coil that comes last counts",
             first.span,
+            # the first few: a name written in thousands of rungs must not make a diagnostic as long
             *(Related(use.span, f"the {label(use.element)} in {rung_no(use.rung)} also writes '{name}'")
-              for use in others if use.span is not None),
+              for use in others[:SHOWN] if use.span is not None),
         ))
     return found
