@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, load, report, write_output
+from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_output
 
 
 def register(subparsers) -> None:
@@ -87,7 +87,7 @@ def _targets(args) -> tuple[list[Target] | None, int]:
         diagnostics = list(loaded.diagnostics)
         if checkable(loaded.program, diagnostics):
             diagnostics += checked(loaded.program, check_program(loaded.program))
-        if any(d.severity == ERROR for d in diagnostics):
+        if has_errors(diagnostics):
             report(path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
             return None, EXIT_PROBLEMS
         properties = read_properties(loaded.program)[0]
@@ -128,20 +128,17 @@ def _targets(args) -> tuple[list[Target] | None, int]:
 
 def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     from lang.diagnostics import ERROR
-    from lang.loader import load_path
     from lang.properties import name_span
     from lang.sim import SimulationError, Simulator
     from lang.verify import verify
     from lang.verify.prover import FAILS
 
-    try:
-        program, diagnostics = load_path(target.program_path, args.encoding)
-    except OSError as problem:
-        print(f"{target.program_path}: error: {problem.strerror or problem}", file=sys.stderr)
+    loaded = load(target.program_path, args.encoding)
+    if loaded is None:
         return EXIT_USAGE
-    errors = [d for d in diagnostics if d.severity == ERROR]
-    if errors:
-        report(target.program_path, errors, sys.stderr)
+    program, diagnostics = loaded.program, loaded.diagnostics
+    if has_errors(diagnostics):
+        report(target.program_path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
         return EXIT_PROBLEMS
     try:
         known = Simulator(program).variables()
