@@ -20,8 +20,8 @@ from ..values import format_delay, is_literal, literal_value
 # What a rule's diagnostics depend on, its module's SCOPE (lang.checks.incremental
 # re-runs a rule after an edit on what the edit touched, by its scope):
 # RUNGS: each diagnostic on a rung is a function of that rung alone (and the
-#   settings, pins and variable sizes; the program's names only for the renames
-#   a fix offers), so the rule runs on the index of the changed rungs;
+#   settings and variable sizes, never the pins; the program's names only for
+#   the renames a fix offers), so the rule runs on the index of the changed rungs;
 # NAMES: each is a function of one name's uses and marks, whole, so the rule runs
 #   on the index of the names the changed rungs use;
 # PROGRAM (a module without SCOPE): anything else; it runs on the whole index.

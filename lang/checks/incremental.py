@@ -21,8 +21,9 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
   offered only to an unused name);
 * the PROGRAM rules run on the whole index, every time.
 
-A row of the I/O table changed: the rungs that use its name are changed too,
-and the name's NAMES rules run again. Anything else (other settings or
+A row of the I/O table changed: the name's NAMES rules run again (no RUNGS
+rule reads the pins, so the rungs that use the name are not checked again:
+a name shared by thousands of rungs, one row edited, costs one name). Anything else (other settings or
 variable sizes, another number of rungs, most rungs changed) is checked whole.
 """
 
@@ -71,8 +72,8 @@ def position(diagnostic: Diagnostic) -> tuple:
 
 def same_context(old: Program, new: Program) -> bool:
     """Everything a RUNGS or NAMES rule reads besides the rungs and the pins
-    is unchanged (a name's pin counts for the rungs that use the name and
-    for the name: `_Edit.pinned`)."""
+    is unchanged (a name's pin counts for the name's NAMES rules only:
+    `_Edit.pinned`)."""
     return old.settings == new.settings and old.var_sizes == new.var_sizes and len(old.rungs) == len(new.rungs)
 
 
@@ -138,10 +139,6 @@ class Checker:
         self.last = "edit"
         old_program = index.program
         changed = edit.changed
-        if edit.pinned:  # the rungs that use a name whose pin changed are checked again
-            changed = sorted(set(changed).union(
-                *({use.rung for use in index.uses.get(name, ())} | {mark.rung for mark in index.marks.get(name, ())}
-                  for name in edit.pinned)))
         before = index.view(changed)
         after = index._part(program, changed)
         names = _names(before) | _names(after) | edit.pinned

@@ -8,10 +8,9 @@ from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import label
 from ..model import Program
-from .common import RUNGS, arg_span, rung_no
+from .common import PROGRAM, RUNGS, arg_span, rung_no
 
 CODE = TRUNCATED  # registered in lang.codes: the readers know it too
-SCOPE = RUNGS
 
 # operands the index does not record as names or constants (labels, table names, bus names...)
 _OTHER_FIELDS = {
@@ -31,7 +30,7 @@ def _error(value: str, rung: int, element, field: str):
     )
 
 
-def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+def check_rungs(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         if name.endswith("~"):
@@ -47,6 +46,12 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
                 value = element.args.get(field)
                 if isinstance(value, str) and value.endswith("~"):
                     found.append(_error(value, rung, element, field))
+    return found
+
+
+def check_table(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    """The I/O table's rows, apart: RUNGS rules never read the pins."""
+    found = []
     for name, assignment in program.pins.items():
         if name.endswith("~"):
             found.append(report(
@@ -56,3 +61,6 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
                 assignment.span,
             ))
     return found
+
+
+CHECKS = {RUNGS: check_rungs, PROGRAM: check_table}

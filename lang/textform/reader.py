@@ -640,9 +640,9 @@ def _title_like(text: str) -> bool:
 def _moved_sections(state: _State, lines: list[str], change) -> tuple[list[Section], int] | None:
     """The sections of the new text without splitting it again, and the
     diagram's last line, when the change is inside the diagram's body or
-    inside one section after the diagram (not on the lines right under its
-    title, which can make a translated title an I/O table's) and makes or
-    removes no title."""
+    inside one section after the diagram (not on the line right under its
+    title, which can make a translated title an I/O table's:
+    sections._is_io_table) and makes or removes no title."""
     p, old_end, delta = change
     if not state.sections or p <= state.title_line:
         return None
@@ -659,7 +659,7 @@ def _moved_sections(state: _State, lines: list[str], change) -> tuple[list[Secti
         at = bisect_right(titles, p) - 1
         changed, body_last = state.sections[at], state.body_last
         following = titles[at + 1] if at + 1 < len(titles) else len(state.lines)
-        if changed.title_line <= state.title_line or old_end > following or p <= changed.title_line + 3:
+        if changed.title_line <= state.title_line or old_end > following or p <= changed.title_line + 1:
             return None
     moved = []
     for section in state.sections:
