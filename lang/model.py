@@ -44,33 +44,104 @@ class Span(NamedTuple):
         return Span(start[0], start[1], end[0], end[1])
 
 
-# no slots: the text reader moves a rung by copying its elements through their __dict__
-@dataclass
-class Element:
+class Origin:
+    """The lines a circuit has moved since it was read: its nodes keep their
+    positions as read and add this. A line added above a rung moves every
+    rung below it; with an origin that costs one addition a rung, not one
+    new span per element (lang.textform.reader.move_circuit)."""
+
+    __slots__ = ("line",)
+
+    def __init__(self) -> None:
+        self.line = 0
+
+
+def _moved(span: Span | None, lines: int) -> Span | None:
+    return span if span is None else _new_span(Span, (span[0] + lines, span[1], span[2] + lines, span[3]))
+
+
+_new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands are made at once)
+
+
+class _Placed:
+    """A node's `span` as read, plus its circuit's origin (None: not moved)."""
+
+    __slots__ = ()
+    _span: Span | None
+    _origin: Origin | None
+
+    @property
+    def span(self) -> Span | None:
+        origin = self._origin
+        if origin is None or not origin.line:
+            return self._span
+        return _moved(self._span, origin.line)
+
+    @span.setter
+    def span(self, span: Span | None) -> None:
+        origin = self._origin
+        self._span = span if origin is None or not origin.line else _moved(span, -origin.line)
+
+
+@dataclass(init=False)
+class Element(_Placed):
     """One instruction: `kind` is its key in the instruction table, `args` its
-    operands by field name, in the table's field order."""
+    operands by field name, in the table's field order. `span` and
+    `arg_spans` (where each drawn operand sits, for hover and rename) take no
+    part in equality."""
 
     kind: str
     args: dict[str, object]
-    span: Span | None = field(default=None, compare=False, repr=False)
-    # where each drawn operand sits in the source, for hover and rename
-    arg_spans: dict[str, Span] = field(default_factory=dict, compare=False, repr=False)
+
+    def __init__(self, kind: str, args: dict[str, object], span: Span | None = None,
+                 arg_spans: dict[str, Span] | None = None):
+        self.kind = kind
+        self.args = args
+        self._span = span
+        self._arg_spans = {} if arg_spans is None else arg_spans
+        self._origin = None
+
+    @property
+    def arg_spans(self) -> dict[str, Span]:
+        """The operands' positions; of a moved element, a copy at the new place."""
+        origin = self._origin
+        if origin is None or not origin.line:
+            return self._arg_spans
+        lines = origin.line
+        return {key: _new_span(Span, (at[0] + lines, at[1], at[2] + lines, at[3]))
+                for key, at in self._arg_spans.items()}
+
+    @arg_spans.setter
+    def arg_spans(self, spans: dict[str, Span]) -> None:
+        origin = self._origin
+        self._arg_spans = spans if origin is None or not origin.line else \
+            {key: _moved(at, -origin.line) for key, at in spans.items()}  # type: ignore[misc]
 
     @property
     def spec(self) -> Instruction:
         return INSTRUCTIONS[self.kind]
 
 
-@dataclass(slots=True)
-class Series:
+@dataclass(init=False)
+class Series(_Placed):
+    __slots__ = ("items", "_span", "_origin")
     items: list[Node]
-    span: Span | None = field(default=None, compare=False, repr=False)
+
+    def __init__(self, items: list[Node], span: Span | None = None):
+        self.items = items
+        self._span = span
+        self._origin = None
 
 
-@dataclass(slots=True)
-class Parallel:
+@dataclass(init=False)
+class Parallel(_Placed):
+    __slots__ = ("branches", "_span", "_origin")
     branches: list[Node]
-    span: Span | None = field(default=None, compare=False, repr=False)
+
+    def __init__(self, branches: list[Node], span: Span | None = None):
+        self.branches = branches
+        self._span = span
+        self._origin = None
 
 
 Node = Element | Series | Parallel

@@ -288,7 +288,12 @@ def is_pwm(index, name: str) -> bool:
 
 
 def _named_by(index, name: str, kind: str) -> bool:
-    return any(use.element.kind == kind and use.field == "name" for use in index.uses.get(name, ()))
+    # a set of the kind's few elements, not a walk of the name's uses (thousands, for a shared pin)
+    key = f"named by {kind}"
+    names = index.cache.get(key)
+    if names is None:
+        names = index.cache[key] = {element.args.get("name") for _, element in index.of_kind(kind)}
+    return name in names
 
 
 def pwm_outputs(program, index) -> list[tuple]:

@@ -17,7 +17,7 @@ from operator import attrgetter, is_not
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
-from ..model import Element, Node, Parallel, PinAssignment, Program, PropertyLine, Rung, Series, Settings, Span, children
+from ..model import Element, Node, Origin, Parallel, PinAssignment, Program, PropertyLine, Rung, Series, Settings, Span, children
 from . import details
 from .alignment import shifted
 from .rungs import Line, read_rung
@@ -502,19 +502,35 @@ class TextReader:
             found = [shifted(p, first - at) for p in found]
         return _Block(first, last, rung, list(found), number_at, key)
 
-    def _move(self, block: _Block, delta: int) -> _Block:
-        """The block `delta` lines further down: its elements and series keep
+    def _move(self, blocks: list[_Block], delta: int) -> list[_Block]:
+        """The blocks `delta` lines further down: their elements and series keep
         their identity and get their new positions in place (so that a symbol
-        table built on them stays true: lang/checks/incremental.py), in a new
-        Rung at the new place; the rung cache follows it."""
-        rung = _moved_rung(block.rung, delta)
-        problems = [shifted(p, delta) for p in block.problems]
-        moved = _Block(block.first + delta, block.last + delta, rung, problems, block.number_at, block.key)
-        if block.key is not None:
-            cached = self._cache.get(block.key)
-            if cached is not None and cached[0] is block.rung:
-                self._cache[block.key] = (rung, problems, moved.first)
-        return moved
+        table built on them stays true: lang/checks/incremental.py), in new
+        Rungs at the new places, which `moved` records; the rung cache follows
+        them. A line added above moves every rung below: one loop, locals."""
+        cache, moved, recorded = self._cache, self.moved, []
+        new_span, span_class, block_class, move = _new_span, Span, _Block, move_circuit
+        for block in blocks:
+            rung = block.rung
+            circuit = rung.circuit
+            origin = circuit._origin
+            if origin is None:
+                move(circuit, delta)
+            else:
+                origin.line += delta
+            span = rung.span
+            new = rung.__class__(circuit, None if span is None else
+                                 new_span(span_class, (span[0] + delta, span[1], span[2] + delta, span[3])))
+            problems = [shifted(p, delta) for p in block.problems] if block.problems else block.problems
+            first = block.first + delta
+            recorded.append(block_class(first, block.last + delta, new, problems, block.number_at, block.key))
+            if circuit.items:
+                moved[id(new)] = (rung, delta)
+            if block.key is not None:
+                cached = cache.get(block.key)
+                if cached is not None and cached[0] is rung:
+                    cache[block.key] = (new, problems, first)
+        return recorded
 
     # --- an edit ------------------------------------------------------------------------
 
@@ -565,11 +581,7 @@ class TextReader:
         if raw and not at_section_start and not _starts_apart(window):
             return None
         new_blocks = self._blocks(raw)
-        kept_after = [self._move(b, delta) for b in blocks[i1 + 1:]] if delta else blocks[i1 + 1:]
-        if delta:
-            for old, new in zip(blocks[i1 + 1:], kept_after):
-                if old.rung.circuit.items:
-                    self.moved[id(new.rung)] = (old.rung, delta)
+        kept_after = self._move(blocks[i1 + 1:], delta) if delta else blocks[i1 + 1:]
         problems = [q for q in state.raw_problems if q.span is None or q.span.line < start]
         problems += raw_problems
         problems += [q.shifted(delta) if delta else q for q in state.raw_problems
@@ -709,7 +721,6 @@ def _end_line(lines: list[tuple[int, str]]) -> int | None:
 
 # --- moving a rung up or down ---------------------------------------------------------
 
-_new = object.__new__
 _new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands of rungs move)
 
 
@@ -718,14 +729,8 @@ def shift_span(span: Span | None, delta: int) -> Span | None:
 
 
 def _shift_element(node: Element, delta: int) -> Element:
-    moved = _new(Element)
-    state = moved.__dict__
-    state.update(node.__dict__)
-    state["args"] = dict(node.args)
-    state["span"] = shift_span(node.span, delta)
-    state["arg_spans"] = {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3]))
-                          for k, v in node.arg_spans.items()}
-    return moved
+    return Element(node.kind, dict(node.args), shift_span(node.span, delta),
+                   {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3])) for k, v in node.arg_spans.items()})
 
 
 def _shift_node(node: Node, delta: int) -> Node:
@@ -759,26 +764,28 @@ def shift_rung(rung: Rung, delta: int) -> Rung:
 
 def _moved_rung(rung: Rung, delta: int) -> Rung:
     """The rung `delta` lines further down, a new Rung around the same circuit moved in place."""
-    _move_circuit(rung.circuit, delta)
+    move_circuit(rung.circuit, delta)
     return type(rung)(rung.circuit, shift_span(rung.span, delta))
 
 
-def _move_circuit(node: Node, delta: int) -> None:
-    """Every position in a circuit `delta` lines further down, in place: a line
-    added above moves every rung below, so this is written for speed (locals,
-    the classes compared, the operands' spans replaced in their dict)."""
-    new_span, span_class, element_class, series_class = _new_span, Span, Element, Series
-    pending: list[Node] = [node]  # a list, not recursion: blocks may nest a thousand deep
-    pop, extend = pending.pop, pending.extend
-    while pending:
-        node = pop()
-        span = node.span
-        if span is not None:
-            node.span = new_span(span_class, (span[0] + delta, span[1], span[2] + delta, span[3]))
-        cls = node.__class__
-        if cls is element_class:
-            spans = node.arg_spans  # type: ignore[union-attr]
-            for key, at in spans.items():
-                spans[key] = new_span(span_class, (at[0] + delta, at[1], at[2] + delta, at[3]))
-        else:
-            extend(node.items if cls is series_class else node.branches)  # type: ignore[union-attr]
+def move_circuit(circuit: Series, delta: int) -> None:
+    """Every position in a circuit `delta` lines further down, in place, by
+    its origin (lang.model.Origin): the first move gives every node of the
+    circuit one, later moves cost one addition. A node that another circuit's
+    origin moved before keeps its place."""
+    origin = circuit._origin
+    if origin is None:
+        origin = Origin()
+        pending: list[Node] = [circuit]  # a list, not recursion: blocks may nest a thousand deep
+        pop, extend, element_class, series_class = pending.pop, pending.extend, Element, Series
+        while pending:
+            node = pop()
+            was = node._origin
+            if was is not None and was.line:
+                if node.__class__ is element_class:
+                    node._arg_spans = node.arg_spans  # type: ignore[union-attr]
+                node._span = node.span
+            node._origin = origin
+            if node.__class__ is not element_class:
+                extend(node.items if node.__class__ is series_class else node.branches)  # type: ignore[union-attr]
+    origin.line += delta
