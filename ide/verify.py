@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from lang.diagnostics import ERROR, Related
 from lang.loader import TEXT_KIND
-from lang.model import Span
+from lang.model import Program, Span
 from lang.properties import Property, property_lines, read_properties
 
 from .document import Document
@@ -134,41 +134,49 @@ def summary(verification: Verification) -> str:
     return ", ".join(parts)
 
 
-def run(document: Document, bound: int, timeout_s: float, line: int | None = None) -> Verification:
-    """Prove the document's properties (only the one on `line` if given).
-    VerifyError when there is none, the program has errors, it cannot be
-    modelled or the solver is not installed. Slow: up to `timeout_s` seconds
-    of solving, to be run out of the way of the editor's requests."""
-    from lang.sim import SimulationError
-    from lang.verify import SolverMissing, verify
-
-    properties, _ = read_properties(document.program)
+def ready(document: Document, line: int | None = None) -> list[Property]:
+    """The properties to prove (only the one on `line` if given); VerifyError
+    when there is none or the program has errors."""
     if header_line(document) is None:
         raise VerifyError("no property to verify: write them in a PROPERTIES section (docs/verify.md)")
     if document.has_errors or any(d.severity == ERROR for d in document.checks):
         raise VerifyError("the program has errors; fix them before verifying it")
+    properties, _ = read_properties(document.program)
     if line is not None:
         properties = [p for p in properties if p.span.line == line]
         if not properties:
             raise VerifyError(f"line {line + 1} holds no property")
+    return properties
+
+
+def run(program: Program, properties: list[Property], bound: int, timeout_s: float,
+        line: int | None = None) -> Verification:
+    """Prove `ready`'s properties of the document's program; `line` as given
+    to `ready`. VerifyError when the program cannot be modelled or the solver
+    is not installed. Slow (up to `timeout_s` seconds of solving, and the
+    simulator's replay of each input sequence found): it reads only the
+    program, so that the server can run it out of the way of its requests."""
+    from lang.sim import SimulationError
+    from lang.verify import SolverMissing, verify
+
     try:
-        results = verify(document.program, properties, bound, timeout_s)
+        results = verify(program, properties, bound, timeout_s)
     except SolverMissing as missing:
         raise VerifyError(str(missing)) from None
     except SimulationError as problem:
         raise VerifyError("cannot verify the program: " + "; ".join(d.message for d in problem.diagnostics)) from None
-    cycle_us = document.program.settings.cycle_us
-    return Verification(tuple(_outcome(document, result, cycle_us) for result in results), cycle_us, line)
+    cycle_us = program.settings.cycle_us
+    return Verification(tuple(_outcome(program, result, cycle_us) for result in results), cycle_us, line)
 
 
-def _outcome(document: Document, result: Result, cycle_us: int) -> Outcome:
+def _outcome(program: Program, result: Result, cycle_us: int) -> Outcome:
     from lang.sim import SimulationError, Simulator
     from lang.verify.counterexample import feed, replays, scenario_text
 
     witness = result.witness
     if witness is None:
         return Outcome(result)
-    program, prop = document.program, result.prop
+    prop = result.prop
     text, decided = scenario_text("program.ladder", prop, witness, cycle_us)
     sim = Simulator(program)
     try:
@@ -178,6 +186,15 @@ def _outcome(document: Document, result: Result, cycle_us: int) -> Outcome:
         return Outcome(result, text, (), False)
     values = tuple((name, sim.value(name)) for name in prop.names())
     return Outcome(result, text, values, replays(program, text, SCENARIO_PATH, decided, prop, witness))
+
+
+def merged(before: Verification | None, after: Verification) -> Verification:
+    """A verification of one property added to one of every property (of the same version)."""
+    if before is None or after.only is None:
+        return after
+    kept = tuple(o for o in before.outcomes if o.prop.span.line != after.only)
+    outcomes = tuple(sorted(kept + after.outcomes, key=lambda o: o.prop.span.line))
+    return Verification(outcomes, after.cycle_us, before.only if before.only is None else after.only)
 
 
 def findings(document: Document, verification: Verification) -> list[Finding]:
