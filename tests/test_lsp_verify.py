@@ -62,6 +62,8 @@ async def test_the_lenses_verify_and_each_result_is_a_diagnostic_on_its_property
     await doc.diagnostics()
     refreshed = getattr(client, "lens_refreshes", 0)
     header = doc.find("PROPERTIES:").line
+    commands = client.init_result.capabilities.execute_command_provider.commands
+    assert {"ladder.verify", "ladder.verify.step"} <= set(commands)  # what VS Code's client registers
     shown = await lenses(client, doc)
     assert [(line, title) for line, title, _ in shown] == [
         (header, "Verify"), (header + 1, "Verify this property"), (header + 2, "Verify this property"),
@@ -136,10 +138,15 @@ async def test_the_counterexample_steps_scan_by_scan_to_the_scan_that_breaks_the
     # the property holds after every scan before the one the prover named, and not after it
     assert counts[-1] == 2 and all(c < 2 for c in counts[:-1])
     assert state["replay"]["applied"] == state["replay"]["total"]
-    # a reset replays it again from power-up
+    # a reset replays it again from power-up, whatever runs the scans
     await command(client, "ladder.sim.reset", doc.uri)
-    state = await command(client, "ladder.sim.step", doc.uri, scan)
+    state = await command(client, "ladder.sim.runFor", doc.uri, (scan - 1) * 10)
+    assert state["scan"] == scan - 1 and state["values"]["Cstarts"] < 2
+    state = await command(client, "ladder.sim.step", doc.uri, 1)
     assert state["values"]["Cstarts"] == 2
+    await command(client, "ladder.sim.reset", doc.uri)
+    state = await command(client, "ladder.sim.runUntil", doc.uri, "Cstarts = 2", 1000)
+    assert state["reached"] is True and state["scan"] == scan
     await command(client, "ladder.sim.stop", doc.uri)
     doc.close()
 
