@@ -7,7 +7,9 @@ states a second. Editing the document reloads the program into the running
 simulation after the diagnostics delay. While a simulation runs, inlay hints
 show the names' values after the end of each line (never inside the drawing).
 The state carries what the UART sent: its byte count and its last messages
-(lang/sim/uart.py), as `ladder sim --watch uart` prints them."""
+(lang/sim/uart.py), as `ladder sim --watch uart` prints them, and how far a
+replay of recorded inputs is (`start` with a `Replay`: lsp/verify.py's
+counterexamples)."""
 
 from __future__ import annotations
 
