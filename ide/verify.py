@@ -91,6 +91,11 @@ class Finding:
     steppable: bool  # an input sequence to step through
 
 
+def sequence_kind(prop: Property) -> str:
+    """What an input sequence found for the property is called."""
+    return "witness" if prop.kind == "reachable" else "counterexample"
+
+
 def header_line(document: Document) -> int | None:
     """The line of the PROPERTIES title, None when the document has no property."""
     if document.kind != TEXT_KIND or not property_lines(document.program):
@@ -115,8 +120,7 @@ def lenses(document: Document, verification: Verification | None, running: bool)
         found.append(Lens(line, "Verify this property", LensKind.VERIFY, line))
         outcome = verification.at(line) if verification is not None else None
         if outcome is not None and outcome.scenario:
-            kind = "witness" if prop.kind == "reachable" else "counterexample"
-            found.append(Lens(line, f"Step through the {kind}", LensKind.STEP, line))
+            found.append(Lens(line, f"Step through the {sequence_kind(prop)}", LensKind.STEP, line))
     return found
 
 
@@ -259,5 +263,4 @@ def replay(verification: Verification, line: int) -> Replay:
     if outcome is None or not outcome.scenario:
         raise VerifyError(f"line {line + 1} has no counterexample: verify its property first")
     scenario = parse_scenarios(outcome.scenario, SCENARIO_PATH)[0]
-    kind = "witness" if outcome.prop.kind == "reachable" else "counterexample"
-    return replace(Replay.of(scenario), name=f"{kind} for `{outcome.prop.text}`")
+    return replace(Replay.of(scenario), name=f"{sequence_kind(outcome.prop)} for `{outcome.prop.text}`")

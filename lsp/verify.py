@@ -155,8 +155,7 @@ class Verifications:
             outcome = verification.at(line)
             if outcome is None or not outcome.scenario:
                 continue
-            kind = "witness" if outcome.prop.kind == "reachable" else "counterexample"
-            title = f"Step through the {kind}"
+            title = f"Step through the {ide_verify.sequence_kind(outcome.prop)}"
             ours = [d for d in params.context.diagnostics if d.source == SOURCE and d.range.start.line == line]
             found.append(types.CodeAction(title=title, kind=types.CodeActionKind.QuickFix, diagnostics=ours or None,
                                           command=types.Command(title=title, command=STEP,
