@@ -9,7 +9,14 @@ simulator: names that still exist keep their values.
 `set` and `toggle` change a value without running a scan; the next step (or
 the real-time timer) shows its effect, as in a PLC whose inputs change
 between scans. Scheduling (real time, a run until a condition that lets
-other requests in) is the server's."""
+other requests in) is the server's.
+
+A simulation may replay a scenario's inputs (`Replay`: its `at T set` and
+`at T uart` lines, as `ladder test` runs them): each is applied before the
+scan at its time, however the scans are run (a step, a run for a time, real
+time, a run until a condition), so that a recorded input sequence, such as
+the counterexample `ladder verify` found, can be stepped through scan by
+scan. A reset starts it again from the first input."""
 
 from __future__ import annotations
 
@@ -21,6 +28,7 @@ from typing import Generic, TypeVar
 from lang.loader import LD_KIND
 from lang.model import Element, Rung, Span
 from lang.sim import SimulationError, Simulator
+from lang.sim.scenario import Action, Scenario
 from lang.sim.uart import messages, show_bytes
 
 from .conditions import Condition, parse_condition
@@ -47,6 +55,29 @@ class Uart:
 
 
 @dataclass(frozen=True)
+class Replay:
+    """A scenario's inputs, by time, to feed to a simulation."""
+
+    name: str
+    actions: tuple[Action, ...]  # in the order of their times
+    end_us: int  # the time of the scenario's last scan (its last expectation's)
+
+    @classmethod
+    def of(cls, scenario: Scenario) -> Replay:
+        return cls(scenario.name, tuple(sorted(scenario.actions, key=lambda a: a.time_us)), scenario.run_until_us)
+
+
+@dataclass(frozen=True)
+class Replaying:
+    """How far a replay is."""
+
+    name: str
+    applied: int  # inputs applied so far
+    total: int
+    end_ms: float
+
+
+@dataclass(frozen=True)
 class State:
     time_ms: float
     scan: int
@@ -54,6 +85,7 @@ class State:
     values: dict[str, int]
     uart: Uart
     error: str | None
+    replay: Replaying | None = None
 
 
 @dataclass(frozen=True)
@@ -73,8 +105,9 @@ def _faults(problem: SimulationError) -> str:
 
 
 class Simulation(Generic[D]):
-    def __init__(self, document: D):
-        """SessionError when the document cannot be simulated; the first scan runs."""
+    def __init__(self, document: D, replay: Replay | None = None):
+        """SessionError when the document cannot be simulated; the first scan
+        runs (after the replay's inputs at time 0)."""
         if document.has_errors:
             raise SessionError("the program has errors; fix them before simulating")
         try:
@@ -83,7 +116,9 @@ class Simulation(Generic[D]):
             raise SessionError("cannot simulate: " + _faults(problem)) from problem
         self.document = document  # the version whose program runs, with its positions
         self.error: str | None = None
-        self.run(lambda: self.sim.step(1))
+        self.replay = replay
+        self._applied = 0  # the replay's inputs applied so far
+        self.step(1)
 
     def run(self, action: Callable[[], None]) -> None:
         """Run scans; a fault stops them and is kept in `error`."""
@@ -93,10 +128,43 @@ class Simulation(Generic[D]):
             self.error = _faults(fault) or str(fault)
 
     def step(self, cycles: int) -> None:
-        self.run(lambda: self.sim.step(cycles))
+        self.run(lambda: self._scans(cycles))
 
     def run_for(self, ms: float) -> None:
-        self.run(lambda: self.sim.run_for(ms))
+        self.run(lambda: self._run_for(ms))
+
+    def _scans(self, cycles: int) -> None:
+        """Run scans (a fault raises SimulationError), feeding a replay's inputs before each."""
+        while cycles > 0 and self._replaying():
+            self._feed()
+            self.sim.step(1)
+            cycles -= 1
+        self.sim.step(cycles)
+
+    def _run_for(self, ms: float) -> None:
+        sim = self.sim
+        end_us = sim.scan_count * sim.cycle_us + round(ms * 1000)
+        while self._replaying() and sim.scan_count * sim.cycle_us < end_us:
+            self._scans(1)
+        sim.run_for(max(end_us - sim.scan_count * sim.cycle_us, 0) / 1000)
+
+    def _replaying(self) -> bool:
+        return self.replay is not None and self._applied < len(self.replay.actions)
+
+    def _feed(self) -> None:
+        """Apply the replay's inputs due by the next scan."""
+        assert self.replay is not None
+        actions, now_us = self.replay.actions, self.sim.scan_count * self.sim.cycle_us
+        while self._applied < len(actions) and actions[self._applied].time_us <= now_us:
+            action = actions[self._applied]
+            self._applied += 1
+            try:
+                if isinstance(action.value, bytes):
+                    self.sim.uart_receive(action.value)
+                else:
+                    self.sim.set(action.name, action.value)
+            except (KeyError, ValueError) as problem:
+                self.error = f"the replay of {self.replay.name!r} cannot set {action.name}: {_reason(problem)}"
 
     def set(self, name: str, value: int) -> None:
         try:
@@ -111,8 +179,10 @@ class Simulation(Generic[D]):
             raise SessionError(_reason(problem)) from problem
 
     def reset(self) -> None:
+        """Power-on: time 0, no scan run yet; a replay starts again."""
         self.sim.reset(keep_eeprom=True)
         self.error = None
+        self._applied = 0
 
     def value(self, name: str) -> int | None:
         """None for a name the program does not have."""
@@ -157,7 +227,7 @@ class Simulation(Generic[D]):
         reached = condition.holds(sim)
         deadline = time.perf_counter() + seconds
         while not reached and sim.time_ms < limit_ms and self.error is None and time.perf_counter() < deadline:
-            self.run(lambda: sim.step(1))
+            self.step(1)
             if self.error is not None:
                 break
             reached = condition.holds(sim)
@@ -182,7 +252,11 @@ class Simulation(Generic[D]):
             if element.span is None:
                 continue
             energized.append(element.span if document.kind == LD_KIND else document.locator.glyph_span(element))
-        return State(float(sim.time_ms), sim.scan_count, tuple(energized), sim.variables(), self.uart(), self.error)
+        replay = self.replay
+        replaying = None if replay is None else \
+            Replaying(replay.name, self._applied, len(replay.actions), replay.end_us / 1000)
+        return State(float(sim.time_ms), sim.scan_count, tuple(energized), sim.variables(), self.uart(), self.error,
+                     replaying)
 
     def uart(self) -> Uart:
         """How many bytes the UART sent, and its last messages with the time

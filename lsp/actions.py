@@ -36,6 +36,8 @@ def register(server: LadderServer) -> None:
         found: list[types.CodeAction] = []
         if _wants(wanted, QUICKFIX):
             found += quick_fixes(ls, analysis, params.context.diagnostics)
+            if ls.verifications is not None:
+                found += ls.verifications.actions(analysis, params)
         if _wants(wanted, REWRITE) or _wants(wanted, INSERT):
             start = analysis.positions.from_client(params.range.start)
             end = analysis.positions.from_client(params.range.end)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import json
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from lsprotocol import types
@@ -36,6 +37,8 @@ class Publisher:
         self.last_duration_ms = 0.0
         self.extra: dict[str, list[Diagnostic]] = {}  # the compiler's, until the next change
         self.encoded: dict[str, dict[Diagnostic, str]] = {}  # uri -> the JSON of each diagnostic published
+        # other features' diagnostics of a version, published with these (lsp/verify.py's results)
+        self.sources: list[Callable[[Analysis], list[types.Diagnostic]]] = []
 
     def set_extra(self, uri: str, found: list[Diagnostic]) -> None:
         self.extra[uri] = list(found)
@@ -84,6 +87,9 @@ class Publisher:
             kept[diagnostic] = text
             texts.append(text)
         self.encoded[uri] = kept if analysis.positions.ascii else {}
+        converter = self.server.protocol._converter
+        texts += [json.dumps(converter.unstructure(d), separators=(",", ":"))
+                  for source in self.sources for d in source(analysis)]
         self.server.notify(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, Encoded(
             f'{{"uri":{json.dumps(uri)},"version":{json.dumps(analysis.version)},'
             f'"diagnostics":[{",".join(texts)}]}}'))

@@ -29,6 +29,7 @@ from .transport import LadderProtocol, PipeReader, ResyncReader
 if TYPE_CHECKING:
     from .diagnostics import Publisher
     from .simulation import Simulations
+    from .verify import Verifications
 
 log = logging.getLogger("ladder.lsp")
 
@@ -59,6 +60,7 @@ class LadderServer(LanguageServer):
         # so that one feature reaches another's through an attribute, not a string key)
         self.diagnostics: Publisher | None = None
         self.simulations: Simulations | None = None
+        self.verifications: Verifications | None = None
         self._listeners: dict[str, list[Listener]] = {}
         # requests about one document, answered ContentModified once an edit of it was read
         # after them (lsp/transport.py); each document's revision counts the events that change it
@@ -248,12 +250,13 @@ def create_server() -> LadderServer:
         semantic,
         simulation,
         symbols,
+        verify,
         warmup,
     )
 
     server = LadderServer()
     for module in (lifecycle, diagnostics, hover, formatting, completion, navigation, symbols, semantic,
-                   actions, convert, simulation, warmup):
+                   actions, convert, simulation, verify, warmup):
         module.register(server)
     return server
 

@@ -7,7 +7,9 @@ states a second. Editing the document reloads the program into the running
 simulation after the diagnostics delay. While a simulation runs, inlay hints
 show the names' values after the end of each line (never inside the drawing).
 The state carries what the UART sent: its byte count and its last messages
-(lang/sim/uart.py), as `ladder sim --watch uart` prints them."""
+(lang/sim/uart.py), as `ladder sim --watch uart` prints them, and how far a
+replay of recorded inputs is (`start` with a `Replay`: lsp/verify.py's
+counterexamples)."""
 
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from lsprotocol import types
 
-from ide.session import SessionError, Simulation, State
+from ide.session import Replay, SessionError, Simulation, State
 
 from .documents import Analysis
 from .protocol import UserError
@@ -61,7 +63,8 @@ class Simulations:
     def state(self, session: Session | None, uri: str, **extra: object) -> Json:
         if session is None:
             return {"uri": uri, "running": False, "realtime": False, "timeMs": 0.0, "scan": 0,
-                    "energized": [], "values": {}, "uart": {"sent": 0, "messages": []}, "error": None, **extra}
+                    "energized": [], "values": {}, "uart": {"sent": 0, "messages": []}, "error": None,
+                    "replay": None, **extra}
         state: State = session.simulation.state()
         positions = session.simulation.document.positions
         return {"uri": uri, "running": True, "realtime": session.realtime, "timeMs": state.time_ms,
@@ -69,7 +72,11 @@ class Simulations:
                 "values": state.values,
                 "uart": {"sent": state.uart.sent,
                          "messages": [{"timeMs": m.time_ms, "text": m.text} for m in state.uart.messages]},
-                "error": state.error, **extra}
+                "error": state.error,
+                "replay": None if state.replay is None else {
+                    "name": state.replay.name, "applied": state.replay.applied, "total": state.replay.total,
+                    "endMs": state.replay.end_ms},
+                **extra}
 
     def publish(self, session: Session | None, uri: str, **extra: object) -> Json:
         state = self.state(session, uri, **extra)
@@ -84,12 +91,13 @@ class Simulations:
 
     # --- lifecycle -------------------------------------------------------------------
 
-    def start(self, uri: str) -> Json:
+    def start(self, uri: str, replay: Replay | None = None) -> Json:
+        """A new simulation of the document, replaying `replay`'s inputs if given."""
         analysis = self.server.documents.analysis(uri)
         if analysis is None:
             raise UserError("this document is not a ladder program")
         try:
-            simulation = Simulation(analysis)
+            simulation = Simulation(analysis, replay)
         except SessionError as problem:
             raise UserError(str(problem)) from problem
         self.stop(uri, notify=False)

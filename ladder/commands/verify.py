@@ -130,7 +130,7 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     from lang.diagnostics import ERROR
     from lang.properties import name_span
     from lang.sim import SimulationError, Simulator
-    from lang.verify import verify
+    from lang.verify import verdict, verify
     from lang.verify.prover import FAILS
 
     loaded = load(target.program_path, args.encoding)
@@ -162,7 +162,7 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     for number, result in enumerate(results, 1):
         prop = result.prop
         where = f"{target.source}:{prop.span.line + 1}"
-        print(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}")
+        print(f"{where}: {verdict(result, program.settings.cycle_us)}: {prop.text}")
         case: dict[str, Any] = {"name": prop.text, "failures": [], "error": None, "seconds": result.seconds}
         if result.witness is not None:
             files = _write_witness(program, target, result, out / f"{Path(target.program_path).stem}-property{number}")
@@ -170,32 +170,13 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
                 return EXIT_USAGE
             print("  " + files)
             if result.verdict == FAILS:
-                case["failures"].append(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}; {files}")
+                case["failures"].append(f"{where}: {verdict(result, program.settings.cycle_us)}: {prop.text}; {files}")
         elif result.verdict == FAILS:
-            case["failures"].append(f"{where}: {_verdict(result, program.settings.cycle_us)}: {prop.text}")
+            case["failures"].append(f"{where}: {verdict(result, program.settings.cycle_us)}: {prop.text}")
         if result.verdict == FAILS:
             status = EXIT_PROBLEMS
         cases.append(case)
     return status
-
-
-def _verdict(result, cycle_us: int) -> str:
-    from lang.sim.trace import format_time
-    from lang.verify.prover import FAILS, PROVED
-
-    reach = result.prop.kind == "reachable"
-    witness = result.witness
-    if witness is not None:
-        when = f"{format_time(witness.scan * cycle_us, cycle_us)} ms (scan {witness.scan + 1})"
-        return f"proved: reached at {when}" if reach else f"fails at {when}"
-    if result.verdict == PROVED:
-        return f"proved (k = {result.k})"
-    if result.verdict == FAILS:
-        return f"fails: never reached, whatever the inputs (k = {result.k})"
-    why = f"; {result.why}" if result.why else ""
-    if reach:
-        return f"not reached in {result.depth} scans (not proved){why}"
-    return f"holds up to {result.depth} scans (not proved){why}"
 
 
 def _write_witness(program, target: Target, result, stem: Path) -> str | None:

@@ -16,6 +16,7 @@ from ..codes import code
 if TYPE_CHECKING:
     from ..model import Program
     from ..properties import Property
+    from .prover import Result
 
 INSTALL = "pip install 'textladder[verify]'"
 DEFAULT_BOUND = 50  # scans
@@ -56,3 +57,24 @@ def verify(program: Program, properties: list[Property], bound: int = DEFAULT_BO
         return prove(Machine.of(code, settings.cycle_us, settings.baud), properties, settings.cycle_us, bound, timeout_s)
     except NotModelled as problem:
         raise SimulationError([located(NOT_MODELLED, str(problem), problem.element)]) from None
+
+
+def verdict(result: Result, cycle_us: int) -> str:
+    """What a result says, as `ladder verify` prints it before the property:
+    `proved (k = 1)`, `fails at 60 ms (scan 7)`, `holds up to 50 scans (not proved)`..."""
+    from ..sim.trace import format_time
+    from .prover import FAILS, PROVED
+
+    reach = result.prop.kind == "reachable"
+    witness = result.witness
+    if witness is not None:
+        when = f"{format_time(witness.scan * cycle_us, cycle_us)} ms (scan {witness.scan + 1})"
+        return f"proved: reached at {when}" if reach else f"fails at {when}"
+    if result.verdict == PROVED:
+        return f"proved (k = {result.k})"
+    if result.verdict == FAILS:
+        return f"fails: never reached, whatever the inputs (k = {result.k})"
+    why = f"; {result.why}" if result.why else ""
+    if reach:
+        return f"not reached in {result.depth} scans (not proved){why}"
+    return f"holds up to {result.depth} scans (not proved){why}"

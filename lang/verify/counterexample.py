@@ -5,6 +5,7 @@ the run, recorded from the simulator itself."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import TextIO
 
 from ..model import Program
@@ -71,6 +72,18 @@ def replays(program: Program, text: str, path: str, line: int, prop: Property, w
     return bool(decided) and not others
 
 
+def feed(sim: Simulator, witness: Witness) -> Iterator[int]:
+    """Run the witness's input sequence from power-up on `sim`, yielding
+    after each scan its number (0 first); a fault raises SimulationError."""
+    for scan, inputs in enumerate(witness.inputs):
+        for name, value in inputs.items():
+            sim.set(name, value)
+        if scan < len(witness.uart):
+            sim.uart_receive(witness.uart[scan])
+        sim.step()
+        yield scan
+
+
 def write_run(program: Program, prop: Property, witness: Witness, out: TextIO) -> None:
     """The VCD of the witness's run in the simulator: the inputs and every
     name the property reads."""
@@ -78,11 +91,6 @@ def write_run(program: Program, prop: Property, witness: Witness, out: TextIO) -
     known = sim.variables()
     names = sorted({*witness.inputs[0], *prop.names()} & known.keys()) if witness.inputs else prop.names()
     trace = Trace.watching(sim, names)
-    for scan, inputs in enumerate(witness.inputs):
-        for name, value in inputs.items():
-            sim.set(name, value)
-        if scan < len(witness.uart):
-            sim.uart_receive(witness.uart[scan])
-        sim.step()
+    for _ in feed(sim, witness):
         trace.record(sim)
     write_vcd(trace, out)

@@ -22,6 +22,16 @@ export interface SimulationState {
   values: Record<string, number>;
   error: string | null;
   reached?: boolean;
+  /** the inputs replayed from a recorded sequence (a counterexample of `ladder.verify`), if any */
+  replay?: Replaying | null;
+}
+
+export interface Replaying {
+  name: string;
+  applied: number;
+  total: number;
+  /** the time of the scan the sequence leads to (where a counterexample breaks its property) */
+  endMs: number;
 }
 
 export const LADDER_LANGUAGES = ['ladder', 'ldmicro'];

@@ -109,7 +109,8 @@ export class SimulationStatusBar implements vscode.Disposable {
 export function statusText(state: SimulationState): string {
   const icon = state.error ? '$(warning)' : state.realtime ? '$(sync~spin)' : '$(debug-pause)';
   const mode = state.realtime ? 'running' : 'paused';
-  return `${icon} Sim ${mode} ${formatTime(state.timeMs)} · scan ${state.scan}`;
+  const replay = state.replay ? ` · replay to ${formatTime(state.replay.endMs)}` : '';
+  return `${icon} Sim ${mode} ${formatTime(state.timeMs)} · scan ${state.scan}${replay}`;
 }
 
 function statusTooltip(state: SimulationState): vscode.MarkdownString {
@@ -119,6 +120,10 @@ function statusTooltip(state: SimulationState): vscode.MarkdownString {
   md.appendMarkdown(`time ${formatTime(state.timeMs)}, scan ${state.scan}, ${state.realtime ? 'running in real time' : 'paused'}\n\n`);
   if (state.error) {
     md.appendText(`error: ${state.error}\n\n`);
+  }
+  if (state.replay) {
+    const { name, applied, total, endMs } = state.replay;
+    md.appendText(`replaying the ${name}: ${applied} of its ${total} inputs applied; the scan at ${formatTime(endMs)} decides it\n\n`);
   }
   md.appendMarkdown('F10 one scan · F8 real time · F9 toggle input · Shift+F5 stop · click for more');
   return md;
