@@ -1,0 +1,87 @@
+"""LD413: an I/O name on a pin the chip, as the build configures it, gives to
+its oscillator, reset input or programming interface.
+
+Pins by port name (the datasheets): PIC16F628 RA7 OSC1, RA6 OSC2, RA5 MCLR,
+RB4 PGM; PIC16F876 RB3 PGM, RB6 PGC, RB7 PGD; PIC12F675 GP5 OSC1, GP4 OSC2;
+ATmega328P PB6 XTAL1, PB7 XTAL2; ATtiny85 PB3 XTAL1, PB5 RESET.
+Configuration words from gputils' p16f628.inc: the default 0x3F62 is
+_FOSC_HS & _MCLRE_ON & _LVP_OFF; 0x3F50 is _FOSC_INTOSCIO & _MCLRE_OFF.
+"""
+
+from __future__ import annotations
+
+from builders import coil, contact, el, found, none, one, program, words
+
+from lang.checks import check_program
+
+PIC628 = "Microchip PIC16F628 18-PDIP or 18-SOIC"
+PIC876 = "Microchip PIC16F876 28-PDIP or 28-SOIC"
+PIC675 = "Microchip PIC12F675 8-pin packages"
+M328 = "Atmel AVR ATmega328 28-PDIP"
+TINY85 = "Atmel AVR ATtiny85 8-Pin packages"
+
+
+def _io(mcu, pins, **settings):
+    return program([contact("Xa"), coil("Yb")], mcu=mcu, pins=pins, **settings)
+
+
+def test_crystal_pins_of_a_pic_in_the_default_configuration():
+    prog = _io(PIC628, {"Xa": "RA7", "Yb": "RA6"})
+    hits = found(prog, "LD413")
+    assert {d.span for d in hits} == {prog.pins["Xa"].span, prog.pins["Yb"].span}
+    assert all(d.severity == "warning" for d in hits)
+    words(hits[0], "'Xa'", "OSC1", "_FOSC_HS", "0x3F62")
+
+
+def test_the_internal_oscillator_frees_them():
+    none(_io(PIC628, {"Xa": "RA7", "Yb": "RA6"}, config_word=0x3F50), "LD413")
+    # INTOSC with CLKOUT: RA6 gives the clock out, RA7 is free
+    prog = _io(PIC628, {"Xa": "RA7", "Yb": "RA6"}, config_word=0x3F51)
+    d = one(prog, "LD413")
+    assert d.span == prog.pins["Yb"].span
+    words(d, "the program's configuration word 0x3F51")
+
+
+def test_an_input_on_mclr_when_mclre_is_on():
+    d = one(_io(PIC628, {"Xa": "RA5", "Yb": "RB0"}), "LD413")
+    words(d, "input 'Xa'", "MCLR", "_MCLRE_ON")
+    none(_io(PIC628, {"Xa": "RA5", "Yb": "RB0"}, config_word=0x3F50), "LD413")
+
+
+def test_an_output_on_mclr_is_ld412_alone():
+    prog = _io(PIC628, {"Xa": "RB0", "Yb": "RA5"})
+    one(prog, "LD412")
+    none(prog, "LD413")
+
+
+def test_programming_pins_only_when_the_configuration_takes_them():
+    # the default: LVP and DEBUG off, RB3, RB6 and RB7 are I/O
+    none(_io(PIC876, {"Xa": "RB3", "Yb": "RB6"}), "LD413")
+    lvp_and_debug = 0x3FFF & ~0x0800 & ~0x0002 & ~0x0001  # DEBUG on, HS, LVP on (bit 7 set)
+    prog = _io(PIC876, {"Xa": "RB3", "Yb": "RB6"}, config_word=lvp_and_debug)
+    assert {d.span for d in found(prog, "LD413")} == {prog.pins["Xa"].span, prog.pins["Yb"].span}
+
+
+def test_a_12f_runs_on_its_internal_oscillator_by_default():
+    none(_io(PIC675, {"Xa": "GP5", "Yb": "GP4"}), "LD413")
+
+
+def test_avr_crystal_pins_when_the_internal_oscillator_cannot_make_the_clock():
+    prog = _io(M328, {"Xa": "PB6", "Yb": "PB7"}, crystal_hz=16000000)
+    hits = found(prog, "LD413")
+    assert len(hits) == 2
+    words(hits[0], "16 MHz", "internal oscillator", "XTAL1")
+    none(_io(M328, {"Xa": "PB6", "Yb": "PB7"}, crystal_hz=8000000), "LD413")
+    none(_io(M328, {"Xa": "PB0", "Yb": "PB1"}, crystal_hz=16000000), "LD413")
+
+
+def test_the_attiny85_reset_pin():
+    d = one(_io(TINY85, {"Xa": "PB5", "Yb": "PB0"}, crystal_hz=8000000), "LD413")
+    words(d, "RESET", "RSTDISBL", "ISP")
+    # an A/D input on it reads while the voltage stays above the reset level
+    prog = program([el("READ_ADC", name="Avolts")], mcu=TINY85, pins={"Avolts": "PB5"}, crystal_hz=8000000)
+    none(prog, "LD413")
+
+
+def test_no_part_no_finding():
+    assert not [d for d in check_program(_io(None, {"Xa": 16, "Yb": 15})) if d.code == "LD413"]
