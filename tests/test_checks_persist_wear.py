@@ -121,3 +121,10 @@ def test_without_persist_or_a_part():
     # without a part the rate is the cycle's
     no_part = program([contact("Xrun"), el("ADD", dest="saved", op1="saved", op2="1")], PERSIST)
     words(one(no_part, "LD330"), "100 writes a second")
+
+
+def test_a_long_chain_of_copies():
+    chain = [[contact("Xrun"), move(f"v{i}", f"v{i + 1}")] for i in range(3000)]
+    prog = program([contact("Xrun"), timer("TON", "v3000", 100000)], *chain,
+                   [el("PERSIST", var="v0")], mcu=M328)
+    words(one(prog, "LD330"), "'v0'", "copies 'v1' into 'v0'", "TON in rung 1")

@@ -48,6 +48,13 @@ class Change:
     rung: int
     element: Element
     why: str
+    origin: Change | None = None  # for a copy: the instruction that changes what it copies
+
+    def text(self) -> str:
+        said = f"the {label(self.element)} in {rung_no(self.rung)} {self.why}"
+        if self.origin is None:
+            return said
+        return f"{said}, and the {label(self.origin.element)} in {rung_no(self.origin.rung)} {self.origin.why}"
 
 
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
@@ -60,13 +67,13 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         name = token(element.args.get("var"))
         if not name or gates.edge(rung, element):
             continue
-        change = gates.change(name, frozenset())
+        change = gates.change(name)
         if change is None:
             continue
         found.append(report(
             CODE,
-            f"'{name}' is kept in EEPROM by the PERSIST in {rung_no(rung)}, and the {label(change.element)} "
-            f"in {rung_no(change.rung)} {change.why}: PERSIST writes it back each time it differs, "
+            f"'{name}' is kept in EEPROM by the PERSIST in {rung_no(rung)}, and {change.text()}: PERSIST "
+            "writes it back each time it differs, "
             f"{_wear(program, index)}; change it on an edge (a one-shot, OSR, in front of the "
             f"{label(change.element)}), or persist a copy taken less often",
             arg_span(element, "var"),
@@ -115,18 +122,22 @@ class _Gates:
             self.gated[rung] = self._gated(self.program.rungs[rung].circuit)
         return id(element) in self.gated[rung]
 
-    def change(self, name: str, seen: frozenset[str]) -> Change | None:
+    def change(self, name: str) -> Change | None:
         """The first instruction that can change `name` on every scan, or None."""
+        return run(self._change(name, frozenset()))
+
+    def _change(self, name: str, seen: frozenset[str]):
+        # a generator for lang.trampoline: a chain of copies may be thousands of names long
         seen = seen | {name}
         for use in self.index.uses.get(name, ()):
             if not use.writes or use.element.kind in STEPPED or self.edge(use.rung, use.element):
                 continue
-            found = self._changes(use, seen)
+            found = yield self._changes(use, seen)
             if found is not None:
                 return found
         return None
 
-    def _changes(self, use: Use, seen: frozenset[str]) -> Change | None:
+    def _changes(self, use: Use, seen: frozenset[str]):
         element = use.element
         if element.kind in RUNNING:
             return Change(use.rung, element, RUNNING[element.kind].format(use.name))
@@ -139,10 +150,9 @@ class _Gates:
         for _, value in sources:
             if value in seen or literal_or_none(value) is not None:
                 continue
-            source = self.change(value, seen)
+            source = yield self._change(value, seen)
             if source is not None:
-                return Change(use.rung, element, f"copies '{value}' into '{use.name}', and the "
-                                                  f"{label(source.element)} in {rung_no(source.rung)} {source.why}")
+                return Change(use.rung, element, f"copies '{value}' into '{use.name}'", source.origin or source)
         return None
 
     def _pulse(self, name: str) -> bool:
