@@ -10,9 +10,17 @@ _FOSC_HS & _MCLRE_ON & _LVP_OFF; 0x3F50 is _FOSC_INTOSCIO & _MCLRE_OFF.
 
 from __future__ import annotations
 
+import re
+import shutil
+from pathlib import Path
+
+import pytest
 from builders import coil, contact, el, found, none, one, program, words
 
+import compiler
+from compiler.run.gpsim import run_pic
 from lang.checks import check_program
+from lang.devices import all_devices
 
 PIC628 = "Microchip PIC16F628 18-PDIP or 18-SOIC"
 PIC876 = "Microchip PIC16F876 28-PDIP or 28-SOIC"
@@ -85,3 +93,60 @@ def test_the_attiny85_reset_pin():
 
 def test_no_part_no_finding():
     assert not [d for d in check_program(_io(None, {"Xa": 16, "Yb": 15})) if d.code == "LD413"]
+
+
+# --- the device data, against gputils' headers and gpsim ----------------------------------------
+
+GPUTILS = Path("/usr/share/gputils/header")
+needs_gputils = pytest.mark.skipif(not GPUTILS.is_dir(), reason="gputils not installed")
+needs_gpsim = pytest.mark.skipif(shutil.which("gpsim") is None, reason="gpsim not installed")
+PICS = list({d.part: d for d in all_devices() if d.family == "pic16" and d.data.get("reserved_pins")}.values())
+
+
+def _symbols(processor: str, field: str) -> dict[str, int]:
+    """gputils' configuration symbols of a field: {"HS": 0x3FEE, "INTOSCIO": 0x3FFC, "ON": ...}."""
+    text = (GPUTILS / f"{processor}.inc").read_text(encoding="latin-1")
+    return {m.group(1): int(m.group(2), 16)
+            for m in re.finditer(rf"^_{field}_(\w+)\s+EQU\s+H'([0-9A-F]+)'", text, re.MULTILINE)}
+
+
+def _taken_by(field: str, use: str, mode: str) -> bool:
+    """Whether an oscillator mode (gputils' name) or a switch takes the pin, from the datasheets:
+    OSC1 serves every mode but the internal oscillator's; OSC2 the crystals' and those with CLKOUT."""
+    if field != "FOSC":
+        return mode == "ON"
+    if use.startswith("OSC1"):
+        return not mode.startswith("INT")
+    return mode in ("LP", "XT", "HS") or (mode.endswith("CLK") or mode.endswith("CLKOUT")) and "NOCLKOUT" not in mode
+
+
+@needs_gputils
+@pytest.mark.parametrize("device", PICS, ids=lambda d: d.part)
+def test_the_configuration_values_are_gputils(device):
+    for pin, entries in device.data["reserved_pins"].items():
+        for entry in entries:
+            symbols = _symbols(device.data["pic16"]["processor"], entry["field"])
+            assert symbols, (device.part, entry["field"])
+            cleared = 0
+            for value in symbols.values():
+                cleared |= ~value & 0x3FFF  # the field's bits: those its symbols clear
+            assert entry["mask"] == cleared, (device.part, pin)
+            expected = {value & entry["mask"] for mode, value in symbols.items()
+                        if _taken_by(entry["field"], entry["use"], mode)}
+            assert set(entry["values"]) == expected, (device.part, pin, entry["use"])
+
+
+@needs_gpsim
+def test_gpsim_drives_no_output_on_the_crystal_pin_the_check_reports(tmp_path, capsys):
+    # the default configuration (HS crystal): RA6 is OSC2 and stays low; with the internal
+    # oscillator (0x3F50) it follows its coil like RA0
+    rungs = ([coil("Ylamp")], [coil("Yother")])
+    for config, reported, level in ((0, True, 0), (0x3F50, False, 1)):
+        prog = program(*rungs, mcu=PIC628, pins={"Ylamp": "RA6", "Yother": "RA0"}, crystal_hz=4_000_000,
+                       config_word=config)
+        assert bool(found(prog, "LD413")) == reported
+        image = tmp_path / f"osc{config}.hex"
+        compiler.build(prog).write(image)
+        run = run_pic(image, "p16f628", 4_000_000, watch=["RA6", "RA0"], until_ms=30)
+        assert run.level_at("RA0", 20) == 1
+        assert run.level_at("RA6", 20) == level
