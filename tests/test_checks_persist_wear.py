@@ -97,6 +97,9 @@ def test_changes_that_stop_or_step_on_edges():
     none(program([contact("Xrun"), move("saved", "5")], PERSIST, mcu=M328), "LD330")  # once
     # a counter counts on rising edges
     none(program([contact("Xrun"), counter("CTU", "saved", "100")], PERSIST, mcu=M328), "LD330")
+    # a received byte comes once
+    none(program([el("UART_RECV", var="byte"), el("ADD", dest="saved", op1="saved", op2="byte")], PERSIST,
+                 mcu=M328), "LD330")
     prog = program([contact("Xrun"), move("saved", "Xrun")], PERSIST, mcu=M328)
     none(prog, "LD330")
 
@@ -128,3 +131,9 @@ def test_a_long_chain_of_copies():
     prog = program([contact("Xrun"), timer("TON", "v3000", 100000)], *chain,
                    [el("PERSIST", var="v0")], mcu=M328)
     words(one(prog, "LD330"), "'v0'", "copies 'v1' into 'v0'", "TON in rung 1")
+
+
+def test_a_counter_that_counts_on_every_scan():
+    prog = program([contact("Xrun"), counter("CTC", "saved", "1000", edge="-")], PERSIST, mcu=M328)
+    words(one(prog, "LD330"), "CTC in rung 1 counts in 'saved' on every scan its input is 1")
+    assert _writes(prog, 20, Xrun=1) == 19

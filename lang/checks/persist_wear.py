@@ -6,10 +6,11 @@ PERSIST writes only when the variable differs from its EEPROM copy
 changes scan after scan: one that an instruction feeds back into itself (ADD
 and SUB with itself, NOT, NEG, XOR, rotations), a timer's count, an A/D
 reading, a random number, or a copy of one of those (MOV, arithmetic, a
-table), each on a rung that is not a one-shot's: a rung behind OSR or OSF (or
+table), or a counter that counts on every scan (its `-` and `o` edges), each
+on a rung that is not a one-shot's: a rung behind OSR, OSF or UART RECV (or
 behind a contact on a relay that only such a rung's coil writes) runs once
-per event, which the rule leaves alone. Counters and shift registers step on
-edges and are left alone too."""
+per event, which the rule leaves alone. Counters on an edge and shift
+registers step on edges and are left alone too."""
 
 from __future__ import annotations
 
@@ -28,7 +29,8 @@ from .common import arg_span, literal_or_none, rung_no
 CODE = rule_code(__name__)
 
 ENDURANCE = 100_000  # write cycles per EEPROM byte: the guaranteed minimum of the AVR and PIC datasheets
-ONE_SHOTS = ("OSR", "OSF")
+# elements that pass power for one scan per event: an edge of their input, a received byte
+EVENTS = ("OSR", "OSF", "UART_RECV")
 # instructions that feed their destination back into itself: they change it on every scan they run
 # unless the other operand leaves it as it is (0 for ADD, SUB, XOR and the rotations)
 SELF_FED = {"ADD": ("op1", "op2"), "SUB": ("op1", "op2"), "XOR": ("op1", "op2"), "ROL": ("op1",),
@@ -37,8 +39,10 @@ SELF_FED = {"ADD": ("op1", "op2"), "SUB": ("op1", "op2"), "XOR": ("op1", "op2"),
 RUNNING = {**{kind: "counts the time in '{}' on every scan while it runs" for kind in TIMERS},
            "READ_ADC": "reads the A/D converter into '{}', whose last bits change from scan to scan",
            "RANDOM": "draws a new number into '{}' on every scan"}
+# a counter counts on every scan with its input 1 (`-`) or 0 (`o`), otherwise on an edge
+EVERY_SCAN_COUNT = {"-": "1", "o": "0"}
 # instructions that write on edges or on events, whatever their sources do
-STEPPED = frozenset((*COUNTERS, "SHIFT_REGISTER", "UART_RECV", "PERSIST", "RES", "QUAD_ENCOD"))
+STEPPED = frozenset(("SHIFT_REGISTER", "UART_RECV", "PERSIST", "RES", "QUAD_ENCOD"))
 
 
 @dataclass(frozen=True)
@@ -141,6 +145,10 @@ class _Gates:
         element = use.element
         if element.kind in RUNNING:
             return Change(use.rung, element, RUNNING[element.kind].format(use.name))
+        if element.kind in COUNTERS:
+            level = EVERY_SCAN_COUNT.get(str(element.args.get("kind")))
+            return None if level is None else \
+                Change(use.rung, element, f"counts in '{use.name}' on every scan its input is {level}")
         sources = [(field, token(element.args.get(field))) for field in _read_fields(element)]
         fed = SELF_FED.get(element.kind)
         if fed is not None and any(value == use.name for field, value in sources if field in fed):
@@ -166,7 +174,7 @@ class _Gates:
         return self.pulses[name]
 
     def _passes_edge(self, element: Element) -> bool:
-        if element.kind in ONE_SHOTS:
+        if element.kind in EVENTS:
             return True
         return element.kind == "CONTACTS" and not element.args.get("negated") and \
             self._pulse(token(element.args.get("name")))
