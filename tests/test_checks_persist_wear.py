@@ -5,8 +5,11 @@ rule speaks of: every scan where it reports, once per event where it does not.""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from builders import coil, contact, counter, el, move, none, one, par, program, timer, words
 
+from ladder.cli import main
 from lang.sim import Simulator
 from lang.sim.peripherals import Eeprom
 
@@ -137,3 +140,11 @@ def test_a_counter_that_counts_on_every_scan():
     prog = program([contact("Xrun"), counter("CTC", "saved", "1000", edge="-")], PERSIST, mcu=M328)
     words(one(prog, "LD330"), "CTC in rung 1 counts in 'saved' on every scan its input is 1")
     assert _writes(prog, 20, Xrun=1) == 19
+
+
+def test_a_project_turns_it_off(tmp_path, capsys):
+    (tmp_path / "ladder.toml").write_text('[diagnostics]\nLD330 = "off"\n', encoding="utf-8")
+    fixture = Path(__file__).parent / "diagnostics" / "LD330.ladder"
+    (tmp_path / "hours.ladder").write_text(fixture.read_text(encoding="utf-8"), encoding="utf-8")
+    assert main(["check", str(tmp_path / "hours.ladder")]) == 0
+    assert "LD330" not in capsys.readouterr().out

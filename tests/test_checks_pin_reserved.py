@@ -19,6 +19,7 @@ from builders import coil, contact, el, found, none, one, program, words
 
 import compiler
 from compiler.run.gpsim import run_pic
+from ladder.cli import main
 from lang.checks import check_program
 from lang.devices import all_devices
 
@@ -150,3 +151,11 @@ def test_gpsim_drives_no_output_on_the_crystal_pin_the_check_reports(tmp_path, c
         run = run_pic(image, "p16f628", 4_000_000, watch=["RA6", "RA0"], until_ms=30)
         assert run.level_at("RA0", 20) == 1
         assert run.level_at("RA6", 20) == level
+
+
+def test_a_project_makes_it_an_error(tmp_path, capsys):
+    (tmp_path / "ladder.toml").write_text('[diagnostics]\nLD413 = "error"\n', encoding="utf-8")
+    fixture = Path(__file__).parent / "diagnostics" / "LD413.ladder"
+    (tmp_path / "osc.ladder").write_text(fixture.read_text(encoding="utf-8"), encoding="utf-8")
+    assert main(["check", str(tmp_path / "osc.ladder")]) == 1
+    assert "error LD413" in capsys.readouterr().out
