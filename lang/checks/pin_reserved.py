@@ -38,9 +38,11 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             if why is None:
                 continue
             what = "output" if output else "input"
+            where = pin_text(assignment)
+            where = where if where == pin.name else f"{where} ({pin.name})"
             found.append(report(
                 CODE,
-                f"{what} '{name}' is on {pin_text(assignment)} ({pin.name}), which the {device.title} uses as "
+                f"{what} '{name}' is on {where}, which the {device.title} uses as "
                 f"{entry['use']}, {why}: on the chip it is no {what}, although the simulator shows one",
                 assignment.span,
             ))
@@ -58,15 +60,15 @@ def _taken(program: Program, device, entry: dict, analog: bool) -> str | None:
         if default:
             symbol = device.data[device.family]["config"]["fields"][entry["field"]]["symbol"]
             return f"with the configuration word the build writes (the part's default, 0x{word:04X}: {symbol})"
-        return f"with the program's configuration word 0x{word:04X} ({entry['field']} bits 0x{value:X})"
+        return f"with the program's configuration word 0x{word:04X} (its {entry['field']} bits 0x{value:X} select it)"
     if "clock_hz_internal" in entry:
         crystal = program.settings.crystal_hz
         internal = entry["clock_hz_internal"]
         if crystal in internal:
             return None
-        made = ", ".join(format_frequency(hz) for hz in internal)
-        return (f"when it runs at {format_frequency(crystal)}, which its internal oscillator cannot make ({made}): "
-                "it needs a crystal on XTAL1 and XTAL2 (or an external clock on XTAL1)")
+        made = ", ".join(format_frequency(hz) for hz in internal[:-1]) + f" and {format_frequency(internal[-1])}"
+        return (f"when it runs at {format_frequency(crystal)}, a clock its internal oscillator cannot make (it makes "
+                f"{made}), so a crystal takes XTAL1 and XTAL2 (an external clock XTAL1 alone)")
     if analog:
         return None  # an A/D input on the reset pin reads while its voltage stays above the reset level
     return f"unless the {entry['fuse']} fuse is programmed, which also ends programming the chip over ISP"
