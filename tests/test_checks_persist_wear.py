@@ -7,9 +7,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from builders import coil, contact, counter, el, move, none, one, par, program, timer, words
 
 from ladder.cli import main
+from lang import ldfile
+from lang.checks import check_program
 from lang.sim import Simulator
 from lang.sim.peripherals import Eeprom
 
@@ -148,3 +151,18 @@ def test_a_project_turns_it_off(tmp_path, capsys):
     (tmp_path / "hours.ladder").write_text(fixture.read_text(encoding="utf-8"), encoding="utf-8")
     assert main(["check", str(tmp_path / "hours.ladder")]) == 0
     assert "LD330" not in capsys.readouterr().out
+
+
+CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus"
+
+
+@pytest.mark.skipif(not CORPUS.is_dir(), reason="no corpus beside the repository")
+def test_the_corpus_programs_change_their_persistent_variables_on_events():
+    # LDmicro's asm_demo and c_demo and its AVR and PIC16 hardware tests: ADD behind OSR, MOV
+    # behind OSR or after a UART RECV
+    persisting = 0
+    for path in sorted(CORPUS.rglob("*.ld")):
+        prog, _ = ldfile.read_ld_bytes(path.read_bytes())
+        persisting += any(e.kind == "PERSIST" for rung in prog.rungs for e in rung.elements())
+        assert not [d for d in check_program(prog) if d.code == "LD330"], path
+    assert persisting >= 4

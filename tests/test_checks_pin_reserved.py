@@ -20,6 +20,7 @@ from builders import coil, contact, el, found, none, one, program, words
 import compiler
 from compiler.run.gpsim import run_pic
 from ladder.cli import main
+from lang import ldfile
 from lang.checks import check_program
 from lang.devices import all_devices
 
@@ -159,3 +160,13 @@ def test_a_project_makes_it_an_error(tmp_path, capsys):
     (tmp_path / "osc.ladder").write_text(fixture.read_text(encoding="utf-8"), encoding="utf-8")
     assert main(["check", str(tmp_path / "osc.ladder")]) == 1
     assert "error LD413" in capsys.readouterr().out
+
+
+CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus"
+
+
+@pytest.mark.skipif(not CORPUS.is_dir(), reason="no corpus beside the repository")
+def test_no_corpus_program_uses_a_reserved_pin():
+    for path in sorted(CORPUS.rglob("*.ld")):
+        prog, _ = ldfile.read_ld_bytes(path.read_bytes())
+        assert not [d for d in check_program(prog) if d.code == "LD413"], path
