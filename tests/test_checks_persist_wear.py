@@ -85,6 +85,16 @@ def test_behind_a_relay_that_a_one_shot_pulses():
     assert _pressed(prog, 3) == 3
 
 
+def test_behind_a_timer_that_resets_itself_once_a_second():
+    tick = [contact("Rtick", negated=1), timer("TON", "Tsec", 1000000), coil("Rtick")]
+    prog = program(tick, [contact("Rtick"), el("ADD", dest="saved", op1="saved", op2="1")], PERSIST, mcu=M328)
+    none(prog, "LD330")
+    assert _writes(prog, 350) == 3  # 3.5 s: one tick a second
+    free_running = [contact("Xrun"), timer("TON", "Tsec", 1000000), coil("Rtick")]
+    one(program(free_running, [contact("Rtick"), el("ADD", dest="saved", op1="saved", op2="1")], PERSIST,
+                mcu=M328), "LD330")
+
+
 def test_a_one_shot_in_one_branch_only_does_not_gate():
     branches = par([contact("Xa"), el("OSR")], [contact("Xb")])
     one(program([branches, el("ADD", dest="saved", op1="saved", op2="1")], PERSIST, mcu=M328), "LD330")

@@ -7,9 +7,10 @@ changes scan after scan: one that an instruction feeds back into itself (ADD
 and SUB with itself, NOT, NEG, XOR, rotations), a timer's count, an A/D
 reading, a random number, or a copy of one of those (MOV, arithmetic, a
 table), or a counter that counts on every scan (its `-` and `o` edges), each
-on a rung that is not a one-shot's: a rung behind OSR, OSF or UART RECV (or
-behind a contact on a relay that only such a rung's coil writes) runs once
-per event, which the rule leaves alone. Counters on an edge and shift
+on a rung that is not a one-shot's: a rung behind OSR, OSF, UART RECV or a
+TON that its own rung resets (or behind a contact on a relay that only such a
+rung's coil writes) runs once per event or period, which the rule leaves
+alone. Counters on an edge and shift
 registers step on edges and are left alone too."""
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ..diagnostics import Diagnostic, Related, report
 from ..index import ProgramIndex, Use
 from ..instructions import COUNTERS, TIMERS
 from ..labels import label, token
-from ..model import Element, Parallel, Program, Series
+from ..model import Element, Parallel, Program, Series, iter_elements
 from ..trampoline import run
 from ..values import format_delay
 from .common import arg_span, literal_or_none, rung_no
@@ -173,8 +174,8 @@ class _Gates:
                 and self.edge(use.rung, use.element) for use in writes)
         return self.pulses[name]
 
-    def _passes_edge(self, element: Element) -> bool:
-        if element.kind in EVENTS:
+    def _passes_edge(self, element: Element, resetting: set[int]) -> bool:
+        if element.kind in EVENTS or id(element) in resetting:
             return True
         return element.kind == "CONTACTS" and not element.args.get("negated") and \
             self._pulse(token(element.args.get("name")))
@@ -182,7 +183,7 @@ class _Gates:
     def _gated(self, circuit: Series) -> set[int]:
         """The ids of the elements of a rung that every path reaches through a one-shot."""
         through: dict[int, bool] = {}
-        run(self._through(circuit, through))
+        run(self._through(circuit, through, _self_resetting(circuit)))
         gated: set[int] = set()
         pending: list[tuple[object, bool]] = [(circuit, False)]
         while pending:
@@ -198,20 +199,32 @@ class _Gates:
                 pending.extend((branch, behind) for branch in node.branches)
         return gated
 
-    def _through(self, node, through: dict[int, bool]):
+    def _through(self, node, through: dict[int, bool], resetting: set[int]):
         """Whether every path through `node` passes a one-shot, for it and each node inside."""
         if isinstance(node, Element):
-            result = self._passes_edge(node)
+            result = self._passes_edge(node, resetting)
         elif isinstance(node, Series):
             result = False
             for item in node.items:
-                result = (yield self._through(item, through)) or result
+                result = (yield self._through(item, through, resetting)) or result
         else:
             result = bool(node.branches)
             for branch in node.branches:
-                result = (yield self._through(branch, through)) and result
+                result = (yield self._through(branch, through, resetting)) and result
         through[id(node)] = result
         return result
+
+
+def _self_resetting(circuit: Series) -> set[int]:
+    """The ids of the TONs of a rung that resets them: the rung's coil writes a
+    relay that a negated contact of the rung reads (`[/Rtick]--[TON]--(Rtick)`),
+    so the TON passes power for one scan per period, an event like a one-shot."""
+    elements = list(iter_elements(circuit))
+    coils = {token(e.args.get("name")) for e in elements if e.kind == "COIL" and e.args.get("type", " ") == " "}
+    negated = {token(e.args.get("name")) for e in elements if e.kind == "CONTACTS" and e.args.get("negated")}
+    if not coils & negated:
+        return set()
+    return {id(e) for e in elements if e.kind == "TON"}
 
 
 def _read_fields(element: Element) -> list[str]:
