@@ -30,12 +30,13 @@ from lang.textform.writer import render_rung
 from .budget import overrun_warning, scan_budget
 from .c import CSources, Unit, generate
 from .c.arduino import BOARDS, Board, Sketch, SketchPin, ino
-from .errors import MOVED_PIN, NO_TARGET, NOT_COMPILED, CompileError, fail, lowering_failed, note
+from .errors import FLASH_FULL, MOVED_PIN, NO_TARGET, NOT_COMPILED, RAM_FULL, CompileError, fail, lowering_failed, note
 from .image import Build
 from .optimise import optimise
-from .target import BACKENDS, first_use, machine_for
+from .target import BACKENDS, Backend, first_use, machine_for
 
 OTHER_CHIP = code("LD715")
+SIZES = (FLASH_FULL, RAM_FULL)
 
 
 def target_device(program: Program, target: str | None) -> Device:
@@ -79,14 +80,40 @@ def build(program: Program, target: str | None = None, severities: Severities = 
         raise CompileError(problems)
     # the build's own warnings that the checks report from the part's data (LD709, LD714)
     noted = [d for d in checked if d.code[2] == "7"]
-    code = optimise(_lower(program, device, backend.delay_loop_cycles))
-    image = backend.compile(code, machine_for(program, device))
+    image = _image(program, device, backend)
     budget = scan_budget(program, device, image, backend.flow)
     overrun = overrun_warning(program, budget)
     warnings = severities.apply(moved + noted + image.warnings + ([overrun] if overrun else []), building=True)
     if any(d.severity == ERROR for d in warnings):
         raise CompileError([d for d in warnings if d.severity == ERROR])
     return Build(program, device, image, warnings, budget)
+
+
+def size_problems(program: Program) -> list[Diagnostic]:
+    """Whether the program fits its part: the compiler's LD703 (flash) and
+    LD704 (RAM) for the program's own part, from the real compile (lowering,
+    optimiser and back end; no scan budget, no image written), placed on the
+    part's name, as `build` places them. `ladder check` runs it
+    after the checks found no error; [] when the part is none a back end
+    compiles or the compile stops on a problem `ladder build` reports."""
+    try:
+        device = target_device(program, None)
+        _image(retarget(program, device), device, BACKENDS[device.family])
+    except CompileError as problem:
+        return [d for d in problem.diagnostics if d.code in SIZES]
+    return []
+
+
+def _image(program: Program, device: Device, backend: Backend):
+    """The back end's image of the checked program; flash and RAM the part
+    lacks are placed on where the program names the part (the compiler
+    names no element for them)."""
+    code = optimise(_lower(program, device, backend.delay_loop_cycles))
+    try:
+        return backend.compile(code, machine_for(program, device))
+    except CompileError as problem:
+        raise CompileError([replace(d, span=program.settings.mcu_span) if d.code in SIZES and d.span is None
+                            else d for d in problem.diagnostics]) from None
 
 
 def _lower(program: Program, device: Device | None, delay_loop_cycles: int, family: Family | None = None):

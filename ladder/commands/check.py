@@ -1,4 +1,7 @@
-"""`ladder check FILE...`: every problem, one line each."""
+"""`ladder check FILE...`: every problem, one line each. When the checks
+find no error and a back end compiles the program's part, the program is
+compiled too (not written), for what only the compiler knows: a program too
+large for the part's flash (LD703) or RAM (LD704)."""
 
 from __future__ import annotations
 
@@ -8,7 +11,9 @@ from pathlib import Path
 
 from ide.fixes import fix_all
 from lang import codes, config
+from lang.devices import find_device
 from lang.loader import Loaded, checkable, checked, kind_of, parse
+from lang.targets import compiled
 from lang.values import encode_text
 
 from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_output
@@ -56,10 +61,23 @@ def run(args) -> int:
                 diagnostics = list(loaded.diagnostics)
             if checkable(loaded.program, diagnostics):
                 diagnostics += checked(loaded.program, check_program(loaded.program, severities=severities))
+                if not has_errors(diagnostics):
+                    diagnostics += _size_problems(loaded.program, severities)
         report(path, diagnostics)
         if has_errors(diagnostics) and status == EXIT_OK:
             status = EXIT_PROBLEMS
     return status
+
+
+def _size_problems(program, severities) -> list:
+    """Flash and RAM that the program's part does not have (LD703, LD704):
+    the compiler decides, so it compiles the program as `ladder build` would."""
+    device = find_device(program.settings.mcu) if program.settings.mcu else None
+    if device is None or not compiled(device):
+        return []
+    from compiler import size_problems
+
+    return severities.apply(size_problems(program))
 
 
 def _stdin() -> Loaded:

@@ -16,6 +16,14 @@ pins are GP0..GP5: its letter is "P", as LDmicro numbers it (its 16th port).
 A part that LDmicro does not list (the PIC16F877A and other A variants) has
 empty ``ldmicro_names``; it is found by its short names only.
 
+``reserved_pins`` names the I/O pins the chip may give to its oscillator,
+reset input or programming interface, each with when it does: ``field``,
+``mask`` and ``values`` (a PIC: the configuration word ANDed with the mask
+is one of the values, gputils' symbols), ``clock_hz_internal`` (an AVR's
+crystal pins: taken unless the crystal setting is one of these internal
+oscillator frequencies) or ``fuse`` (taken unless that fuse, which the build
+does not write, is programmed). The check LD413 reads it.
+
 Compilers may add their own top-level keys to the files; ``Device.data`` keeps
 the whole document for them.
 """
