@@ -1,0 +1,111 @@
+"""LD317: a DIV or MOD whose divisor can be 0 (the simulator stops there,
+LD610; the MCU's result is undefined), from the values the divisor can hold
+(lang.checks.ranges) and the comparisons that guard it in its rung."""
+
+from __future__ import annotations
+
+from ..codes import rule_code
+from ..diagnostics import Diagnostic, Related, report
+from ..index import ProgramIndex
+from ..instructions import RELATIONS
+from ..labels import label, token
+from ..model import Element, Parallel, Program, Series
+from ..values import is_literal
+from .common import NAMES, RUNGS, arg_span, literal_or_none, rung_no
+from .ranges import Values, compare, values_of
+
+CODE = rule_code(__name__)
+DIVISIONS = ("DIV", "MOD")
+ZERO = Values.of(frozenset((0,)))
+
+
+def check_constants(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    """A divisor written as the constant 0: a function of its rung alone."""
+    return [report(CODE, f"{element.kind} in {rung_no(rung)} divides by the constant 0 whenever its rung is true",
+                   arg_span(element, "op2"))
+            for rung, element in index.of_kind(*DIVISIONS)
+            if literal_or_none(token(element.args.get("op2"))) == 0]
+
+
+def check_names(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    """A divisor variable that can hold 0 where its rung does not rule 0 out:
+    a function of the divisor's uses (its writes, and its rung through it)."""
+    found = []
+    for name, uses in index.uses.items():
+        for use in uses:
+            if use.element.kind not in DIVISIONS or use.field != "op2":
+                continue
+            values = values_of(program, index, name)
+            if values is None or not _zero_reachable(values) or \
+                    _guarded(program.rungs[use.rung].circuit, use.element, name):
+                continue
+            found.append(_report(use.rung, use.element, name, values, use.span))
+    return found
+
+
+def _zero_reachable(values: Values) -> bool:
+    """Whether the analysis lets the divisor be 0. A name only ever set to
+    constants counts by those constants, not its start value: a program sets
+    such a divisor before it first divides (docs, LD317)."""
+    if values.assigned is not None:
+        return 0 in values.assigned
+    return values.can_be(0)
+
+
+def _report(rung: int, element: Element, name: str, values: Values, span) -> Diagnostic:
+    related: tuple[Related, ...] = ()
+    if values.assigned is not None:
+        why = f"a MOV sets '{name}' to 0" if 0 in values.assigned else ""
+    else:
+        assert values.writer is not None
+        where, writer = values.writer
+        why = f"the {label(writer)} in {rung_no(where)} can leave any value in it, 0 included"
+        if writer.span is not None:
+            related = (Related(writer.span, f"'{name}' written here"),)
+    return report(CODE, f"{element.kind} in {rung_no(rung)} divides by '{name}', which can be 0: {why}; "
+                        f"test it first (NEQ {name} 0 before the {element.kind} in the rung)",
+                  span, *related)
+
+
+def _guarded(circuit: Series, target: Element, name: str) -> bool:
+    """A comparison that must pass before `target` gets power rules 0 out for `name`."""
+    for element in _before(circuit, target) or ():
+        if element.kind in RELATIONS and _excludes_zero(element, name):
+            return True
+    return False
+
+
+def _excludes_zero(element: Element, name: str) -> bool:
+    op1, op2 = token(element.args.get("op1")), token(element.args.get("op2"))
+    if name not in (op1, op2) or op1 == op2:
+        return False
+    other = op2 if op1 == name else op1
+    if not is_literal(other):
+        return False
+    constant = literal_or_none(other)
+    if constant is None:
+        return False
+    fixed = Values.of(frozenset((constant,)))
+    operands = (ZERO, fixed) if op1 == name else (fixed, ZERO)
+    return compare(element.kind, *operands) is False
+
+
+def _before(node, target: Element) -> list[Element] | None:
+    """The elements in series before `target` on its way through the rung
+    (each must pass power for it to get power), or None when it is not in `node`."""
+    if node is target:
+        return []
+    if isinstance(node, Series):
+        for i, item in enumerate(node.items):
+            inner = _before(item, target)
+            if inner is not None:
+                return [e for e in node.items[:i] if isinstance(e, Element)] + inner
+    elif isinstance(node, Parallel):
+        for branch in node.branches:
+            inner = _before(branch, target)
+            if inner is not None:
+                return inner
+    return None
+
+
+CHECKS = {RUNGS: check_constants, NAMES: check_names}
