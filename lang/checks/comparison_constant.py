@@ -11,7 +11,7 @@ from ..labels import token
 from ..model import Element, Program
 from ..values import is_literal
 from .common import NAMES, RUNGS, rung_no
-from .ranges import comparison_result, values_of
+from .ranges import comparison_result, reading, values_of
 
 CODE = rule_code(__name__)
 
@@ -52,19 +52,12 @@ def check_constants(program: Program, index: ProgramIndex) -> list[Diagnostic]:
 
 
 def check_names(program: Program, index: ProgramIndex) -> list[Diagnostic]:
-    """Comparisons with a variable: a function of their operands' uses, so
-    found from the uses of the names checked (each once)."""
+    """Comparisons with a variable: a function of their operands' uses."""
     found = []
-    seen: set[int] = set()
-    for uses in index.uses.values():
-        for use in uses:
-            element = use.element
-            if element.kind not in RELATIONS or id(element) in seen:
-                continue
-            seen.add(id(element))
-            diagnostic = _diagnostic(program, index, use.rung, element)
-            if diagnostic is not None:
-                found.append(diagnostic)
+    for rung, element in reading(index, tuple(RELATIONS), ("op1", "op2")):
+        diagnostic = _diagnostic(program, index, rung, element)
+        if diagnostic is not None:
+            found.append(diagnostic)
     return found
 
 

@@ -10,9 +10,8 @@ from ..index import ProgramIndex
 from ..instructions import RELATIONS
 from ..labels import label, token
 from ..model import Element, Parallel, Program, Series
-from ..values import is_literal
 from .common import NAMES, RUNGS, arg_span, literal_or_none, rung_no
-from .ranges import Values, compare, values_of
+from .ranges import Values, compare, reading, values_of
 
 CODE = rule_code(__name__)
 DIVISIONS = ("DIV", "MOD")
@@ -31,15 +30,12 @@ def check_names(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     """A divisor variable that can hold 0 where its rung does not rule 0 out:
     a function of the divisor's uses (its writes, and its rung through it)."""
     found = []
-    for name, uses in index.uses.items():
-        for use in uses:
-            if use.element.kind not in DIVISIONS or use.field != "op2":
-                continue
-            values = values_of(program, index, name)
-            if values is None or not _zero_reachable(values) or \
-                    _guarded(program.rungs[use.rung].circuit, use.element, name):
-                continue
-            found.append(_report(use.rung, use.element, name, values, use.span))
+    for rung, element in reading(index, DIVISIONS, ("op2",)):
+        name = token(element.args.get("op2"))
+        values = values_of(program, index, name)
+        if values is None or not _zero_reachable(values) or _guarded(program.rungs[rung].circuit, element, name):
+            continue
+        found.append(_report(rung, element, name, values, arg_span(element, "op2")))
     return found
 
 
@@ -68,10 +64,21 @@ def _report(rung: int, element: Element, name: str, values: Values, span) -> Dia
 
 
 def _guarded(circuit: Series, target: Element, name: str) -> bool:
-    """A comparison that must pass before `target` gets power rules 0 out for `name`."""
-    for element in _before(circuit, target) or ():
-        if element.kind in RELATIONS and _excludes_zero(element, name):
-            return True
+    """A comparison in series before `target`, on its way through the rung,
+    fails for `name` = 0: `target` never gets power with a zero divisor."""
+    # (node, whether a guard comes before it), walked without recursion: rungs nest deep
+    pending: list[tuple[object, bool]] = [(circuit, False)]
+    while pending:
+        node, guarded = pending.pop()
+        if node is target:
+            return guarded
+        if isinstance(node, Series):
+            for item in node.items:
+                pending.append((item, guarded))
+                guarded = guarded or (isinstance(item, Element) and item.kind in RELATIONS
+                                      and _excludes_zero(item, name))
+        elif isinstance(node, Parallel):
+            pending.extend((branch, guarded) for branch in node.branches)
     return False
 
 
@@ -79,33 +86,12 @@ def _excludes_zero(element: Element, name: str) -> bool:
     op1, op2 = token(element.args.get("op1")), token(element.args.get("op2"))
     if name not in (op1, op2) or op1 == op2:
         return False
-    other = op2 if op1 == name else op1
-    if not is_literal(other):
-        return False
-    constant = literal_or_none(other)
+    constant = literal_or_none(op2 if op1 == name else op1)
     if constant is None:
         return False
     fixed = Values.of(frozenset((constant,)))
     operands = (ZERO, fixed) if op1 == name else (fixed, ZERO)
     return compare(element.kind, *operands) is False
-
-
-def _before(node, target: Element) -> list[Element] | None:
-    """The elements in series before `target` on its way through the rung
-    (each must pass power for it to get power), or None when it is not in `node`."""
-    if node is target:
-        return []
-    if isinstance(node, Series):
-        for i, item in enumerate(node.items):
-            inner = _before(item, target)
-            if inner is not None:
-                return [e for e in node.items[:i] if isinstance(e, Element)] + inner
-    elif isinstance(node, Parallel):
-        for branch in node.branches:
-            inner = _before(branch, target)
-            if inner is not None:
-                return inner
-    return None
 
 
 CHECKS = {RUNGS: check_constants, NAMES: check_names}

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from itertools import product
 
 from ..instructions import RELATIONS
+from ..labels import token
 from ..model import Element, Parallel, Series
 from ..numbers import wrap
 from .common import GENERATED, literal_or_none, signed_range, variable_of_uses
@@ -50,6 +51,22 @@ class Values:
         return self.low <= value <= self.high
 
 
+def reading(index, kinds: tuple[str, ...], fields: tuple[str, ...]) -> list[tuple[int, Element]]:
+    """(rung, element) of each element of `kinds` whose operand in one of
+    `fields` is one of the index's names, once, in program order: for a rule
+    that is a function of those names' uses (NAMES), on the whole program's
+    index or on that of a few names."""
+    if index.uses is index.names:  # the whole program's: its elements by kind, without a walk of every use
+        return [(rung, element) for rung, element in index.of_kind(*kinds)
+                if any(token(element.args.get(field)) in index.uses for field in fields)]
+    found: dict[int, tuple[int, Element]] = {}
+    for uses in index.uses.values():
+        for use in uses:
+            if use.element.kind in kinds and use.field in fields:
+                found.setdefault(id(use.element), (use.rung, use.element))
+    return sorted(found.values(), key=lambda pair: pair[0])
+
+
 def values_of(program, index, operand: str) -> Values | None:
     """The values of an operand (a constant or an integer variable), or None
     for a bit, a name nothing writes (LD131 reports it) or a malformed one."""
@@ -69,7 +86,7 @@ def _values_of(program, index, operand: str) -> Values | None:
     uses = index.names.get(operand, ())
     bit, size = variable_of_uses(program, index, operand)
     writes = [use for use in uses if use.writes]
-    if bit or not writes or operand in GENERATED:
+    if bit or not writes or operand in GENERATED or not isinstance(size, int) or not 1 <= size <= 4:
         return None
     low, high = signed_range(size)
     pin = program.pins.get(operand)

@@ -10,15 +10,20 @@ from ..labels import label, token
 from ..model import Program
 from ..roles import ROLES
 from ..values import is_literal
-from .common import GENERATED, rung_no
+from .common import GENERATED, NAMES, rung_no
 
 CODE = rule_code(__name__)
-# A rule of the whole program: whether the rungs run in their order depends on
-# every GOTO, LABEL and subroutine, wherever they are.
+# A function of each name's uses, the rungs they are in and the order the rungs
+# run in, which the whole program's jumps decide (`index.whole`; an edit that
+# changes a jump is checked whole, lang.checks.incremental).
+SCOPE = NAMES
 
 
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
-    flow = _Flow(index)
+    whole = index.whole
+    flow = whole.cache.get("flow")
+    if not isinstance(flow, _Flow):
+        flow = whole.cache["flow"] = _Flow(whole)
     found = []
     for name, uses in index.uses.items():
         if not _lags(name):

@@ -25,8 +25,9 @@ def _span(program: Program, rung: int):
     return node_span(program.rungs[rung].circuit) or program.rungs[rung].span
 
 
-def _rungs_text(first: int, last: int) -> str:
-    return rung_no(first) if first == last else f"rungs {first + 1} to {last + 1}"
+def _rungs_text(first: int, last: int, verb: str) -> str:
+    """'rung 4 runs' or 'rungs 4 to 6 run'."""
+    return f"{rung_no(first)} {verb}s" if first == last else f"rungs {first + 1} to {last + 1} {verb}"
 
 
 def _live(program: Program, first: int, end: int) -> list[int]:
@@ -63,7 +64,7 @@ def _after_goto(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         reached = live[-1]
         found.append(report(
             CODE,
-            f"{_rungs_text(live[0], live[-1])} never run: the GOTO '{token(element.args.get('label'))}' in "
+            f"{_rungs_text(live[0], live[-1], 'never run')}: the GOTO '{token(element.args.get('label'))}' in "
             f"{rung_no(rung)} jumps on every scan and no LABEL lets a jump land before "
             f"{rung_no(end) if end < count else 'the end of the program'}",
             _span(program, live[0]),
@@ -95,7 +96,7 @@ def _zones_off(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         if live:
             found.append(report(
                 CODE,
-                f"the MASTER RLY in {rung_no(rung)} is always false, so {_rungs_text(live[0], live[-1])} run "
+                f"the MASTER RLY in {rung_no(rung)} is always false, so {_rungs_text(live[0], live[-1], 'run')} "
                 "with power off on every scan: their coils stay off and their timers reset",
                 element.span,
             ))
