@@ -6,11 +6,15 @@ happens does happen, and a program it does not report behaves."""
 
 from __future__ import annotations
 
+import operator
 import random
+import re
 from dataclasses import replace
 
 import pytest
 from builders import coil, contact, el, found, move, none, one, par, program, span_of
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from lang.checks import Checker, check_program
 from lang.config import Severities
@@ -88,7 +92,8 @@ def _random_inputs(sim: Simulator, names: list[str], scans: int, seed: int = 1):
     rng = random.Random(seed)
     for _ in range(scans):
         for name in names:
-            sim.set_input(name, rng.randint(0, 1))
+            if name in sim.variables():
+                sim.set_input(name, rng.randint(0, 1))
         sim.step()
         yield
 
@@ -135,7 +140,7 @@ def test_a_master_relay_zone_that_is_always_off():
                    [contact("Xb"), el("TON", name="Tdelay", delay=20000), coil("Yb")],
                    [el("MASTER_RELAY")], [contact("Xc"), coil("Yc")])
     d = one(prog, "LD217")
-    assert d.span == relay.span and "rungs 2 to 3 run with power off" in d.message
+    assert d.span == relay.span and "rungs 2 to 3 run unpowered on every scan" in d.message
     sim = Simulator(prog)
     seen_c = set()
     for _ in _random_inputs(sim, ["Xa", "Xb", "Xc"], 50):
@@ -232,6 +237,24 @@ def test_a_guard_in_the_rung_rules_zero_out():
     assert found(weak, "LD317")
 
 
+def test_a_divisor_set_to_a_constant_after_the_division_starts_at_zero():
+    late = program([contact("Xgo"), el("DIV", dest="q", op1="100", op2="k")], [contact("Xset"), move("k", 4)])
+    assert "it starts at 0 and no MOV sets it before this DIV" in one(late, "LD317").message
+    sim = Simulator(late)
+    sim.set_input("Xgo", 1)
+    with pytest.raises(SimulationError) as failure:
+        sim.step()
+    assert [x.code for x in failure.value.diagnostics] == ["LD610"]
+    # a first-scan relay sets it above the division: not reported, and no division by zero
+    first_scan = program([contact("Rinit", 1), move("k", 4)], [coil("Rinit", "S")],
+                         [contact("Xgo"), el("DIV", dest="q", op1="100", op2="k")])
+    none(first_scan, "LD317")
+    sim = Simulator(first_scan)
+    sim.set_input("Xgo", 1)
+    sim.step(3)
+    assert sim.value("q") == 25
+
+
 def test_constant_divisors():
     none(program([move("k", 4)], [contact("Xa"), el("DIV", dest="q", op1="100", op2="k")]), "LD317")
     zero_moved = program([contact("Xb"), move("k", 0)], [contact("Xa"), el("MOD", dest="q", op1="100", op2="k")])
@@ -259,3 +282,87 @@ def test_an_edit_that_adds_a_jump_is_checked_whole():
     plain = program([contact("Xe"), coil("Ye")]).rungs[0]
     again = replace(after, rungs=after.rungs[:2] + [plain] + after.rungs[3:])
     assert checker.check(again) == check_program(again) and checker.last == "edit"
+
+
+# --- what the rules claim holds in the simulator, on random programs ---------------------------
+
+_OPERANDS = ("v", "w", "0", "1", "3", "-128", "127")
+_TESTS = {"EQU": operator.eq, "NEQ": operator.ne, "GRT": operator.gt, "GEQ": operator.ge, "LES": operator.lt,
+          "LEQ": operator.le}
+
+
+@st.composite
+def _flow_programs(draw):
+    """Small programs over a few names, where constants, moves, jumps and
+    master relays meet often."""
+    count = draw(st.integers(2, 7))
+    rungs = []
+    for _ in range(count):
+        items = []
+        if draw(st.integers(0, 5)) == 0:
+            items.append(el("LABEL", label="L"))
+        for _ in range(draw(st.integers(0, 3))):
+            choice = draw(st.integers(0, 5))
+            if choice <= 1:
+                items.append(contact(draw(st.sampled_from(("Xa", "Xb", "Ra", "Rb", "Rnever"))), draw(st.integers(0, 1))))
+            elif choice <= 3:
+                items.append(el(draw(st.sampled_from(("EQU", "NEQ", "GRT", "GEQ", "LES", "LEQ"))),
+                                op1=draw(st.sampled_from(_OPERANDS)), op2=draw(st.sampled_from(_OPERANDS))))
+            else:
+                items.append(el(draw(st.sampled_from(("SHORT", "OPEN")))))
+        end = draw(st.integers(0, 6))
+        if end <= 1:
+            items.append(coil(draw(st.sampled_from(("Ra", "Rb", "Ya", "Yb"))), draw(st.sampled_from(" /"))))
+        elif end == 2:
+            items.append(move(draw(st.sampled_from(("v", "w"))), draw(st.sampled_from(("1", "2", "-5", "300")))))
+        elif end == 3:
+            items.append(el("ADD", dest="w", op1="w", op2="1"))
+        elif end == 4:
+            items.append(el("MASTER_RELAY"))
+        elif end == 5:
+            items.append(el("GOTO", label=str(draw(st.integers(1, count + 1)))))
+        else:
+            items.append(coil("Yc"))
+        rungs.append(items)
+    return program(*rungs, sizes={"v": 1})
+
+
+_RANGE = re.compile(r"rungs? (\d+)(?: to (\d+))? (?:never runs?|runs? unpowered)")
+
+
+@settings(max_examples=300, deadline=None)
+@given(prog=_flow_programs(), seed=st.integers(0, 1000))
+def test_what_ld217_and_ld316_claim_holds_in_the_simulator(prog, seed):
+    found = check_program(prog)
+    if any(d.severity == "error" for d in found):
+        return
+    claims = [d for d in found if d.code in ("LD217", "LD316")]
+    sim = Simulator(prog)
+    keys = {element.span: ElementKey(n, k) for n, rung in enumerate(prog.rungs)
+            for k, element in enumerate(rung.elements())}
+    dead = set()
+    for d in claims:
+        if d.code == "LD217":
+            first, last = _RANGE.search(d.message).groups()
+            dead |= set(range(int(first) - 1, int(last or first)))
+    values = [{"v": 0, "w": 0}]
+    try:
+        for _ in _random_inputs(sim, ["Xa", "Xb"], 20, seed):
+            energized = sim.energized()
+            for key, on in energized.items():
+                assert not (on and key.rung in dead), f"{key} ran in a rung LD217 reported"
+            values.append({"v": sim.value("v") if "v" in sim.variables() else 0,
+                           "w": sim.value("w") if "w" in sim.variables() else 0})
+            for d in claims:
+                if d.code == "LD316" and "always false" in d.message:
+                    assert not energized[keys[d.span]], d.message
+    except SimulationError:
+        return  # a jump loop the MCU's watchdog would end: nothing to compare
+    for d in claims:
+        if d.code == "LD316":
+            element = next(e for rung in prog.rungs for e in rung.elements() if e.span == d.span)
+            result = "always true" in d.message
+            for held in values:
+                a, b = (held.get(op, None) if op in held else int(op) for op in
+                        (element.args["op1"], element.args["op2"]))
+                assert _TESTS[element.kind](a, b) == result, (d.message, held)

@@ -33,34 +33,34 @@ def check_names(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     for rung, element in reading(index, DIVISIONS, ("op2",)):
         name = token(element.args.get("op2"))
         values = values_of(program, index, name)
-        if values is None or not _zero_reachable(values) or _guarded(program.rungs[rung].circuit, element, name):
+        if values is None or _guarded(program.rungs[rung].circuit, element, name):
             continue
-        found.append(_report(rung, element, name, values, arg_span(element, "op2")))
+        why = _zero_why(index, element, name, values)
+        if why is not None:
+            found.append(report(
+                CODE, f"{element.kind} in {rung_no(rung)} divides by '{name}', which can be 0: {why[0]}; "
+                      f"test it first (NEQ {name} 0 before the {element.kind} in the rung)",
+                arg_span(element, "op2"), *why[1]))
     return found
 
 
-def _zero_reachable(values: Values) -> bool:
-    """Whether the analysis lets the divisor be 0. A name only ever set to
-    constants counts by those constants, not its start value: a program sets
-    such a divisor before it first divides (docs, LD317)."""
-    if values.assigned is not None:
-        return 0 in values.assigned
-    return values.can_be(0)
-
-
-def _report(rung: int, element: Element, name: str, values: Values, span) -> Diagnostic:
-    related: tuple[Related, ...] = ()
-    if values.assigned is not None:
-        why = f"a MOV sets '{name}' to 0" if 0 in values.assigned else ""
-    else:
+def _zero_why(index: ProgramIndex, division: Element, name: str,
+              values: Values) -> tuple[str, tuple[Related, ...]] | None:
+    """How the divisor can be 0 (and where it is written so), or None."""
+    if values.assigned is None:
         assert values.writer is not None
         where, writer = values.writer
-        why = f"the {label(writer)} in {rung_no(where)} can leave any value in it, 0 included"
-        if writer.span is not None:
-            related = (Related(writer.span, f"'{name}' written here"),)
-    return report(CODE, f"{element.kind} in {rung_no(rung)} divides by '{name}', which can be 0: {why}; "
-                        f"test it first (NEQ {name} 0 before the {element.kind} in the rung)",
-                  span, *related)
+        related = (Related(writer.span, f"'{name}' written here"),) if writer.span is not None else ()
+        return f"the {label(writer)} in {rung_no(where)} can leave any value in it, 0 included", related
+    if 0 in values.assigned:
+        return f"a MOV sets '{name}' to 0", ()
+    # only non-zero constants: 0 only before the first of them, the variable's start value
+    for use in index.names.get(name, ()):
+        if use.element is division:
+            return f"it starts at 0 and no MOV sets it before this {division.kind} in the scan", ()
+        if use.writes:
+            return None  # a MOV comes first in the scan: set before the first division
+    return None
 
 
 def _guarded(circuit: Series, target: Element, name: str) -> bool:

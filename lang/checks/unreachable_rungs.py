@@ -97,7 +97,7 @@ def _zones_off(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             found.append(report(
                 CODE,
                 f"the MASTER RLY in {rung_no(rung)} is always false, so {_rungs_text(live[0], live[-1], 'run')} "
-                "with power off on every scan: their coils stay off and their timers reset",
+                "unpowered on every scan, as if their conditions were false",
                 element.span,
             ))
     return found
