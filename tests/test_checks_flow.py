@@ -13,9 +13,11 @@ from dataclasses import replace
 
 import pytest
 from builders import coil, contact, el, found, move, none, one, par, program, span_of
+from corpus import all_ld_files
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lang import ldfile
 from lang.checks import Checker, check_program
 from lang.config import Severities
 from lang.sim import ElementKey, SimulationError, Simulator
@@ -366,3 +368,26 @@ def test_what_ld217_and_ld316_claim_holds_in_the_simulator(prog, seed):
                 a, b = (held.get(op, None) if op in held else int(op) for op in
                         (element.args["op1"], element.args["op2"]))
                 assert _TESTS[element.kind](a, b) == result, (d.message, held)
+
+
+# --- the corpus --------------------------------------------------------------------------------
+
+# Every hit on LDmicro's real programs, each a one-scan lag that does no harm, named in LD133's docs.
+CORPUS_LAGS = {
+    "manual1.ld": {"Rchatter"},
+    "misc-ops.ld": {"reg0"}, "reg_tests_misc-ops.ld": {"reg0"},
+    "test-i2c-2.ld": {"digit0", "digit1"}, "Tests_test-i2c-2.ld": {"digit0", "digit1"},
+    "var-timer.ld": {"Rdel_input", "t_max"}, "sample_var-timer.ld": {"Rdel_input", "t_max"},
+    "catalog.ld": {"var"},  # LDmicro's element catalogue: every element on default names
+}
+
+
+def test_the_corpus_hits():
+    lags = {}
+    for path in all_ld_files():
+        prog, _ = ldfile.read_ld_bytes(path.read_bytes())
+        found = [d for d in check_program(prog) if d.code in ("LD133", "LD217", "LD316", "LD317")]
+        assert {d.code for d in found} <= {"LD133"}, (path, [d.message for d in found])
+        if found:
+            lags[path.name] = {d.message.split("'")[1] for d in found}
+    assert lags == CORPUS_LAGS
