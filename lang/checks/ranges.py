@@ -31,9 +31,10 @@ _PAIRS = 256  # value pairs tried one by one before falling back on the bounds
 @dataclass(frozen=True)
 class Values:
     """The values a name or a constant can have: `low`..`high` (a name's
-    whole range), and when known exactly, `exact`. `assigned` are the constants the program's
-    MOVs write (for a name only ever set to constants), `writer` the first
-    element that can leave any value (for messages)."""
+    whole range), and when known exactly, `exact`. `assigned` are the
+    constants the program's MOVs write (for a name only ever set to
+    constants), `writer` the first element that can leave any value in it
+    (rung, element: for messages)."""
 
     low: int
     high: int
@@ -44,11 +45,6 @@ class Values:
     @staticmethod
     def of(values: frozenset[int]) -> Values:
         return Values(min(values), max(values), values)
-
-    def can_be(self, value: int) -> bool:
-        if self.exact is not None:
-            return value in self.exact
-        return self.low <= value <= self.high
 
 
 def reading(index, kinds: tuple[str, ...], fields: tuple[str, ...]) -> list[tuple[int, Element]]:
@@ -131,7 +127,7 @@ def comparison_result(program, index, element: Element) -> bool | None:
     return compare(element.kind, a, b)
 
 
-def never_written_bit(index, name: str) -> bool:
+def _never_written_bit(index, name: str) -> bool:
     """An internal relay or output nothing writes: it stays 0."""
     return name[:1] in ("R", "Y") and name not in GENERATED and not any(use.writes for use in index.names.get(name, ()))
 
@@ -156,7 +152,7 @@ def constant_power(program, index, node) -> bool | None:
         return False
     if kind == "CONTACTS":
         name = str(node.args.get("name", ""))
-        if never_written_bit(index, name):
+        if _never_written_bit(index, name):
             return bool(node.args.get("negated"))
         return None
     if kind in RELATIONS:

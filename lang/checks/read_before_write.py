@@ -10,7 +10,7 @@ from ..labels import label, token
 from ..model import Program
 from ..roles import ROLES
 from ..values import is_literal
-from .common import GENERATED, NAMES, rung_no
+from .common import GENERATED, NAMES, literal_or_none, rung_no
 
 CODE = rule_code(__name__)
 # A function of each name's uses, the rungs they are in and the order the rungs
@@ -90,7 +90,8 @@ class _Flow:
         self.loops = []
         for rung, element in index.of_kind("GOTO"):
             target = token(element.args.get("label"))
-            back = labels.get(target) if not target.isdigit() else int(target) - 1
+            number = literal_or_none(target)
+            back = labels.get(target) if number is None else number - 1
             if back is not None and back <= rung:
                 self.loops.append((back, rung))
 

@@ -10,7 +10,7 @@ from ..index import ProgramIndex
 from ..instructions import JUMPS
 from ..labels import token
 from ..model import Element, Program
-from .common import node_span, rung_no
+from .common import literal_or_none, node_span, rung_no
 from .ranges import condition_of
 
 CODE = rule_code(__name__)
@@ -47,9 +47,9 @@ def _after_goto(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     # where a jump may land: a LABEL, a rung number a GOTO names, a subroutine's start or end
     landings = {rung for rung, _ in index.of_kind("LABEL", "SUBPROG", "ENDSUB")}
     for _, element in index.of_kind("GOTO"):
-        target = token(element.args.get("label"))
-        if target.isdigit():
-            landings.add(min(max(int(target), 1), count + 1) - 1)
+        number = literal_or_none(token(element.args.get("label")))
+        if number is not None:  # clamped as LDmicro does (lang.semantics.lower.Jumps)
+            landings.add(min(max(number, 1), count + 1) - 1)
     # a master relay zone may take the GOTO's power away
     first_relay = min((rung for rung, _ in index.of_kind("MASTER_RELAY")), default=count)
     found = []
