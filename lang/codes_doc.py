@@ -27,7 +27,8 @@ Every diagnostic textladder reports has a stable code; `ladder explain CODE` pri
 {groups}
 
 Each code has a default severity. An **error** stops `ladder build` and compile-on-save; a
-**warning** does not. textladder reads LDmicro's programs, so every error below says how
+**warning** does not; an **info** (LD133) notes something that is often meant, and the editor
+shows it faintly. textladder reads LDmicro's programs, so every error below says how
 LDmicro 5.4 treats a program with the problem (checked by compiling each example with LDmicro
 5.4 itself): it refuses it, crashes on it, reports it and writes a HEX anyway ("complains"), or
 accepts it. Where LDmicro still writes a HEX, the entry names the defect that makes the problem
@@ -46,7 +47,7 @@ LD131 = "off"      # read-but-never-written variables are set over Modbus here
 LD211 = "error"    # every master relay zone must be closed
 ```
 
-The values are `"error"`, `"warning"` and `"off"`. The editor's `ladder.diagnostics` setting
+The values are `"error"`, `"warning"`, `"info"` and `"off"`. The editor's `ladder.diagnostics` setting
 (a table of the same form) applies on top of the file's. Reading errors (LD0xx) and simulation
 faults (LD6xx) keep their severity: a program that could not be read whole would otherwise
 be checked, simulated and built without the part that was lost. `ladder build` and

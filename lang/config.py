@@ -19,10 +19,10 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .codes import CODES
-from .diagnostics import ERROR, Diagnostic
+from .diagnostics import ERROR, INFO, WARNING, Diagnostic
 
 OFF = "off"
-CHOICES = (ERROR, "warning", OFF)
+CHOICES = (ERROR, WARNING, INFO, OFF)
 # file name -> the keys leading to its table of severities
 _TABLES = (("ladder.toml", ("diagnostics",)), ("pyproject.toml", ("tool", "ladder", "diagnostics")))
 
@@ -60,10 +60,10 @@ NONE = Severities({})
 
 
 def parse(table: object, source: str) -> Severities:
-    """Check a table of `CODE = "error" | "warning" | "off"`."""
+    """Check a table of `CODE = "error" | "warning" | "info" | "off"`."""
     if not isinstance(table, dict):
         raise ConfigError(f"{source}: the diagnostics setting must be a table of CODE = \"error\" | "
-                          "\"warning\" | \"off\"")
+                          "\"warning\" | \"info\" | \"off\"")
     chosen = {}
     for key, value in table.items():
         code = str(key).upper()
@@ -73,7 +73,7 @@ def parse(table: object, source: str) -> Severities:
             raise ConfigError(f"{source}: {key}: cannot be changed: reading errors (LD0xx) and simulation "
                               "faults (LD6xx) keep their severity")
         if value not in CHOICES:
-            raise ConfigError(f"{source}: {key} = {value!r}: expected \"error\", \"warning\" or \"off\"")
+            raise ConfigError(f"{source}: {key} = {value!r}: expected \"error\", \"warning\", \"info\" or \"off\"")
         chosen[code] = value
     return Severities(chosen, source)
 

@@ -9,6 +9,7 @@ from .model import Span
 
 ERROR = "error"
 WARNING = "warning"
+INFO = "info"  # a fact worth knowing that is often intended (LD133): the editor shows it faintly
 
 
 @dataclass(frozen=True)
@@ -55,7 +56,7 @@ class Fix:
 @dataclass(frozen=True)
 class Diagnostic:
     code: str  # stable code, e.g. "LD101"; documented by `ladder explain CODE`
-    severity: str  # ERROR or WARNING
+    severity: str  # ERROR, WARNING or INFO
     message: str
     span: Span | None
     related: tuple[Related, ...] = field(default=())

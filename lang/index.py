@@ -121,6 +121,7 @@ class ProgramIndex:
         self.rungs: Iterable[int] = range(len(program.rungs))  # the rungs indexed
         self._empty()
         self.names: dict[str, list[Use]] = self.uses  # every name the program uses (a view's: the program's)
+        self.whole = self  # the whole program's index (a view's or a part's: the one it was taken from)
         self._build(program, self.rungs)
 
     def _empty(self) -> None:
@@ -142,6 +143,7 @@ class ProgramIndex:
         part.rungs = rungs
         part._empty()
         part.names = self.names
+        part.whole = self.whole
         if "device" in self.__dict__:
             part.__dict__["device"] = self.device
         part._build(program, rungs)

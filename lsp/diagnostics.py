@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 from lsprotocol import types
 
 from ide.diagnostics import shown
-from lang.diagnostics import ERROR, Diagnostic
+from lang.diagnostics import ERROR, INFO, Diagnostic
 
 from .documents import Analysis
 from .protocol import Encoded
@@ -104,6 +104,9 @@ class Publisher:
         self.server.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
 
+_SEVERITIES = {ERROR: types.DiagnosticSeverity.Error, INFO: types.DiagnosticSeverity.Information}
+
+
 def to_lsp(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic) -> types.Diagnostic:
     positions = analysis.positions
     related = None
@@ -115,7 +118,7 @@ def to_lsp(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic) -> 
     return types.Diagnostic(
         range=positions.range(diagnostic.span),
         message=diagnostic.message,
-        severity=types.DiagnosticSeverity.Error if diagnostic.severity == ERROR else types.DiagnosticSeverity.Warning,
+        severity=_SEVERITIES.get(diagnostic.severity, types.DiagnosticSeverity.Warning),
         code=diagnostic.code,
         source=SOURCE,
         related_information=related or None,

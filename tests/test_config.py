@@ -64,7 +64,7 @@ def test_a_build_never_lowers_an_error_but_may_raise_a_warning(tmp_path, capsys)
 @pytest.mark.parametrize("table, says", [
     ('LD999 = "off"', "LD999: no such diagnostic code"),
     ('LD003 = "off"', "reading errors (LD0xx) and simulation faults (LD6xx) keep their severity"),
-    ('LD131 = "hint"', 'expected "error", "warning" or "off"'),
+    ('LD131 = "hint"', 'expected "error", "warning", "info" or "off"'),
     ('LD131 = ', "cannot read"),
 ])
 def test_a_wrong_setting_is_a_usage_error_naming_the_file(tmp_path, capsys, table, says):

@@ -21,10 +21,14 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
   offered only to an unused name);
 * the PROGRAM rules run on the whole index, every time.
 
+An edit that adds, removes or changes a GOTO, LABEL or subroutine element
+changes the order the rungs run in, which NAMES rules may follow (reading the
+program's jumps from `index.whole`): the program is checked whole.
+
 A row of the I/O table changed: the name's NAMES rules run again (no RUNGS
 rule reads the pins, so the rungs that use the name are not checked again:
-a name shared by thousands of rungs, one row edited, costs one name). Anything else (other settings or
-variable sizes, another number of rungs, most rungs changed) is checked whole.
+a name shared by thousands of rungs, one row edited, costs one name).
+Anything else (other settings or variable sizes, another number of rungs, most rungs changed) is checked whole.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from types import ModuleType
 from ..config import NONE, Severities
 from ..diagnostics import Diagnostic, Related
 from ..index import ProgramIndex
+from ..instructions import JUMPS
 from ..model import Program, Rung, Span
 from . import RULES
 from .common import NAMES, PROGRAM, RUNGS, offering
@@ -141,6 +146,11 @@ class Checker:
         changed = edit.changed
         before = index.view(changed)
         after = index._part(program, changed)
+        if _jumps(before) != _jumps(after):
+            # the order the rungs run in changed: a NAMES rule that follows it (LD133) is
+            # a function of each name's uses and of that order, so every name is checked again
+            self._whole(program)
+            return
         names = _names(before) | _names(after) | edit.pinned
         came_or_went = {name for name in names
                         if (name in index.uses) != (len(index.uses.get(name, ())) - len(before.uses.get(name, ()))
@@ -190,6 +200,12 @@ def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Ed
     if old.pins != new.pins:
         edit.pinned = {name for name in old.pins.keys() | new.pins.keys() if old.pins.get(name) != new.pins.get(name)}
     return edit
+
+
+def _jumps(index: ProgramIndex) -> list[tuple[int, str, str]]:
+    """The GOTOs, LABELs and subroutine elements of an index's rungs and their labels."""
+    return sorted((rung, element.kind, str(element.args.get("label"))) for kind in (*JUMPS, "LABEL")
+                  for rung, element in index.by_kind.get(kind, ()))
 
 
 def _names(index: ProgramIndex) -> set[str]:
