@@ -80,7 +80,8 @@ class _Placed:
     @span.setter
     def span(self, span: Span | None) -> None:
         origin = self._origin
-        self._span = span if origin is None or not origin.line else _moved(span, -origin.line)
+        # the subclasses hold the slot (Element a __dict__), which mypy cannot see here
+        self._span = span if origin is None or not origin.line else _moved(span, -origin.line)  # type: ignore[misc]
 
 
 @dataclass(init=False)

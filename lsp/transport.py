@@ -76,6 +76,17 @@ class LadderProtocol(LanguageServerProtocol):
             self._workspace = LineWorkspace.like(self._workspace)
         return result
 
+    @lsp_method(types.SHUTDOWN)
+    def lsp_shutdown(self, *args: Any) -> Generator[Any, Any, None]:
+        # pygls cancels the pending requests while iterating over the table that a
+        # cancelled request's answer removes it from ("dictionary changed size during
+        # iteration": the shutdown was answered with an error): cancel them first, from a copy
+        current = self.msg_id
+        for msg_id, future in list(self._request_futures.items()):
+            if msg_id != current and not future.done():
+                future.cancel()
+        return (yield from super().lsp_shutdown(*args))
+
     def _send_handler_result(self, future: concurrent.futures.Future[Any], *, msg_id: MsgId) -> None:
         # pygls logs every error answer with a traceback: not these, which are answers, not bugs
         expected = not future.cancelled() and isinstance(future.exception(), (JsonRpcContentModified, UserError))

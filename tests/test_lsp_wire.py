@@ -118,3 +118,17 @@ def test_input_that_is_not_a_pipe_is_read_to_its_end(tmp_path, stdin):
                               capture_output=True, timeout=30)
     assert done.returncode == 0
     assert b"Traceback" not in done.stderr
+
+
+def test_shutdown_while_a_request_is_pending_is_answered_and_the_server_exits(wire):
+    """pygls cancels the pending requests while iterating over the table their
+    cancellation removes them from: the shutdown must still be answered."""
+    text = (ROOT / "examples" / "reversing-motor.ladder").read_text(encoding="utf-8")
+    wire.send({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": "file:///tmp/motor.ladder", "languageId": "ladder", "version": 1, "text": text}}})
+    wire.request(1, "workspace/executeCommand", {"command": "ladder.verify", "arguments": [
+        "file:///tmp/motor.ladder", {"bound": 5000, "timeoutS": 30}]})
+    wire.request(2, "shutdown", None)  # while the prover works (a proof takes ~0.3 s)
+    assert wire.answers({2}).get(2) == "result"
+    wire.send({"jsonrpc": "2.0", "method": "exit"})
+    assert wire.process.wait(timeout=10) == 0

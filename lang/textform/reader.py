@@ -783,7 +783,7 @@ def move_circuit(circuit: Series, delta: int) -> None:
             was = node._origin
             if was is not None and was.line:
                 if node.__class__ is element_class:
-                    node._arg_spans = node.arg_spans  # type: ignore[union-attr]
+                    node._arg_spans = node.arg_spans
                 node._span = node.span
             node._origin = origin
             if node.__class__ is not element_class:
