@@ -87,8 +87,7 @@ class Publisher:
             kept[diagnostic] = text
             texts.append(text)
         self.encoded[uri] = kept if analysis.positions.ascii else {}
-        converter = self.server.protocol._converter
-        texts += [json.dumps(converter.unstructure(d), separators=(",", ":"))
+        texts += [json.dumps(self.server.protocol._converter.unstructure(d), separators=(",", ":"))
                   for source in self.sources for d in source(analysis)]
         self.server.notify(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, Encoded(
             f'{{"uri":{json.dumps(uri)},"version":{json.dumps(analysis.version)},'
