@@ -258,8 +258,7 @@ def test_a_pwm_output_is_refused_at_its_element():
 @needs_gpsim
 @pytest.mark.slow
 def test_worst_case_is_sound_and_tight_on_a_loop_free_program(tmp_path):
-    prog = program(*_logic("pic10f202").rungs[:0],
-                   [contact("Xa"), timer("TON", "Ton", 50_000), coil("Ya")],
+    prog = program([contact("Xa"), timer("TON", "Ton", 50_000), coil("Ya")],
                    [contact("Xb"), el("OSR"), counter("CTU", "Cup", 1000)],
                    [el("GEQ", op1="Cup", op2="3"), contact("Xa"), el("ADD", dest="s", op1="s", op2="Cup")],
                    mcu="pic10f202", pins={"Xa": "GP3", "Xb": "GP0", "Ya": "GP1"}, sizes={"s": 2},
@@ -273,7 +272,7 @@ def test_worst_case_is_sound_and_tight_on_a_loop_free_program(tmp_path):
 @needs_gpsim
 @pytest.mark.slow
 def test_worst_case_covers_a_division(tmp_path):
-    prog = program([contact("Xa"), el("DIV", dest="q", op1="s", op2="7"), el("ADD", dest="s", op1="s", op2="13")],
+    prog = program([contact("Xa"), par([el("DIV", dest="q", op1="s", op2="7")], [el("ADD", dest="s", op1="s", op2="13")])],
                    mcu="pic10f202", pins={"Xa": "GP3", "Ya": "GP1"}, sizes={"q": 2, "s": 2}, crystal_hz=4_000_000)
     build, measured = measure_pic(prog, [(0.0, "GP3", 1)], 500, tmp_path)
     _sound(build, measured)
