@@ -79,9 +79,12 @@ def _in_ram(addresses, part: Part) -> frozenset[int]:
 
 
 def _routines_first(items: list, split: int) -> None:
-    """The routines and tables (items[split:]) at the start, behind a GOTO to the runtime."""
-    if split < len(items):
-        items[:] = [Goto("main"), *items[split:], Label("main"), *items[:split]]
+    """The routines and tables (items[split:]) at the start, behind a GOTO to
+    the runtime; each part's skips compressed on its own."""
+    runtime, routines = items[:split], items[split:]
+    compress_skips(runtime)
+    compress_skips(routines)
+    items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
 
 
 class Pic10Backend:
@@ -107,9 +110,8 @@ class Pic10Backend:
         split = len(assembler.items)
         write_routines(cx.e, layout.scratch, cx.routines)
         _write_tables(cx)
-        compress_skips(assembler.items)
-        _place_scratch(assembler.items, layout, part)
         _routines_first(assembler.items, split)
+        _place_scratch(assembler.items, layout, part)
         config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
                   for address, value in part.config_words}
         try:
