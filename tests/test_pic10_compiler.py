@@ -317,3 +317,13 @@ def test_random_programs_follow_the_simulator_on_pic10(case, tmp_path_factory):
 def test_the_part_is_read_through_the_pic16_part():
     part = Part.of(find_device("pic10f202"))
     assert part.reg("GPIO") == 6 and [list(r) for r in part.ram_ranges()] == [list(range(8, 32))]
+
+
+def test_a_scan_longer_than_a_turn_of_timer0_is_warned():
+    """10 ms at 4 MHz: Timer0 at 1:16, 625 ticks a cycle; a 5 ms DELAY fits the cycle but not a turn
+    of the timer (4,096 cycles), between two of the wait's reads."""
+    build = compiler.build(program([contact("Xa"), el("DELAY", delay="5000")], mcu="pic10f202", pins=PINS,
+                                   crystal_hz=4_000_000))
+    (warning,) = [w for w in build.warnings if w.code == "LD712"]
+    assert "more than one turn of Timer0" in warning.message
+    assert build.budget.limit == (256 * 16 - 20, "one turn of Timer0")

@@ -34,7 +34,7 @@ from . import flow as pic10_flow
 from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
-from .runtime import CYCLE_BYTES, write_runtime
+from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
 CYCLE_UNACHIEVABLE = diagnostic_code("LD706")
@@ -139,4 +139,4 @@ class Pic10Backend:
             flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
             labels=assembled.symbols,
             segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-            listing_suffix=".asm", loops=dict(cx.e.bounds))
+            listing_suffix=".asm", loops=dict(cx.e.bounds), scan_limit=scan_limit(part, clock_hz, machine.cycle_us))

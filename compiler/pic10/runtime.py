@@ -36,6 +36,7 @@ from ..pic16.select import Context, select
 TRIS_GPIO = 6
 CLEAR_ONE_BY_ONE = 9  # up to this many bytes CLRF each: shorter than the loop
 CYCLE_BYTES = 3  # TMR0 at the last read, and the ticks left in the cycle (16 bits)
+WAIT_CYCLES = 20  # from a read of TMR0 to the scan (about 15) and from its end to the next read (3), at most
 
 
 def _clear(cx: Context, addresses: list[int]) -> None:
@@ -97,6 +98,17 @@ def _wait(cx: Context, ticks: int) -> None:
     e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
     ints.add_constant(e, left, ticks)
     e.goto("scan")
+
+
+def scan_limit(part, crystal_hz: int, cycle_us: int) -> tuple[int, str]:
+    """How long a scan may last before Timer0 turns between two reads: 256
+    ticks at the prescaler the cycle uses, less the wait's own instructions
+    between the last read and the scan and back to the next read."""
+    timer = part.facts["cycle_timer"]
+    setting = cycle_setting(part.device, crystal_hz, cycle_us, free=True)
+    assert setting is not None  # the back end refuses a cycle Timer0 cannot make first
+    prescaler = next(int(text) for text, select in timer["prescalers"].items() if select == setting[0])
+    return timer["counts"] * prescaler - WAIT_CYCLES, "one turn of Timer0"
 
 
 def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
