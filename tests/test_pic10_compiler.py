@@ -206,7 +206,8 @@ def test_a_program_too_large_for_program_memory_is_refused_with_the_figures():
     rungs = [[contact("Xa"), el("ADD", dest="v", op1="v", op2=str(i))] for i in range(90)]
     code, message = _refusal(program(*rungs, mcu="pic10f200", pins=PINS, sizes={"v": 2}))
     assert code == FLASH_FULL
-    assert re.search(r"the program needs \d+ words of program memory; the PIC10F200 has 255", message)
+    assert re.search(r"the program needs \d+ words of program memory; the PIC10F200 has 255 \(its last word keeps "
+                     r"the oscillator calibration\)", message)
 
 
 def test_variables_beyond_the_ram_are_refused_with_the_figures():
@@ -246,10 +247,12 @@ def test_a_peripheral_the_part_lacks_is_refused_at_its_element(rung, code):
 
 
 def test_a_pwm_output_is_refused_at_its_element():
+    """LD504 at SET PWM (and LD405 at its pin)."""
     with pytest.raises(CompileError) as found:
         compiler.build(program([contact("Xa"), el("SET_PWM", duty="50", freq=1000, name="Pout")],
                                mcu="pic10f200", pins={**PINS, "Pout": "GP2"}))
-    assert any(d.span is not None and d.span.line == 0 for d in found.value.diagnostics)
+    (problem,) = [d for d in found.value.diagnostics if d.code == "LD504"]
+    assert problem.span is not None and problem.span.line == 0 and "the PIC10F200 has no PWM output" in problem.message
 
 
 # --- the scan-time budget ---------------------------------------------------------------------------
