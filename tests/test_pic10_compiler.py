@@ -125,6 +125,16 @@ def test_ladder_parts_lists_both_with_build_yes(capsys):
         assert "yes" in line.split()
 
 
+@pytest.mark.parametrize("part", PARTS)
+def test_build_takes_the_lower_case_target_name(part, tmp_path, capsys):
+    from ladder.cli import main
+
+    source = Path(__file__).resolve().parent / "pic10_programs" / "p10f200_basic.ld"
+    assert main(["build", str(source), "--target", part, "-o", str(tmp_path / "p.hex")]) == 0
+    assert capsys.readouterr().out.startswith(f"{part.upper()}: flash ")
+    assert (tmp_path / "p.asm").read_text().count(f"processor p{part[3:]}") == 1
+
+
 # --- programs ---------------------------------------------------------------------------------------
 
 
