@@ -6,7 +6,7 @@ What the mid-range patterns write and the baseline lacks is written with
 what it has, on a byte of RAM of its own (`temp`), with the same result
 and the same C and Z:
 
-    ADDLW k   MOVWF t; MOVLW k; ADDWF t,W
+    ADDLW k   MOVWF t; MOVLW k; ADDWF t,W   (after MOVF f,W: MOVLW k; ADDWF f,W)
     SUBLW k   XORLW 0xFF; MOVWF t; MOVLW k+1; ADDWF t,W    (k - W = ~W + k + 1)
     SUBLW 255 XORLW 0xFF; BSF STATUS,C
     RETURN    RETLW 0    (W after a call is never relied on: the emitter forgets it)
@@ -60,6 +60,8 @@ class Assembler(Pic16Assembler):
         self.temp = temp
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
+        if self._added_to_loaded(op, args):
+            return
         written = lowered(op, args, self.temp)
         if written is None:
             super().emit(op, *args, comment=comment)
@@ -68,6 +70,19 @@ class Assembler(Pic16Assembler):
         assert len(written) == 1 or not (isinstance(last, Ins) and last.op in isa.SKIPS), f"{op} after a skip"
         for index, (name, operands) in enumerate(written):
             super().emit(name, *operands, comment=comment if index == 0 else "")
+
+    def _added_to_loaded(self, op: str, args: tuple) -> bool:
+        """`MOVF f,W; ADDLW k` becomes `MOVLW k; ADDWF f,W` (the same sum and flags, no byte of
+        RAM), when no skip guards the MOVF."""
+        if op != "addlw" or len(self.items) < 2:
+            return False
+        load, before = self.items[-1], self.items[-2]
+        if not (isinstance(load, Ins) and load.op == "movf" and load.args[1] == W) or (
+                isinstance(before, Ins) and before.op in isa.SKIPS):
+            return False
+        self.items[-1] = Ins("movlw", (args[0] & 0xFF,), load.comment)
+        super().emit("addwf", load.args[0], W)
+        return True
 
     def assemble(self, processor: str, config: dict[int, int]) -> Assembled:
         placed, labels, size = self._layout(set())

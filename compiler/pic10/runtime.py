@@ -72,8 +72,10 @@ def option_value(cx: Context, prescaler_bits: int) -> int:
 def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     e, part = cx.e, cx.part
     e.store(part.reg("OSCCAL"))
-    used = sorted(e.ram - set(cx.layout.scratch))
-    _clear(cx, used)
+    # the scratch bytes are written before they are read, the cycle's bytes set below
+    clock = cx.layout.clock
+    cycle = set(range(clock, clock + CYCLE_BYTES)) if clock is not None else set()
+    _clear(cx, sorted(e.ram - set(cx.layout.scratch) - cycle))
     e.load_constant(option_value(cx, prescaler_bits))
     e.ins("option")
     outputs = output_masks(cx).get("P", 0)
