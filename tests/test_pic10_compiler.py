@@ -340,3 +340,13 @@ def test_a_scan_longer_than_a_turn_of_timer0_is_warned():
     (warning,) = [w for w in build.warnings if w.code == "LD712"]
     assert "more than one turn of Timer0" in warning.message
     assert build.budget.limit == (256 * 16 - 20, "one turn of Timer0")
+
+
+@needs_gpsim
+def test_a_scenario_passes_on_the_pic10_image(capsys):
+    """`ladder test --on pic10`: the timer and the counter of p10f200_basic, in gpsim."""
+    from ladder.cli import main
+
+    status = main(["test", "--on", "pic10", str(Path(__file__).resolve().parent / "pic10_programs" / "p10f200_basic.scn")])
+    out = capsys.readouterr().out
+    assert status == 0 and "1 passed, 0 failed" in out, out
