@@ -220,6 +220,16 @@ def test_a_program_too_large_for_program_memory_is_refused_with_the_figures():
                      r"the oscillator calibration\)", message)
 
 
+def test_tables_beyond_the_first_256_words_are_refused_with_the_address():
+    """Five tables of 60 entries: the fifth ends past word 255, where a computed jump cannot reach."""
+    rungs = [[contact("Xa"), el("LOOK_UP_TABLE", dest="v", index="i", values=[k + j for j in range(60)])]
+             for k in range(5)]
+    code, message = _refusal(program(*rungs, mcu="pic10f202", pins=PINS, sizes={"i": 1, "v": 1}))
+    assert code == FLASH_FULL
+    assert re.fullmatch(r"'table5_data' reaches word \d+: a CALL and a table's jump reach only the first 256 words "
+                        r"of the PIC10F202", message)
+
+
 def test_variables_beyond_the_ram_are_refused_with_the_figures():
     rungs = [[contact("Xa"), el("ADD", dest=f"v{i}", op1=f"v{i}", op2="1")] for i in range(7)]
     code, message = _refusal(program(*rungs, mcu="pic10f200", pins=PINS, sizes={f"v{i}": 2 for i in range(7)}))

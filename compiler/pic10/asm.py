@@ -16,7 +16,7 @@ them after a load of W, never under a skip; the assembler checks it.
 
 Reach. A GOTO reaches all 512 words; a CALL, and a computed jump (a write
 to PCL), only the first 256 (bit 8 of the PC is cleared). The back end puts
-its routines and tables first; what still lies beyond is refused with the
+its tables and routines first; what still lies beyond is refused with the
 addresses (`OutOfReach`). The PIC10F20x's last word holds the factory's
 oscillator calibration (MOVLW), which the reset runs first: it is never
 written.

@@ -6,7 +6,7 @@ The instruction patterns and routines are the PIC16 back end's
 bank; the baseline's assembler (asm.py) writes the few mid-range
 instructions it lacks with its own. What is the baseline's own: the
 runtime (Timer0 polled for the cycle, OPTION and TRIS), the tables (a
-computed jump in the first 256 words), the routines and tables placed first
+computed jump in the first 256 words), the tables and routines placed first
 (a CALL reaches only the first 256 words), the scratch bytes only the code
 uses (16 or 24 bytes of RAM), and the refusals: program memory, RAM, the
 two-level stack.
@@ -79,7 +79,7 @@ def _in_ram(addresses, part: Part) -> frozenset[int]:
 
 
 def _routines_first(items: list, split: int) -> None:
-    """The routines and tables (items[split:]) at the start, behind a GOTO to
+    """The tables and routines (items[split:]) at the start, behind a GOTO to
     the runtime; each part's skips compressed on its own."""
     runtime, routines = items[:split], items[split:]
     compress_skips(runtime)
@@ -108,8 +108,9 @@ class Pic10Backend:
         prepare(cx, code)
         write_runtime(cx, code, clock_hz)
         split = len(assembler.items)
-        write_routines(cx.e, layout.scratch, cx.routines)
+        # tables first: every entry must lie in the first 256 words, of a routine only its entry
         _write_tables(cx)
+        write_routines(cx.e, layout.scratch, cx.routines)
         _routines_first(assembler.items, split)
         _place_scratch(assembler.items, layout, part)
         config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
@@ -121,7 +122,7 @@ class Pic10Backend:
                                    f"{part.title} has {part.flash_words - 1} (its last word keeps the "
                                    "oscillator calibration)") from None
         except OutOfReach as error:
-            raise fail(FLASH_FULL, f"'{error.label}' lies at word {error.address}: a CALL or a table's jump reaches "
+            raise fail(FLASH_FULL, f"'{error.label}' reaches word {error.address}: a CALL and a table's jump reach "
                                    f"only the first 256 words of the {part.title}") from None
         chain = deepest(assembled.words)
         if len(chain) > part.facts["stack"]:
