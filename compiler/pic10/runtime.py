@@ -1,7 +1,8 @@
 """The runtime around the scan on the PIC10F20x.
 
     reset:  the factory's calibration (the MOVLW in the last word, which the
-            reset runs first) into OSCCAL; the RAM in use cleared; OPTION:
+            reset runs first) into OSCCAL, FOSC4 cleared (GP2 a port bit, not
+            the clock's output); the RAM in use cleared; OPTION:
             Timer0 on the instruction clock (T0CS = 0, which frees GP2 for
             output), its prescaler, the weak pull-ups of GP0, GP1 and GP3 on
             when an input wants one, wake-up on change off; outputs low, TRIS;
@@ -72,6 +73,8 @@ def option_value(cx: Context, prescaler_bits: int) -> int:
 def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     e, part = cx.e, cx.part
     e.store(part.reg("OSCCAL"))
+    # FOSC4 would put the clock on GP2: a calibration word erased to XORLW 0xFF leaves it set
+    e.ins("bcf", part.reg("OSCCAL"), part.bit("OSCCAL", "FOSC4"))
     # the scratch bytes are written before they are read, the cycle's bytes set below
     clock = cx.layout.clock
     cycle = set(range(clock, clock + CYCLE_BYTES)) if clock is not None else set()
