@@ -95,6 +95,10 @@ def test_part_facts_match_gputils(part):
         assert options[field["symbol"]] & field["mask"] == field["value"]
         value &= options[field["symbol"]]
     assert word["value"] == value == 0xFEB  # watchdog off, no code protection, GP3 an input (LDmicro's)
+    # GP3 is the reset input when MCLRE is set (_MCLRE_ON), as the reserved pins say for LD413
+    (reset,) = find_device(part).data["reserved_pins"]["GP3"]
+    mclre = data["config"]["fields"]["MCLRE"]["mask"]
+    assert (reset["field"], reset["mask"], reset["values"]) == ("MCLRE", mclre, [options["_MCLRE_ON"] & mclre])
 
 
 def test_pins_are_ldmicros():
