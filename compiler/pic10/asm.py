@@ -29,8 +29,6 @@ from ..pic16.asm import Assembler as Pic16Assembler
 from ..pic16.emit import STATUS, C, W
 from . import isa
 
-CALL_WORDS = 256  # the words a CALL or a write to PCL reaches
-
 
 class OutOfReach(Exception):
     def __init__(self, label: str, address: int):
@@ -55,8 +53,9 @@ def lowered(op: str, args: tuple, temp: int) -> list[tuple[str, tuple]] | None:
 class Assembler(Pic16Assembler):
     instruction_set = isa
 
-    def __init__(self, flash_words: int, temp: int):
+    def __init__(self, flash_words: int, call_words: int, temp: int):
         super().__init__(flash_words, page_words=flash_words)
+        self.call_words = call_words  # the words a CALL or a write to PCL reaches
         self.temp = temp
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
@@ -89,9 +88,9 @@ class Assembler(Pic16Assembler):
         if size > self.flash_words:
             raise ProgramTooLarge(size)
         for item in self.items:
-            if isinstance(item, Goto) and item.call and labels[item.target] >= CALL_WORDS:
+            if isinstance(item, Goto) and item.call and labels[item.target] >= self.call_words:
                 raise OutOfReach(item.target, labels[item.target])
-            if isinstance(item, Table) and labels[item.name] + len(item.values) > CALL_WORDS:
+            if isinstance(item, Table) and labels[item.name] + len(item.values) > self.call_words:
                 raise OutOfReach(item.name, labels[item.name] + len(item.values) - 1)
         return self._output(placed, labels, processor, config)
 

@@ -14,6 +14,7 @@ two-level stack.
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 
 from lang.codes import code as diagnostic_code
@@ -78,6 +79,12 @@ def _in_ram(addresses, part: Part) -> frozenset[int]:
     return frozenset(address for address in addresses if address in ram)
 
 
+def _callee(label: str) -> str:
+    """A call target as a message names it: a GOSUB's subroutine by its first rung, a routine by its label."""
+    rung = re.fullmatch(r"rung(\d+)", label)
+    return f"the subroutine at rung {rung.group(1)}" if rung else label
+
+
 def _routines_first(items: list, split: int) -> None:
     """The tables and routines (items[split:]) at the start, behind a GOTO to
     the runtime; each part's skips compressed on its own."""
@@ -101,7 +108,7 @@ class Pic10Backend:
         layout = allocate(code, part, machine, True, scratch_bytes=0, clock_bytes=CYCLE_BYTES)
         layout.scratch = tuple(range(UNPLACED, UNPLACED + SCRATCH_BYTES))
         # the last word keeps the oscillator calibration
-        assembler = Assembler(part.flash_words - 1, UNPLACED + SCRATCH_BYTES)
+        assembler = Assembler(part.flash_words - 1, part.facts["call_words"], UNPLACED + SCRATCH_BYTES)
         ram = _in_ram(ram_in_use(layout), part) | set(layout.scratch)
         cx = Context(Emitter(assembler, part, frozenset(ram), BaselineCore()), part, layout,
                      replace(machine, crystal_hz=clock_hz), self.delay_loop_cycles)
@@ -123,10 +130,13 @@ class Pic10Backend:
                                    "oscillator calibration)") from None
         except OutOfReach as error:
             raise fail(FLASH_FULL, f"'{error.label}' reaches word {error.address}: a CALL and a table's jump reach "
-                                   f"only the first 256 words of the {part.title}") from None
+                                   f"only the first {part.facts['call_words']} words of the {part.title}") from None
         chain = deepest(assembled.words)
         if len(chain) > part.facts["stack"]:
-            names = {address: label for label, address in assembled.symbols.items()}
+            names: dict[int, str] = {}
+            for label, address in assembled.symbols.items():
+                if not label.startswith("_"):  # the patterns' own labels name nothing a user wrote
+                    names.setdefault(address, _callee(label))
             calls = ", which calls ".join(names.get(address, f"word {address}") for address in chain)
             gosubs = machine.elements("GOSUB")
             raise fail(RAM_FULL, f"the program calls {calls}: {len(chain)} return addresses at once; the "
