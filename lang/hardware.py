@@ -216,7 +216,8 @@ def analog_group(device: Device, channels: set[int]) -> tuple[int, frozenset[int
 _PORT_REGISTER = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-Z])$", re.IGNORECASE)
 # what each family calls the others' port registers: an AVR has no TRIS (it is DDR); a PIC16
 # reads its pins in PORT and sets their direction in TRIS
-_PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}, "pic18": {"PIN": "PORT", "DDR": "TRIS"}}
+_PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}, "pic18": {"PIN": "PORT", "DDR": "TRIS"},
+               "pic10": {"PIN": "PORT", "DDR": "TRIS"}}
 
 
 def _data_addresses(device: Device) -> range:
@@ -225,6 +226,8 @@ def _data_addresses(device: Device) -> range:
     facts = device.data[device.family]
     if "access_sfr" in facts:  # a PIC18's 4096: its RAM banks and the SFRs at the top
         return range(0, 0x1000)
+    if "file_addresses" in facts:  # a baseline PIC10's one bank of 32
+        return range(0, facts["file_addresses"])
     if "banks" in facts:
         return range(0, 128 * facts["banks"])
     return range(0x20, facts["ram"]["start"] + facts["ram"]["size"])

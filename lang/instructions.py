@@ -15,7 +15,7 @@ from .drawing import Box, Text, box, text
 
 # Layers that may support an instruction; a layer that does not is a located
 # diagnostic, never a crash or a silent gap.
-LAYERS = ("parse", "check", "sim", "avr", "pic16", "pic18", "c")
+LAYERS = ("parse", "check", "sim", "avr", "pic16", "pic18", "pic10", "c")
 ALL = frozenset(LAYERS)
 DRAWN_ONLY = frozenset({"parse", "check"})
 SIM_ONLY = frozenset({"parse", "check", "sim"})
@@ -208,7 +208,7 @@ define(
     text("{name}"), text("[T2CNT {delay:delay}]"),
     "While its input is 1, stores in its variable the number of scan cycles that "
     "makes the given time, for use as a variable timer delay.",
-    "timers", support=SIM_ONLY | {"avr", "pic16", "pic18", "c"},
+    "timers", support=SIM_ONLY | {"avr", "pic16", "pic18", "pic10", "c"},
     example='TIME2COUNT Tnew 100000 0', label='T2CNT',
     ldmicro_written=('name',),
 )
@@ -217,7 +217,7 @@ define(
     text("{name}"), text("[T2DLY {delay:delay}]"),
     "While its input is 1, stores in its variable the loop count that makes a "
     "DELAY last the given time on the selected part.",
-    "timers", support=frozenset({"parse", "check", "avr", "pic16", "pic18"}),
+    "timers", support=frozenset({"parse", "check", "avr", "pic16", "pic18", "pic10"}),
     example='TIME2DELAY delay 10', label='T2DLY',
     ldmicro_written=('name',),
 )
@@ -226,7 +226,7 @@ define(
     text("{delay:us}"), text("[DELAY]"),
     "While its input is 1, busy-waits the given number of microseconds (or the "
     "loop count in a variable) inside the scan.",
-    "timers", support=frozenset({"parse", "check", "sim", "avr", "pic16", "pic18", "c"}),
+    "timers", support=frozenset({"parse", "check", "sim", "avr", "pic16", "pic18", "pic10", "c"}),
     example='DELAY 10',
 )
 define(

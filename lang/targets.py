@@ -3,7 +3,8 @@
 A family's key is the support-column key of the instruction table
 (`lang.instructions.LAYERS`) and the `family` of its device files
 (`lang/devices/*.json`). Its `parts` are the device-file part keys its back
-end compiles (`compiler/avr/`, `compiler/pic16/`, `compiler/pic18/`). The compiler, the checks,
+end compiles (`compiler/avr/`, `compiler/pic16/`, `compiler/pic18/`,
+`compiler/pic10/`). The compiler, the checks,
 the command line and the language server all read this table; `lang` never
 imports the compiler (docs/architecture.md).
 
@@ -35,6 +36,7 @@ FAMILIES: dict[str, Family] = {
                                   "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
                                   "pic16f72", "pic12f675", "pic12f683")),
         Family("pic18", "PIC18", ("pic18f4520", "pic18f2520")),
+        Family("pic10", "PIC10", ("pic10f200", "pic10f202")),
         # portable C (`ladder build --emit c`): no part of its own, the program's pins are the user's runtime's
         Family("c", "C", ()),
     )

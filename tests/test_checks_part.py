@@ -39,7 +39,7 @@ NEEDS_THE_IMAGE = {"LD703", "LD704", "LD712"}
 # The MCLR pins that double as an input and cannot drive (the datasheets' pin tables
 # and MCLRE configuration bit: "input only"); nothing else of these parts is.
 INPUT_ONLY = {
-    "pic12f675": {"GP3"}, "pic12f683": {"GP3"},
+    "pic12f675": {"GP3"}, "pic12f683": {"GP3"}, "pic10f200": {"GP3"}, "pic10f202": {"GP3"},
     "pic16f628": {"RA5"}, "pic16f628a": {"RA5"}, "pic16f819": {"RA5"}, "pic16f88": {"RA5"},
     "pic16f886": {"RE3"}, "pic16f887": {"RE3"},
 }

@@ -141,6 +141,8 @@ class Writer:
 
 
 class Assembler(Writer):
+    instruction_set = isa  # the encoder: a module with INSTRUCTIONS, SKIPS, ENDS and encode (the baseline's differs)
+
     def __init__(self, flash_words: int, page_words: int = 2048):
         super().__init__()
         self.flash_words = flash_words
@@ -169,7 +171,7 @@ class Assembler(Writer):
                 assert skip is None or isinstance(item, Comment), f"label {item} right after a skip"
                 before.append(item)
                 continue
-            if isinstance(item, Ins) and item.op in isa.SKIPS and skip is None:
+            if isinstance(item, Ins) and item.op in self.instruction_set.SKIPS and skip is None:
                 skip = item
                 continue
             words: list[_Word] = []
@@ -183,7 +185,7 @@ class Assembler(Writer):
                 falls = item.call or bool(guard)
             elif isinstance(item, Ins):
                 words = guard + [_Word(item.op, item.args, comment=item.comment)]
-                falls = item.op not in isa.ENDS or bool(guard)
+                falls = item.op not in self.instruction_set.ENDS or bool(guard)
             elif isinstance(item, Address):
                 words = guard + [_Word("movlw", target=item.target, high=item.high)]
                 falls = True
@@ -256,7 +258,7 @@ class Assembler(Writer):
                 if offset == lead:
                     lines += heading(before)
                 op, args, text = self._resolve(word, address, labels, jump)
-                value = isa.encode(op, *args)
+                value = self.instruction_set.encode(op, *args)
                 words.append(value)
                 note = f"  {word.comment}" if word.comment else ""
                 lines.append(f"\t{op}\t{text}".rstrip() + f"\t; {address:04X} {value:04X}{note}")
@@ -282,7 +284,7 @@ class Assembler(Writer):
                 value = (target >> 8) if word.high else target & 0xFF
                 return "movlw", (value,), address_text(word.target, word.high)
             return word.op, (target & 0x7FF,), label_name(word.target)
-        pattern = isa.INSTRUCTIONS[word.op].pattern
+        pattern = self.instruction_set.INSTRUCTIONS[word.op].pattern
         args = word.args
         text = {"fd": lambda: f"0x{args[0]:02X}, {args[1]}", "f": lambda: f"0x{args[0]:02X}",
                 "fb": lambda: f"0x{args[0]:02X}, {args[1]}", "k8": lambda: f"0x{args[0] & 0xFF:02X}",

@@ -21,7 +21,7 @@ from .select import Context, prepare
 def ram_in_use(layout) -> frozenset[int]:
     used = set(layout.scratch)
     if layout.clock is not None:
-        used.update(range(layout.clock, layout.clock + 4))
+        used.update(range(layout.clock, layout.clock + layout.clock_bytes))
     used.update(loc.addr for loc in layout.bits.values() if loc.ram)
     for st in layout.vars.values():
         if st.ram:

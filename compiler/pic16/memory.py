@@ -54,6 +54,7 @@ class Layout:
     ram_used: int
     ram_size: int
     clock: int | None = None  # a free-running cycle's tick count high byte and 3-byte deadline
+    clock_bytes: int = 4  # the bytes at `clock` (the baseline PIC10's cycle needs three)
 
 
 class _Ram:
@@ -97,11 +98,15 @@ def _pin_bit(part: Part, machine, name: str, kind: str) -> FileBit:
     return FileBit(part.port(pin.port) if kind == ir.INPUT else part.latch(pin.port), pin.bit, False)
 
 
-def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> Layout:
+def allocate(code: ir.Code, part: Part, machine, free_running: bool = False, scratch_bytes: int = SCRATCH_BYTES,
+             clock_bytes: int = 4) -> Layout:
+    """`scratch_bytes` of scratch first (fewer when a back end places them
+    itself, as the baseline PIC10 places those its code uses), and
+    `clock_bytes` for a free-running cycle."""
     ram = _Ram(part)
     bits: dict[str, FileBit] = {}
     try:
-        scratch = tuple(ram.byte() for _ in range(SCRATCH_BYTES))
+        scratch = tuple(ram.byte() for _ in range(scratch_bytes))
         packed: list[str] = []
         for name, kind in code.bits.items():
             if kind in (ir.INPUT, ir.OUTPUT):
@@ -142,10 +147,10 @@ def allocate(code: ir.Code, part: Part, machine, free_running: bool = False) -> 
                 variables[name] = Storage(register, 1, False)
                 continue
             variables[name] = Storage(ram.block(size), size, True)
-        clock = ram.block(4) if free_running else None
+        clock = ram.block(clock_bytes) if free_running else None
     except _Full:
-        needed = SCRATCH_BYTES + (len(code.bits) + 7) // 8 + sum(code.vars.values())
-        raise fail(RAM_FULL, f"the variables, bits and the compiler's {SCRATCH_BYTES} scratch bytes need about "
+        needed = scratch_bytes + (len(code.bits) + 7) // 8 + sum(code.vars.values())
+        raise fail(RAM_FULL, f"the variables, bits and the compiler's {scratch_bytes} scratch bytes need about "
                              f"{needed} bytes of RAM in banks of {part.bank_bytes} addresses; the {part.title} has "
                              f"{ram.size}") from None
-    return Layout(bits, variables, scratch, ram.used, ram.size, clock)
+    return Layout(bits, variables, scratch, ram.used, ram.size, clock, clock_bytes)

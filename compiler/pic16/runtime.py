@@ -41,7 +41,7 @@ def _write(cx: Context, register: str, value: int) -> None:
         cx.e.store(address)
 
 
-def _pins(cx: Context) -> dict[str, int]:
+def output_masks(cx: Context) -> dict[str, int]:
     """Port letter -> output mask (every assigned Y or P name, the duty pin too)."""
     ports: dict[str, int] = {}
     for name, pin in cx.machine.pins.items():
@@ -53,7 +53,7 @@ def _pins(cx: Context) -> dict[str, int]:
     return ports
 
 
-def _pulled_up(cx: Context) -> int:
+def pulled_up(cx: Context) -> int:
     """The inputs of the port with weak pull-ups (PORTB, or GPIO) that want one."""
     mask = 0
     for name, pin in cx.machine.pins.items():
@@ -98,7 +98,7 @@ def _start(cx: Context, code: ir.Code) -> None:
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
     analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
-    outputs = _pins(cx)
+    outputs = output_masks(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.latch(letter))
     for letter, mask in sorted(outputs.items()):
@@ -107,7 +107,7 @@ def _start(cx: Context, code: ir.Code) -> None:
             direction &= 0x0F  # TRISE's high bits: PORTD as a port, not the parallel slave port
         cx.e.load_constant(direction)
         cx.e.store(part.tris(letter))
-    pulled = _pulled_up(cx)
+    pulled = pulled_up(cx)
     if pulled:
         for register in ("WPUB", "WPU"):
             if part.has(register):
@@ -129,7 +129,7 @@ def _cycle_module(cx: Context, code: ir.Code) -> str | None:
 
 def _scan(cx: Context, code: ir.Code) -> None:
     e = cx.e
-    duty = _duty_pin(cx)
+    duty = duty_pin(cx)
     e.label("scan", loop=True, bank=0)
     if duty:
         bits.write(e, duty, True)
@@ -215,7 +215,7 @@ def _scan_loop(cx: Context, code: ir.Code) -> None:
         _ccp_cycle(cx, code, unit)
 
 
-def _duty_pin(cx: Context) -> FileBit | None:
+def duty_pin(cx: Context) -> FileBit | None:
     """LDmicro's YPlcCycleDuty output: high while the scan runs."""
     pin = cx.machine.duty_pin
     return FileBit(cx.part.latch(pin.port_bit[0]), pin.port_bit[1], False) if pin is not None and pin.is_io else None

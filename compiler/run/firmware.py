@@ -1,4 +1,4 @@
-"""`ladder test --on avr|pic16|c`: a scenario run on the compiled program.
+"""`ladder test --on avr|pic16|pic18|pic10|c`: a scenario run on the compiled program.
 
 The scenario's stimulus is known before it runs (inputs, A/D readings and
 UART bytes at given times), so the compiled program is run once under it,
@@ -31,6 +31,7 @@ from . import simavr as sa
 from .record import Event, FirmwareError, FirmwareSim, Recording, erase_eeprom, pic_part, record_avr, record_c, record_pic16
 
 TITLES = {"avr": "the AVR image in simavr", "pic16": "the PIC16 image in gpsim", "pic18": "the PIC18 image in gpsim",
+          "pic10": "the PIC10 image in gpsim",
           "c": "the C built on this machine"}
 
 
@@ -38,7 +39,7 @@ def missing_tool(on: str) -> str | None:
     """Why `--on` cannot run here (naming the Debian package), or None."""
     if on == "avr":
         return sa.missing()
-    if on in ("pic16", "pic18"):
+    if on in ("pic16", "pic18", "pic10"):
         return None if gpsim.available() else "gpsim is not installed (Debian package: gpsim)"
     return None if c_run.available() else f"no C compiler (Debian package: {c_run.DEBIAN_PACKAGES})"
 

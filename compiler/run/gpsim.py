@@ -82,9 +82,17 @@ def _pin_label(port: str, bit: int) -> str:
     return f"GP{bit}" if port == GPIO else f"R{port.upper()}{bit}"
 
 
-def _registers(port: str, processor: str = "") -> tuple[str, str]:
+def _baseline(processor: str) -> bool:
+    return processor.startswith("p10")
+
+
+def _registers(port: str, processor: str = "") -> tuple[str, ...]:
     """gpsim's names of a port's data and direction registers: the latch a
-    PIC18's outputs are written in (LATB), else the port."""
+    PIC18's outputs are written in (LATB), else the port. A baseline PIC10
+    sets its directions with the TRIS instruction, which gpsim cannot log:
+    its data register only."""
+    if _baseline(processor):
+        return ("gpio",)
     if port == GPIO:
         return "gpio", "trisio"
     return (f"lat{port}" if processor.startswith("p18") else f"port{port}"), f"tris{port}"
@@ -279,9 +287,10 @@ def _check_output(out: str, script: str, uart: bool | None, breaks: int, end: in
 
 def _record_writes(run: PicRun, watched: list[tuple[str, int]], ports: list[str]) -> None:
     """The watched pins' edges and the UART's bytes, from the logged writes."""
-    # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0)
+    # pin levels from port latch and TRIS writes (reset: TRIS = 1s, latch 0); on a baseline PIC10,
+    # whose TRIS gpsim cannot log, the watched pins are outputs from the start
     latch = {p: 0 for p in ports}
-    tris = {p: 0xFF for p in ports}
+    tris = {p: 0 if _baseline(run.processor) else 0xFF for p in ports}
     pin_level = {(p, b): 0 for p, b in watched}
     for p, b in watched:
         run.levels[_pin_label(p, b)] = 0

@@ -254,9 +254,12 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
     them; its usart module gives nothing out), and the bytes received come
     from a usart module on the RX pin, sent 0.75 cycle before their scan."""
     settings = build.program.settings
-    per_ms = settings.crystal_hz / 4000
-    cycle_ms = settings.cycle_us / 1000
     device = build.device
+    part = pic_part(device)
+    # a PIC10F20x runs on its internal oscillator whatever the crystal setting says
+    clock_hz = part.facts.get("clock_hz", settings.crystal_hz)
+    per_ms = clock_hz / 4000
+    cycle_ms = settings.cycle_us / 1000
 
     def at(ms: float) -> int:
         return max(1, round(ms * per_ms))
@@ -283,9 +286,8 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
         timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
         timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
-    part = pic_part(device)
     uart = part.feature("uart")
-    lines = [f"processor {part.gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
+    lines = [f"processor {part.gpsim}", "load fw.hex", f"frequency {clock_hz}"]
     if modules:
         lines.append("module library libgpsim_modules")
         for pin_name, module in sorted(modules.items()):

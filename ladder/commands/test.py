@@ -1,5 +1,5 @@
 """`ladder test FILE...`: run scenario files (docs/testing.md) against the
-simulator, or with `--on avr|pic16|pic18|c` against the compiled program (the HEX
+simulator, or with `--on avr|pic16|pic18|pic10|c` against the compiled program (the HEX
 in simavr or gpsim, the C built on the host: compiler.run.record); print each
 failure with a timing diagram; exit 1 on any failure, 2 when a file cannot be
 read or a tool the run needs is missing."""
@@ -25,9 +25,10 @@ def register(subparsers) -> None:
                     "checks outputs. Exit 0 when every expectation holds, 1 otherwise.")
     parser.add_argument("files", nargs="+", metavar="FILE")
     parser.add_argument("--junit", metavar="OUT.xml", help="also write the results as JUnit XML")
-    parser.add_argument("--on", choices=("avr", "pic16", "pic18", "c"),
+    parser.add_argument("--on", choices=("avr", "pic16", "pic18", "pic10", "c"),
                         help="run the scenarios on the compiled program instead of the simulator: the AVR HEX "
-                             "in simavr, the PIC16 or PIC18 HEX in gpsim, or the C built with the host's compiler")
+                             "in simavr, the PIC16, PIC18 or PIC10 HEX in gpsim, or the C built with the host's "
+                             "compiler")
     parser.set_defaults(func=run)
 
 
