@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from dataclasses import fields as dataclass_fields
 from functools import lru_cache
+from typing import Any
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -62,54 +63,65 @@ def write_settings(program: Program) -> list[str]:
 
 
 def read_settings(section: Section, program: Program, problems: list[Diagnostic]) -> None:
-    known = {f.name for f in dataclass_fields(Settings)}
     for number, text in section.lines:
-        if not text.strip():
+        said = _setting(text)
+        if said is None:
             continue
-        key, colon, value = text.strip().partition(":")
-        key, value = key.strip(), value.strip()
-        span = Span.at(number, 0, len(text))
-        if not colon:
-            problems.append(error(codes.SECTION, "expected `key: value`", span))
-            continue
-        try:
-            if key.startswith(PULLUP_PREFIX):
-                program.pullups[key[len(PULLUP_PREFIX):].strip()] = int(value, 0)
-                continue
-            if key.startswith(MODBUS_PREFIX):
-                name = key[len(MODBUS_PREFIX):].strip()
-                column = text.find(name, text.index(MODBUS_PREFIX) + len(MODBUS_PREFIX))
-                _read_modbus(name, value, program, span, Span.at(number, column, column + len(name)), problems)
-                continue
-            if key not in SETTING_KEYS:
-                problems.append(error(codes.SECTION, f"unknown setting {key!r}; known: "
-                                      + ", ".join(SETTING_KEYS), span))
-                continue
-            attribute, kind = SETTING_KEYS[key]
-            assert attribute in known
-            if kind == "bool":
-                if value not in ("yes", "no"):
-                    raise ValueError(value)
-                parsed: object = value == "yes"
-            elif kind in ("int", "hex"):
-                parsed = int(value, 0)
-            else:
-                parsed = value
-            setattr(program.settings, attribute, parsed)
-        except ValueError:
-            problems.append(error(codes.SECTION, f"bad value {value!r} for {key!r}", span))
+        kind, first, second, third = said
+        if kind == "problem":
+            problems.append(error(codes.SECTION, first, Span.at(number, 0, len(text))))
+        elif kind == "pullup":
+            program.pullups[first] = second
+        elif kind == "modbus":
+            pin = program.pins.setdefault(first, PinAssignment(
+                first, 0, span=Span.at(number, second, second + len(first))))
+            pin.modbus_slave, pin.modbus_register = third
+        else:
+            setattr(program.settings, first, second)
 
 
-def _read_modbus(name: str, value: str, program: Program, span: Span, name_span: Span,
-                 problems: list[Diagnostic]) -> None:
-    address = _MODBUS_RE.fullmatch(value)
-    if not address or not name:
-        problems.append(error(codes.SECTION, f"bad Modbus address {value!r} for {name!r}: expected "
-                                             "`Modbus NAME: slave N, address N`", span))
-        return
-    slave, register = int(address.group(1)), int(address.group(2))
-    pin = program.pins.setdefault(name, PinAssignment(name, 0, span=name_span))
-    pin.modbus_slave, pin.modbus_register = slave, register
+# a line is parsed again only when its text changes (each edit reads the whole section: a
+# Modbus slave's SETTINGS hold a line for each of its thousands of addresses)
+@lru_cache(maxsize=16384)
+def _setting(text: str) -> tuple[str, Any, Any, Any] | None:
+    """What a SETTINGS line says: None for a blank line, ("problem", message,
+    ...), ("pullup", port, mask, ...), ("modbus", name, its column, (slave,
+    register)) or ("setting", attribute, value, ...)."""
+    if not text.strip():
+        return None
+    key, colon, value = text.strip().partition(":")
+    key, value = key.strip(), value.strip()
+    if not colon:
+        return "problem", "expected `key: value`", None, None
+    try:
+        if key.startswith(PULLUP_PREFIX):
+            return "pullup", key[len(PULLUP_PREFIX):].strip(), int(value, 0), None
+        if key.startswith(MODBUS_PREFIX):
+            name = key[len(MODBUS_PREFIX):].strip()
+            address = _MODBUS_RE.fullmatch(value)
+            if not address or not name:
+                return "problem", (f"bad Modbus address {value!r} for {name!r}: expected "
+                                   "`Modbus NAME: slave N, address N`"), None, None
+            column = text.find(name, text.index(MODBUS_PREFIX) + len(MODBUS_PREFIX))
+            return "modbus", name, column, (int(address.group(1)), int(address.group(2)))
+        if key not in SETTING_KEYS:
+            return "problem", f"unknown setting {key!r}; known: " + ", ".join(SETTING_KEYS), None, None
+        attribute, kind = SETTING_KEYS[key]
+        assert attribute in _SETTINGS
+        if kind == "bool":
+            if value not in ("yes", "no"):
+                raise ValueError(value)
+            parsed: object = value == "yes"
+        elif kind in ("int", "hex"):
+            parsed = int(value, 0)
+        else:
+            parsed = value
+        return "setting", attribute, parsed, None
+    except ValueError:
+        return "problem", f"bad value {value!r} for {key!r}", None, None
+
+
+_SETTINGS = {f.name for f in dataclass_fields(Settings)}
 
 
 # --- DETAILS --------------------------------------------------------------------
