@@ -90,7 +90,9 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
 
 def _wait(cx: Context, ticks: int) -> None:
     e, part = cx.e, cx.part
-    last, left = cx.layout.clock, [cx.layout.clock + 1, cx.layout.clock + 2]
+    last = cx.layout.clock
+    assert last is not None  # the baseline's cycle is always free-running: the layout gave it its bytes
+    left = [last + 1, last + 2]
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
     e.load(last)

@@ -14,7 +14,7 @@ from . import flow
 def _callees(words: list[int], entry: int) -> list[int]:
     """The call targets of the code reached from `entry` without calling."""
     seen: set[int] = set()
-    todo, found = [entry], []
+    todo, found = [entry], list[int]()
     while todo:
         address = todo.pop()
         if address in seen:
@@ -23,16 +23,19 @@ def _callees(words: list[int], entry: int) -> list[int]:
         ins = flow.instruction_at(words, address, None)
         if ins is None or ins.flow == RETURN:
             continue
-        if ins.flow == JUMP:
-            todo.append(ins.target)
-            continue
         if ins.flow == COMPUTED:
             todo.extend(ins.targets)
             continue
-        if ins.flow == CALL and ins.target not in found:
-            found.append(ins.target)
-        if ins.flow == SKIP:
-            todo.append(ins.target)
+        if ins.flow in (JUMP, CALL, SKIP):
+            target = ins.target
+            assert target is not None  # the decoder gives a GOTO, a CALL and a skip their target
+            if ins.flow == JUMP:
+                todo.append(target)
+                continue
+            if ins.flow == CALL and target not in found:
+                found.append(target)
+            if ins.flow == SKIP:
+                todo.append(target)
         todo.append(ins.next)
     return found
 
