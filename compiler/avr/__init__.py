@@ -32,7 +32,7 @@ class AvrBackend:
             code.bits[UART_IDLE] = ir.MEMORY
         code.vars.update(cycle_variables(part))
         layout = allocate(code, part, machine)
-        assembler = Assembler(part.long_jumps, part.flash // 2)
+        assembler = Assembler(part.long_jumps, part.flash // 2, part.core)
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)
         if uses_uart(code):
             cx.uart_double = bool(baud_setting(machine.device, machine.crystal_hz, machine.baud).select)
