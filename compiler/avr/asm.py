@@ -179,7 +179,7 @@ class Assembler:
 
     def _relative(self, pc: int, target: int) -> int:
         offset = target - (pc + 1)
-        if not self.long_jumps:
+        if not self.long_jumps and not -2048 <= offset <= 2047:
             # 8 KB parts: the program counter wraps, so RJMP reaches everything
             offset = (offset + self.flash_words // 2) % self.flash_words - self.flash_words // 2
         return offset
