@@ -10,13 +10,15 @@ from __future__ import annotations
 import random
 import re
 import subprocess
+import tarfile
 from dataclasses import replace
 from pathlib import Path
 
 import pytest
 from builders import coil, contact, el, program
 from hypothesis import HealthCheck, assume, given, settings
-from test_avr_parts import moved
+from test_avr_parts import LDMICRO_SOURCE, moved
+from test_avr_parts_ldmicro import ldmicros_hex
 from test_compiler_encoding import needs_avr_gcc, operands, reassemble
 from test_compiler_harness import load
 from test_compiler_random import Board, cases
@@ -247,3 +249,42 @@ def test_random_programs_that_fit_reassemble_to_the_same_words(case, tmp_path_fa
         raise
     assert reassemble(build.image.listing, "attiny10", tmp_path_factory.mktemp("tiny10")) \
         == build.image.program_bytes()
+
+
+# --- LDmicro -----------------------------------------------------------------------------------
+
+@pytest.mark.ldmicro
+@pytest.mark.parametrize("timer, register, value", [(0, "OCR0A", 249), (1, "TCCR1A", 0)])
+def test_ldmicro_refuses_every_attiny10_program(timer, register, value, tmp_path):
+    """LDmicro 5.4.1.1 lists the ATtiny10 but its register table for it
+    (avr.cpp) leaves OCR0A out and has no Timer1: the cycle's first write
+    goes to address 0, and it refuses the program whichever timer makes the
+    cycle ("WriteMemory(0, 249)": OCR0A's count at Timer0; "WriteMemory(0,
+    0)": TCCR1A at Timer1). We build them."""
+    prog = _moved("sample/blink.ld")
+    prog = replace(prog, settings=replace(prog.settings, cycle_timer=timer))
+    with pytest.raises(AssertionError, match=rf"Zero memory address not allowed!\s+WriteMemory\(0, {value}\)"):
+        ldmicros_hex(prog, tmp_path)
+    assert f"WriteMemory(REG_{register}, " in _ldmicro_avr_source()
+    assert compiler.build(prog).device.part == "attiny10"
+
+
+def test_ldmicros_attiny10_registers_are_not_the_parts():
+    """The addresses LDmicro's table does give the ATtiny10 are the
+    ATmega's data addresses, none the ATtiny10's (iotn10.h): it could not
+    drive the part had it compiled."""
+    text = _ldmicro_avr_source()
+    table = text[text.index('McuAs(" ATtiny10 ")'):text.index('McuAs(" ATtiny85 ")')]
+    given = {m.group(1): int(m.group(2), 16) for m in re.finditer(r"^\s*REG_(\w+)\s*=\s*(0x[0-9A-F]+);", table, re.M)}
+    assert "OCR0A" not in given and "TCCR1A" not in given
+    ours = find_device(NAME).data["avr"]["registers"]
+    wrong = {name: (address, ours[name]) for name, address in given.items() if name in ours}
+    assert wrong == {"TCCR0A": (0x4A, 0x2E), "TCCR0B": (0x53, 0x2D), "TIFR0": (0x35, 0x2A), "ADMUX": (0x7C, 0x1B),
+                     "ADCSRA": (0x7A, 0x1D), "ADCL": (0x78, 0x19)}
+
+
+def _ldmicro_avr_source() -> str:
+    with tarfile.open(LDMICRO_SOURCE) as archive:
+        member = archive.extractfile("ldmicro-5.4.1.1/ldmicro/avr.cpp")
+        assert member is not None
+        return member.read().decode("latin-1")
