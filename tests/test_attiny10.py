@@ -19,6 +19,7 @@ from builders import coil, contact, el, program
 from hypothesis import HealthCheck, assume, given, settings
 from test_avr_parts import LDMICRO_SOURCE, moved
 from test_avr_parts_ldmicro import ldmicros_hex
+from test_compiler_budget import AVR_CYCLES, AVR_SKIPS, _objdump, needs_objdump
 from test_compiler_encoding import needs_avr_gcc, operands, reassemble
 from test_compiler_harness import load
 from test_compiler_random import Board, cases
@@ -26,7 +27,9 @@ from test_compiler_random import Board, cases
 import compiler
 from compiler.avr import isa
 from compiler.avr.asm import Assembler
+from compiler.avr.flow import instruction_at
 from compiler.avr.part import WGM12, Part
+from compiler.budget import BRANCH, CALL, JUMP, NEXT, RETURN, SKIP
 from compiler.errors import FLASH_FULL, RAM_FULL, CompileError
 from lang.checks import check_program
 from lang.devices import find_device
@@ -196,6 +199,35 @@ def test_an_external_clock_comes_in_on_clki():
                if d.code == "LD413"]
     assert "which the ATtiny10 uses as CLKI, the external clock's input, when it runs at 16 MHz" in found.message
     assert "so the clock comes in on CLKI (the ATtiny10 takes no crystal)" in found.message
+
+
+# the classic cores' cycles (test_compiler_budget.py), with the reduced core's
+# one-cycle LDS/STS and the larger counts given for its calls, returns and POP
+REDUCED_CYCLES = {**AVR_CYCLES, "lds": 1, "sts": 1, "rcall": 4, "ret": 6, "pop": 3}
+
+
+@needs_objdump
+@pytest.mark.parametrize("path", FITS)
+def test_the_budgets_decoder_reads_the_reduced_core_as_avr_objdump_does(path, tmp_path):
+    """The one-word LDS/STS are the classic cores' LDD/STD encodings: the
+    decoder must size them, and every other instruction, as avr-objdump's
+    avrtiny (avr:100) does."""
+    build = compiler.build(_moved(path))
+    build.write(tmp_path / "p.hex")
+    listed = _objdump(tmp_path / "p.hex", "avr:100", build.image.labels["start"])
+    assert len(listed) > 50 and {"lds", "sts"} & {mnemonic for _, _, mnemonic, _, _ in listed}
+    sizes = {address: size for address, size, *_ in listed}
+    for address, size, mnemonic, _operands, target in listed:
+        ins = instruction_at(build.image.words, address, build.device)
+        assert ins is not None and ins.size == size, (address, mnemonic)
+        if mnemonic in AVR_SKIPS:
+            skipped = sizes[address + 1]
+            assert (ins.flow, ins.cycles, ins.taken, ins.target) == (SKIP, 1, 1 + skipped, address + 1 + skipped)
+        elif mnemonic.startswith("br"):
+            assert (ins.flow, ins.cycles, ins.taken, ins.target) == (BRANCH, 1, 2, target)
+        else:
+            flow = {"rjmp": JUMP, "rcall": CALL, "ret": RETURN}.get(mnemonic, NEXT)
+            assert (ins.flow, ins.cycles) == (flow, REDUCED_CYCLES.get(mnemonic, 1)), (address, mnemonic)
 
 
 # --- what does not fit -------------------------------------------------------------------------
