@@ -33,7 +33,9 @@ from compiler.budget import BRANCH, CALL, JUMP, NEXT, RETURN, SKIP
 from compiler.errors import FLASH_FULL, RAM_FULL, CompileError
 from lang.checks import check_program
 from lang.devices import find_device
+from lang.hardware import pwm_refusal
 from lang.model import Span
+from lang.targets import FAMILIES
 
 NAME = "Atmel AVR ATtiny10 6-Pin packages"
 HEADER = Path("/usr/lib/avr/include/avr/iotn10.h")
@@ -320,3 +322,21 @@ def _ldmicro_avr_source() -> str:
         member = archive.extractfile("ldmicro-5.4.1.1/ldmicro/avr.cpp")
         assert member is not None
         return member.read().decode("latin-1")
+
+
+def test_the_docs_table_of_avr_parts_is_the_device_files():
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "compiler.md").read_text()
+    section = docs[docs.index("## AVR parts"):docs.index("## The ATtiny10")]
+    rows = {cells[0]: cells[1:] for line in section.splitlines() if line.startswith("| ") and "---" not in line
+            for cells in [[c.strip() for c in line.strip("|").split("|")]] if cells[0] != "part"}
+    parts = [find_device(part) for part in FAMILIES["avr"].parts]
+    assert list(rows) == [device.title for device in parts]
+    for device in parts:
+        avr = device.data["avr"]
+        core, flash, ram, eeprom, uart, adc, pwm, _lacks, _flashing = rows[device.title]
+        assert core == ("AVRrc" if avr.get("core") == "reduced" else avr["arch"])
+        assert [int(n.replace(",", "")) for n in (flash, ram, eeprom)] == [avr["flash"], avr["ram"]["size"],
+                                                                           avr["eeprom"]]
+        assert (uart == "yes") == bool(device.uart) and int(adc) == len(device.adc)
+        driven = sorted({unit for unit in device.pwm.values() if pwm_refusal(device, unit, 1000) is None})
+        assert pwm == (", ".join(driven) or "—")
