@@ -11,6 +11,7 @@ import random
 import re
 import subprocess
 import tarfile
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
@@ -20,9 +21,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from test_avr_parts import LDMICRO_SOURCE, moved
 from test_avr_parts_ldmicro import ldmicros_hex
 from test_compiler_budget import AVR_CYCLES, AVR_SKIPS, _objdump, needs_objdump
+from test_compiler_corpus import CASES
 from test_compiler_encoding import needs_avr_gcc, operands, reassemble
-from test_compiler_harness import load
-from test_compiler_random import Board, cases
+from test_compiler_harness import differential, load, needs_simavr
+from test_compiler_random import BOARDS, Board, cases
 
 import compiler
 from compiler.avr import isa
@@ -340,3 +342,47 @@ def test_the_docs_table_of_avr_parts_is_the_device_files():
         assert (uart == "yes") == bool(device.uart) and int(adc) == len(device.adc)
         driven = sorted({unit for unit in device.pwm.values() if pwm_refusal(device, unit, 1000) is None})
         assert pwm == (", ".join(driven) or "—")
+
+
+# --- the reduced core's choices, run -----------------------------------------------------------
+
+# No simulator runs the ATtiny10. What can be run is the code the reduced core
+# makes the back end choose (sixteen registers, bits in RAM, no MUL, MOVW or
+# SBIW) on a part simavr has, with that part's encodings and memory map: the
+# ATmega328P. The ATtiny10's own encodings, addresses and peripherals are
+# checked above, statically, and are not run by this.
+SIBLING = replace(isa.REDUCED, io_offset=isa.CLASSIC.io_offset, forms={}, flash_data=None,
+                  lacks=isa.REDUCED.lacks - {"lpm_p"})
+
+
+@contextmanager
+def _reduced_choices(part: str):
+    """The part compiled with SIBLING's choices while in the block."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setitem(isa.CORES, "reduced", SIBLING)
+        patch.setitem(find_device(part).data["avr"], "core", "reduced")
+        yield
+
+
+@needs_simavr
+@pytest.mark.slow
+@pytest.mark.parametrize("path", sorted(CASES))
+def test_corpus_programs_with_the_reduced_cores_choices_follow_the_simulator(path, tmp_path):
+    events, scans = CASES[path]
+    program = load(path)
+    with _reduced_choices(program.settings.mcu):
+        assert differential(program, events, scans, tmp_path) == []
+
+
+@needs_simavr
+@pytest.mark.slow
+@settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))
+@given(case=cases(BOARDS[:1]))
+def test_random_programs_with_the_reduced_cores_choices_follow_the_simulator(case, tmp_path_factory):
+    with _reduced_choices(case.program.settings.mcu):
+        try:
+            problems = differential(case.program, case.events, case.scans, tmp_path_factory.mktemp("sibling"))
+        except CompileError as problem:
+            assume(not all(d.code in (FLASH_FULL, RAM_FULL) for d in problem.diagnostics))
+            raise
+    assert problems == [], "\n".join(problems)
