@@ -249,10 +249,19 @@ def test_a_program_beyond_the_flash_is_ld703_with_the_numbers():
     assert re.fullmatch(r"the program needs \d{4} bytes of flash; the ATtiny10 has 1024", message)
 
 
-def test_variables_beyond_the_ram_are_ld704_with_the_numbers():
-    rungs = [[contact("Xa"), el("MOVE", dest=f"v{i}", src=str(i + 1000))] for i in range(12)]
-    [(code, message, _)] = _refusal(program(*rungs, mcu=NAME, pins={"Xa": "PB1"}))
-    assert (code, message) == (RAM_FULL, "the variables need 24 bytes of RAM and the stack 12; the ATtiny10 has 32")
+def test_variables_and_the_stack_beyond_the_ram_are_ld704_with_the_numbers():
+    """The stack is what the image's calls and pushes take (compiler/avr/stack.py):
+    a 16-bit division is two calls deep, 4 bytes."""
+    rungs = [[contact("Xa"), el("MOVE", dest=f"v{i}", src=str(i + 1000))] for i in range(15)]
+    assert compiler.build(program(*rungs, mcu=NAME, pins={"Xa": "PB1"})).image.ram_bytes == 30
+    divide = [contact("Xa"), el("DIV", dest="v0", op1="v1", op2="v2")]
+    [(code, message, _)] = _refusal(program(*rungs, divide, mcu=NAME, pins={"Xa": "PB1"}))
+    assert (code, message) == (RAM_FULL, "the variables need 30 bytes of RAM and the stack 4; the ATtiny10 has 32")
+    recursive = [[contact("Xa"), el("GOSUB", label="sub")], [el("SUBPROG", label="sub")],
+                 [contact("Xa"), el("GOSUB", label="sub")], [el("ENDSUB", label="sub")]]
+    [(code, message, _)] = _refusal(program(*recursive, mcu=NAME, pins={"Xa": "PB1"}))
+    assert (code, message) == (RAM_FULL, "the stack has no bound (a subroutine that calls itself); "
+                                         "the ATtiny10 has 32 bytes of RAM")
 
 
 def test_uart_persist_and_pwm_the_part_lacks_are_located_errors():

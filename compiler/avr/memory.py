@@ -121,9 +121,13 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
         variables[name] = Storage(address, size, True)
         address += size
     used = address - part.ram_start
-    reserve = part.stack_reserve
-    size = part.ram_end - part.ram_start + 1
-    if used + reserve > size:
-        raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {reserve}; "
-                             f"the {part.title} has {size}")
+    fits_ram(part, used, part.stack_reserve)
     return Layout(bits, variables, used, homes)
+
+
+def fits_ram(part: Part, used: int, stack: int) -> None:
+    """LD704 unless the variables and the stack fit the part's RAM."""
+    size = part.ram_end - part.ram_start + 1
+    if used + stack > size:
+        raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {stack}; "
+                             f"the {part.title} has {size}")

@@ -78,11 +78,17 @@ class Part:
         return self.avr.get("mul", True) and self.core.has("mul")
 
     @property
+    def measures_stack(self) -> bool:
+        """The stack's depth is read from the image (stack.py): the ATtiny10,
+        whose 32 bytes of RAM cannot spare the other parts' fixed reserve."""
+        return self.avr.get("stack") == "measured"
+
+    @property
     def stack_reserve(self) -> int:
-        """RAM kept for the stack: the device file's `stack` (the ATtiny10's
-        32 bytes cannot spare the usual), else room for eight levels of
-        calls with their saved registers."""
-        return self.avr.get("stack", 8 * (self.pc_bytes + 2) + 4 * self.pc_bytes + 8)
+        """RAM kept for the stack before the code is written: none where the
+        image is measured, else room for eight levels of calls with their
+        saved registers."""
+        return 0 if self.measures_stack else 8 * (self.pc_bytes + 2) + 4 * self.pc_bytes + 8
 
     @property
     def pc_bytes(self) -> int:
