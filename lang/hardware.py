@@ -222,7 +222,8 @@ _PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}, 
 
 def _data_addresses(device: Device) -> range:
     """The data addresses a `#0x..` name may reach: an AVR's above its 32
-    working registers up to the end of RAM, a PIC16's every bank."""
+    working registers (from 0 on the reduced core) up to the end of RAM, a
+    PIC16's every bank."""
     facts = device.data[device.family]
     if "access_sfr" in facts:  # a PIC18's 4096: its RAM banks and the SFRs at the top
         return range(0, 0x1000)
@@ -230,7 +231,9 @@ def _data_addresses(device: Device) -> range:
         return range(0, facts["file_addresses"])
     if "banks" in facts:
         return range(0, 128 * facts["banks"])
-    return range(0x20, facts["ram"]["start"] + facts["ram"]["size"])
+    # the reduced core (ATtiny10) has its I/O registers at 0x00..0x3F, not its working registers
+    start = 0 if facts.get("core") == "reduced" else 0x20
+    return range(start, facts["ram"]["start"] + facts["ram"]["size"])
 
 
 def register_address(device: Device, name: str) -> int | None:

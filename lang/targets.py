@@ -31,7 +31,7 @@ FAMILIES: dict[str, Family] = {
     for family in (
         Family("avr", "AVR", ("atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
                               "atmega328p", "atmega1284p", "atmega2560", "atmega48", "atmega88", "atmega168",
-                              "atmega164p", "atmega324p", "atmega644p", "atmega32u4", "at90usb647", "attiny85")),
+                              "atmega164p", "atmega324p", "atmega644p", "atmega32u4", "at90usb647", "attiny85", "attiny10")),
         Family("pic16", "PIC16", ("pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877",
                                   "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
                                   "pic16f72", "pic12f675", "pic12f683")),

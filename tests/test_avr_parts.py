@@ -31,13 +31,13 @@ from lang.model import PinAssignment, Program, Span
 from lang.targets import compiled
 
 LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"
-# LDmicro names the back end does not compile (yet): the reduced-core ATtiny10
-NOT_BUILT = {"Atmel AVR ATtiny10 6-Pin packages"}
+# LDmicro names the back end does not compile: none
+NOT_BUILT: set[str] = set()
 # the parts and packages added for issue 20, whose pin labels are LDmicro
 # 5.4.1.1's; the first nine parts keep the labels of the LDmicro exports they
 # were made from
 NEW_PARTS = {"atmega48", "atmega88", "atmega168", "atmega164p", "atmega324p", "atmega644p", "atmega32u4",
-             "at90usb647", "attiny85"}
+             "at90usb647", "attiny85", "attiny10"}
 NEW_PACKAGES = {"Atmel AVR ATmega1284 44-Pin packages"}
 
 # LDmicro offers the reset pin PC6 as an I/O pin on the 32-pin packages; our
@@ -117,7 +117,8 @@ def test_pins_are_ldmicros(name):
 # LDmicro's lower-case part names, as `--target` takes them
 TARGETS = {"atmega48": "atmega48", "atmega88": "atmega88", "atmega168": "atmega168", "atmega164": "atmega164p",
            "atmega324": "atmega324p", "atmega644": "atmega644p", "atmega1284": "atmega1284p",
-           "atmega32u4": "atmega32u4", "at90usb647": "at90usb647", "attiny85": "attiny85"}
+           "atmega32u4": "atmega32u4", "at90usb647": "at90usb647", "attiny85": "attiny85",
+           "attiny10": "attiny10"}
 
 
 @pytest.mark.parametrize("name", sorted(TARGETS))
@@ -280,7 +281,7 @@ def test_an_ld_file_naming_the_part_builds(name):
     assert (build.device.part, build.device.package) == (device.part, device.package)
 
 
-def test_ladder_parts_builds_every_ldmicro_avr_but_the_attiny10():
+def test_ladder_parts_builds_every_ldmicro_avr():
     listed = subprocess.run([sys.executable, "-m", "ladder", "parts"], capture_output=True, text=True, timeout=120,
                             check=True).stdout
     rows = {line.split(None, 4)[4]: line.split()[3] for line in listed.splitlines()[1:] if "Atmel AVR" in line}

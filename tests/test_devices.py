@@ -23,7 +23,7 @@ EXPORTS = SHARED / "corpus" / "ldmicro-export"
 EXPECTED_PARTS = [
     "atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
     "atmega328p", "atmega1284p", "atmega2560", "atmega48", "atmega88", "atmega168", "atmega164p", "atmega324p",
-    "atmega644p", "atmega32u4", "at90usb647", "attiny85",
+    "atmega644p", "atmega32u4", "at90usb647", "attiny85", "attiny10",
     "pic16f628", "pic16f628a",
     "pic16f72", "pic16f876", "pic16f876a", "pic16f877", "pic16f877a",
     "pic16f88", "pic16f819", "pic16f886", "pic16f887", "pic12f675", "pic12f683",
@@ -238,7 +238,6 @@ def test_known_ldmicro_names_without_data():
         "St ARM STM32F40X 144-LQFP",
         "ESP8266",
         "PC LPT COM",
-        "Atmel AVR ATtiny10 6-Pin packages",
         "Microchip PIC16F1827 18-Pin PDIP, SOIC",
     ]:
         assert is_known_ldmicro_name(name), name

@@ -89,7 +89,7 @@ def _unwritable(mcu: str, pins: dict):
 
 @pytest.mark.parametrize("mcu, pin, code, words", [
     ("", "PB5", "LD013", "the program names no part"),
-    ("Atmel AVR ATtiny10 6-Pin packages", "PB2", "LD013", "no pin table for 'Atmel AVR ATtiny10"),
+    ("St ARM STM32F40X 144-LQFP", "PB2", "LD013", "no pin table for 'St ARM STM32F40X"),
     ("Microchip PIC16F628 18-PDIP or 18-SOIC", "PD2", "LD402", "PD2, which the PIC16F628 (18-PDIP) does not have"),
     ("Microchip PIC16F628 18-PDIP or 18-SOIC", "D13", "LD402", "D13, which the PIC16F628 (18-PDIP) does not have"),
     ("Atmel AVR ATmega328 28-PDIP", "ADC6", "LD402",

@@ -164,7 +164,7 @@ async def test_build_writes_the_hex_beside_the_file(client, tmp_path):
 
 
 async def test_build_errors_and_compile_on_save(client, tmp_path):
-    text = example_text().replace("Atmel AVR ATmega328 28-PDIP", "Atmel AVR ATtiny10 6-Pin packages")  # no pin data
+    text = example_text().replace("Atmel AVR ATmega328 28-PDIP", "St ARM STM32F40X 144-LQFP")  # no pin data
     text = text.split("I/O ASSIGNMENT:")[0]
     source = tmp_path / "pic.ladder"
     source.write_text(text, encoding="utf-8")

@@ -27,7 +27,7 @@ def test_the_avr_family_is_ldmicros_avrs():
     assert FAMILIES["avr"].parts == ("atmega8", "atmega16", "atmega32", "atmega64", "atmega128", "atmega162",
                                      "atmega328p", "atmega1284p", "atmega2560", "atmega48", "atmega88", "atmega168",
                                      "atmega164p", "atmega324p", "atmega644p", "atmega32u4", "at90usb647",
-                                     "attiny85")
+                                     "attiny85", "attiny10")
     assert compiled(find_device("atmega328p")) and compiled(find_device("Microchip PIC16F877 40-PDIP"))
 
 
@@ -35,7 +35,7 @@ def test_parts_text_names_only_parts_with_a_device_file(monkeypatch):
     text = parts_text()
     assert text.startswith("AVR: ATmega8, ATmega16, ATmega32, ATmega64, ATmega128, ATmega162, ATmega328P, "
                            "ATmega1284P, ATmega2560, ATmega48, ATmega88, ATmega168, ATmega164P, ATmega324P, "
-                           "ATmega644P, ATmega32U4, AT90USB647, ATtiny85; PIC16: ")
+                           "ATmega644P, ATmega32U4, AT90USB647, ATtiny85, ATtiny10; PIC16: ")
     expected = "; ".join(f"{family.title}: " + ", ".join(find_device(p).title for p in compiled_parts(family))
                          for family in FAMILIES.values() if family.parts)
     assert text == expected

@@ -7,13 +7,14 @@ from lang.hardware import baud_setting
 from lang.semantics import ir
 
 from ..analysis import loop_labels, uses_uart
-from ..errors import FLASH_FULL, fail
+from ..errors import FLASH_FULL, RAM_FULL, fail
 from ..image import Image, Symbol
 from ..target import Machine, register
 from . import flow as avr_flow
+from . import stack
 from .asm import Assembler, Data, Label, compress_skips
 from .emit import Emitter
-from .memory import RegBit, allocate
+from .memory import RegBit, allocate, fits_ram
 from .part import Part
 from .peripherals import UART_IDLE
 from .routines import write_routines
@@ -32,7 +33,7 @@ class AvrBackend:
             code.bits[UART_IDLE] = ir.MEMORY
         code.vars.update(cycle_variables(part))
         layout = allocate(code, part, machine)
-        assembler = Assembler(part.long_jumps, part.flash // 2)
+        assembler = Assembler(part.long_jumps, part.flash // 2, part.core)
         cx = Context(Emitter(assembler), part, layout, machine.crystal_hz, machine.baud)
         if uses_uart(code):
             cx.uart_double = bool(baud_setting(machine.device, machine.crystal_hz, machine.baud).select)
@@ -51,6 +52,12 @@ class AvrBackend:
         if 2 * len(assembled.words) > part.flash:
             raise fail(FLASH_FULL, f"the program needs {2 * len(assembled.words)} bytes of flash; the "
                                    f"{part.title} has {part.flash}")
+        if part.measures_stack:
+            deepest = stack.depth(assembled.words, machine.device)
+            if deepest is None:
+                raise fail(RAM_FULL, f"the stack has no bound (a subroutine that calls itself); the {part.title} "
+                                     f"has {part.avr['ram']['size']} bytes of RAM")
+            fits_ram(part, layout.ram_used, deepest)
         header = (f"; {part.title} ({part.mmcu}): {2 * len(assembled.words)} bytes of flash, "
                   f"{layout.ram_used} bytes of RAM\n"
                   f"; reassemble: avr-gcc -mmcu={part.mmcu} -nostdlib -nostartfiles -x assembler FILE -o prog.elf"

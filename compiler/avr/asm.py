@@ -89,6 +89,7 @@ class Assembled:
 class Assembler:
     long_jumps: bool  # the part has JMP/CALL
     flash_words: int
+    core: isa.Core = isa.CLASSIC
     items: list[Item] = field(default_factory=list)
 
     # --- writing ---------------------------------------------------------------
@@ -112,6 +113,7 @@ class Assembler:
         self.items.append(Branch(op, target, comment))
 
     def address(self, reg: int, target: str, high: bool, offset: int = 0) -> None:
+        """`offset` is added to the byte address (the reduced core reads flash at 0x4000 up)."""
         self.items.append(Address(reg, target, high, offset))
 
     def data(self, values: bytes, comment: str = "") -> None:
@@ -121,7 +123,7 @@ class Assembler:
 
     def _size(self, item: Item, long: bool) -> int:
         if isinstance(item, Ins):
-            return isa.size(item.op)
+            return isa.size(item.op, self.core)
         if isinstance(item, Jump):
             return 2 if long else 1
         if isinstance(item, Branch):
@@ -177,7 +179,7 @@ class Assembler:
 
     def _relative(self, pc: int, target: int) -> int:
         offset = target - (pc + 1)
-        if not self.long_jumps:
+        if not self.long_jumps and not -2048 <= offset <= 2047:
             # 8 KB parts: the program counter wraps, so RJMP reaches everything
             offset = (offset + self.flash_words // 2) % self.flash_words - self.flash_words // 2
         return offset
@@ -189,7 +191,7 @@ class Assembler:
         elif isinstance(item, Comment):
             yield "", [], item.text
         elif isinstance(item, Ins):
-            yield "\t" + isa.text(item.op, *item.args), isa.encode(item.op, *item.args), item.comment
+            yield "\t" + isa.text(item.op, *item.args), isa.encode(item.op, *item.args, core=self.core), item.comment
         elif isinstance(item, Address):
             byte_address = 2 * self._target(symbols, item.target) + item.offset
             value = byte_address >> 8 if item.high else byte_address & 0xFF

@@ -16,9 +16,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .emit import LOADED, SCRATCH, Emitter
+from .emit import SCRATCH, Emitter
 from .memory import MemBit, RegBit
-from .part import BIT_IO_END
 
 Loc = RegBit | MemBit
 
@@ -27,11 +26,11 @@ def skip_if(e: Emitter, loc: Loc, value: bool) -> None:
     """Skip the next instruction when the bit equals `value`."""
     if isinstance(loc, RegBit):
         e.ins("sbrs" if value else "sbrc", loc.reg, loc.bit)
-    elif loc.addr < BIT_IO_END:
-        e.ins("sbis" if value else "sbic", loc.addr - 0x20, loc.bit)
+    elif (io := e.bit_io(loc.addr)) is not None:
+        e.ins("sbis" if value else "sbic", io, loc.bit)
     else:
-        e.load_byte(loc.addr, LOADED, loc.ram)
-        e.ins("sbrs" if value else "sbrc", LOADED, loc.bit)
+        e.load_byte(loc.addr, e.loaded, loc.ram)
+        e.ins("sbrs" if value else "sbrc", e.loaded, loc.bit)
 
 
 def write(e: Emitter, loc: Loc, value: bool) -> None:
@@ -42,8 +41,8 @@ def write(e: Emitter, loc: Loc, value: bool) -> None:
         else:
             e.ins("set" if value else "clt")
             e.ins("bld", loc.reg, loc.bit)
-    elif loc.addr < BIT_IO_END:
-        e.ins("sbi" if value else "cbi", loc.addr - 0x20, loc.bit)
+    elif (io := e.bit_io(loc.addr)) is not None:
+        e.ins("sbi" if value else "cbi", io, loc.bit)
     else:
         e.load_byte(loc.addr, SCRATCH, loc.ram)
         e.ins("ori" if value else "andi", SCRATCH, mask if value else ~mask & 0xFF)
@@ -68,8 +67,8 @@ def _to_t(e: Emitter, loc: Loc) -> None:
     if isinstance(loc, RegBit):
         e.ins("bst", loc.reg, loc.bit)
     else:
-        e.load_byte(loc.addr, LOADED, loc.ram)
-        e.ins("bst", LOADED, loc.bit)
+        e.load_byte(loc.addr, e.loaded, loc.ram)
+        e.ins("bst", e.loaded, loc.bit)
 
 
 def from_t(e: Emitter, loc: Loc) -> None:
@@ -97,12 +96,12 @@ def copy(e: Emitter, dst: Loc, src: Loc, invert: bool) -> None:
         if invert:
             _toggle(e, dst)
         return
-    if isinstance(dst, MemBit) and dst.addr < BIT_IO_END:
+    if isinstance(dst, MemBit) and e.bit_io(dst.addr) is not None:
         # a pin: set, then clear, each a skip over one SBI/CBI, so that it
         # never glitches; the source byte is read once
         if isinstance(src, MemBit):
-            e.load_byte(src.addr, LOADED, src.ram)
-            src = RegBit(LOADED, src.bit)
+            e.load_byte(src.addr, e.loaded, src.ram)
+            src = RegBit(e.loaded, src.bit)
         skip_if(e, src, invert)
         write(e, dst, True)
         skip_if(e, src, not invert)

@@ -9,7 +9,8 @@ is a branch over the next instruction.
 
 Register conventions: r2 is always zero; r3..r17 hold bits (memory.py); the
 integer patterns compute in A = r18..r21 and B = r22..r25, with r26..r31 and
-r0, r1 as scratch.
+r0, r1 as scratch. The reduced core (r16..r31 only) has its zero in r16 and
+loads bytes to test into r31 (memory.REGISTERS).
 """
 
 from __future__ import annotations
@@ -17,25 +18,20 @@ from __future__ import annotations
 from ..image import LoopBound
 from . import asm as a
 from . import isa
-from .memory import HOME_REGISTERS, TEMP_REGISTERS
-from .part import IO_END
+from .memory import REGISTERS
 
-ZERO = 2
 A = (18, 19, 20, 21)
 B = (22, 23, 24, 25)
 SCRATCH = 26  # an upper register free between integer operations
-LOADED = 0  # where a byte is loaded to test one of its bits
-
-PRESERVED = frozenset((ZERO, *HOME_REGISTERS, *TEMP_REGISTERS))
 
 # registers an instruction writes, by mnemonic: "d" its first operand,
 # "dd" the pair starting there, "mul" r1:r0
-_WRITES = {op: "d" for op in ("ldi", "mov", "lds", "in_", "ld_x", "lpm_p", "pop", "add", "adc", "sub", "sbc",
+_WRITES = {op: "d" for op in ("ldi", "mov", "lds", "in_", "ld_x", "lpm_p", "ld_zp", "pop", "add", "adc", "sub", "sbc",
                               "and_", "or_", "eor", "subi", "sbci", "ori", "andi", "com", "neg", "swap", "inc",
                               "dec", "asr", "lsr", "ror", "bld", "lsl", "rol", "clr")}
 _WRITES.update(sbiw="dd", movw="dd", mul="mul")
 # pointer registers moved by post-increment addressing
-_POINTER = {"st_xp": (26, 27), "lpm_p": (30, 31)}
+_POINTER = {"st_xp": (26, 27), "lpm_p": (30, 31), "ld_zp": (30, 31)}
 _SKIPS = set(isa.SKIP_INVERSE)
 
 
@@ -54,6 +50,10 @@ def _written(op: str, args: tuple) -> tuple[int, ...]:
 class Emitter:
     def __init__(self, assembler: a.Assembler):
         self.asm = assembler
+        self.core = assembler.core
+        plan = REGISTERS[self.core.name]
+        self.zero, self.loaded = plan.zero, plan.loaded
+        self._preserved = frozenset((plan.zero, *plan.homes, *plan.temps))
         self.known: dict | None = {}  # register -> ("mem", address) | ("const", byte); None: unreachable
         self._incoming: dict[str, list[dict]] = {}
         self._skip_state: dict | None = None  # what was known before a skip instruction
@@ -142,12 +142,27 @@ class Emitter:
             self._skip_state = dict(self.known)
 
     def load_address(self, low: int, high: int, label: str) -> None:
-        """low:high = a label's byte address in flash (for LPM)."""
+        """low:high = a label's byte address in flash (for LPM), or on the
+        reduced core its data address (for LD)."""
         for reg, upper in ((low, False), (high, True)):
             self._skip_state = None
-            self.asm.address(reg, label, upper)
+            self.asm.address(reg, label, upper, self.core.flash_data or 0)
             if self.known is not None:
                 self.known.pop(reg, None)
+
+    def pair(self, dst: int, src: int) -> None:
+        """dst:dst+1 = src:src+1, by MOVW where the core has it."""
+        if self.core.has("movw"):
+            self.ins("movw", dst, src)
+        else:
+            self.ins("mov", dst, src)
+            self.ins("mov", dst + 1, src + 1)
+
+    def bit_io(self, address: int) -> int | None:
+        """The I/O address SBI/CBI/SBIS/SBIC reach a data address by, or None."""
+        if self.core.io_offset <= address < self.core.bit_io_end:
+            return address - self.core.io_offset
+        return None
 
     def holds(self, reg: int, what: tuple) -> None:
         """Note that `reg` now holds `what`; only after an instruction no
@@ -164,7 +179,7 @@ class Emitter:
 
     def forget_scratch(self) -> None:
         if self.known is not None:
-            self.known = {r: v for r, v in self.known.items() if r in PRESERVED}
+            self.known = {r: v for r, v in self.known.items() if r in self._preserved}
 
     def holder(self, what: tuple) -> int | None:
         if self.known is None:
@@ -186,21 +201,21 @@ class Emitter:
                 self.ins("mov", reg, held)
                 self.holds(reg, ("mem", address))
                 return
-        if address < IO_END:
-            self.ins("in_", reg, address - 0x20)
+        if address < self.core.io_end:
+            self.ins("in_", reg, address - self.core.io_offset)
         else:
             self.ins("lds", reg, address)
         if ram:
             self.holds(reg, ("mem", address))
 
     def store_byte(self, address: int, reg: int, ram: bool) -> None:
-        if address < IO_END:
-            self.ins("out", address - 0x20, reg)
+        if address < self.core.io_end:
+            self.ins("out", address - self.core.io_offset, reg)
         else:
             self.ins("sts", address, reg)
         if ram:
             self.forget_address(address)
-            if reg != ZERO:
+            if reg != self.zero:
                 self.holds(reg, ("mem", address))
 
     def constant(self, value: int, reg: int) -> None:
@@ -216,11 +231,11 @@ class Emitter:
         self.holds(reg, ("const", value))
 
     def constant_reg(self, value: int, spare: int = SCRATCH) -> int:
-        """A register holding a byte constant: r2 for zero, one that already
-        holds it, or `spare` loaded with it."""
+        """A register holding a byte constant: the zero register for zero, one
+        that already holds it, or `spare` loaded with it."""
         value &= 0xFF
         if value == 0:
-            return ZERO
+            return self.zero
         held = self.holder(("const", value))
         if held is not None:
             return held

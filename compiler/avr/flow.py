@@ -9,9 +9,16 @@ RCALL 3, CALL 4, RET/RETI 4, one more each with a 3-byte program counter
 (the ATmega2560); a skip 1, or 2 or 3 when it skips a 1- or 2-word
 instruction. On parts without JMP (8 KB of flash) RJMP and RCALL wrap
 around the flash.
+
+The reduced core (the ATtiny10) encodes a one-word LDS/STS where the classic
+cores have LDD/STD: 1 cycle each. Its calls, returns and POP are slower;
+`REDUCED` takes the larger of the counts given for the AVRrc column (RCALL
+4, RET 6, POP 3), so the bound stays an upper bound.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 from ..budget import BRANCH, CALL, COMPUTED, JUMP, NEXT, RETURN, SKIP, Instruction
 
@@ -29,7 +36,7 @@ _PLAIN = (
     (0xF000, 0x6000, "ori", 1), (0xF000, 0x7000, "andi", 1), (0xF000, 0xE000, "ldi", 1),
     (0xD000, 0x8000, "ld/st y/z+q", 2),
     (0xFE0F, 0x9004, "lpm z", 3), (0xFE0F, 0x9005, "lpm z+", 3), (0xFE0F, 0x9006, "elpm z", 3),
-    (0xFE0F, 0x9007, "elpm z+", 3), (0xFC0F, 0x900F, "pop/push", 2),
+    (0xFE0F, 0x9007, "elpm z+", 3), (0xFE0F, 0x900F, "pop", 2), (0xFE0F, 0x920F, "push", 2),
     *((0xFC0F, value, "ld/st", 2) for value in (0x9001, 0x9002, 0x9009, 0x900A, 0x900C, 0x900D, 0x900E)),
     (0xFE0F, 0x9400, "com", 1), (0xFE0F, 0x9401, "neg", 1), (0xFE0F, 0x9402, "swap", 1),
     (0xFE0F, 0x9403, "inc", 1), (0xFE0F, 0x9405, "asr", 1), (0xFE0F, 0x9406, "lsr", 1),
@@ -40,6 +47,8 @@ _PLAIN = (
     (0xF000, 0xB000, "in/out", 1), (0xFC08, 0xF800, "bld/bst", 1),
 )
 _SKIPS = ((0xFC00, 0x1000, "cpse"), (0xFD00, 0x9900, "sbic/sbis"), (0xFC08, 0xFC00, "sbrc/sbrs"))
+# the reduced core's cycles where they differ from the classic ones
+REDUCED = {"lds/sts": 1, "rcall": 4, "icall": 4, "ret": 6, "pop": 3}
 
 
 def _two_words(word: int) -> bool:
@@ -48,14 +57,23 @@ def _two_words(word: int) -> bool:
 
 
 def instruction_at(words: list[int], address: int, device) -> Instruction | None:
-    """The instruction at a word address, None where no classic AVR
-    instruction is encoded."""
+    """The instruction at a word address, None where no AVR instruction of
+    the part's core is encoded."""
+    found = _decode(words, address, device)
+    if found is not None and device.data["avr"].get("core") == "reduced" and found.text in REDUCED:
+        return replace(found, cycles=REDUCED[found.text])
+    return found
+
+
+def _decode(words: list[int], address: int, device) -> Instruction | None:
     if not 0 <= address < len(words):
         return None
     avr = device.data["avr"]
     flash_words, pc_bytes = avr["flash"] // 2, avr["pc_bytes"]
     word = words[address]
     after = address + 1
+    if avr.get("core") == "reduced" and (word & 0xF000) == 0xA000:
+        return Instruction(address, 1, 2, text="lds/sts")  # one word; its cycles: REDUCED
     if _two_words(word):
         if after >= len(words):
             return None
@@ -82,7 +100,7 @@ def instruction_at(words: list[int], address: int, device) -> Instruction | None
         return Instruction(address, 1, 1 + pc_bytes, COMPUTED, text="icall")
     for mask, value, name in _SKIPS:
         if (word & mask) == value:
-            skipped = instruction_at(words, after, device)
+            skipped = _decode(words, after, device)
             size = skipped.size if skipped is not None else 1
             return Instruction(address, 1, 1, SKIP, after + size, 1 + size, text=name)
     for mask, value, name, cycles in _PLAIN:

@@ -22,7 +22,7 @@ from .. import analysis
 from ..analysis import value_size
 from ..image import LoopBound
 from . import bits
-from .emit import SCRATCH, ZERO, A, B
+from .emit import SCRATCH, A, B
 from .memory import MemBit, RegBit
 
 REMAINDER = (26, 27, 28, 29)  # where the divide routines leave the remainder
@@ -54,7 +54,7 @@ def extend(cx, regs, n: int, signed: bool = True) -> None:
         fill = regs[n]
         rest = regs[n + 1:]
     else:
-        fill, rest = ZERO, regs[n:]
+        fill, rest = e.zero, regs[n:]
     for reg in rest:
         e.ins("mov", reg, fill)
 
@@ -251,7 +251,7 @@ def _shift_once(cx, kind: str, r) -> None:
         for reg in r[1:]:
             e.ins("rol", reg)
         if kind == "rol":
-            e.ins("adc", r[0], ZERO)  # the bit shifted out comes back in at bit 0
+            e.ins("adc", r[0], e.zero)  # the bit shifted out comes back in at bit 0
         return
     if kind == "ror":
         e.ins("bst", r[0], 0)
@@ -288,7 +288,7 @@ def shift(cx, op: ir.Shift) -> None:
             within = e.new_label()
             e.ins("cpi", B[0], bits_)
             for reg in B[1:]:
-                e.ins("cpc", reg, ZERO)
+                e.ins("cpc", reg, e.zero)
             e.branch("brcs", within)
             e.constant(bits_, B[0])
             e.label(within)
@@ -347,7 +347,7 @@ def change_bit(cx, op: ir.ChangeBitOf) -> None:
     load(cx, op.index, B)
     e.ins("cpi", B[0], 8 * n)  # unsigned: a negative number is out of range too
     for reg in B[1:]:
-        e.ins("cpc", reg, ZERO)
+        e.ins("cpc", reg, e.zero)
     e.branch("brcc", done)
     _mask_and_pointer(cx, base)
     e.ins("ld_x", A[0])
@@ -371,7 +371,7 @@ def _mask_and_pointer(cx, base: int) -> None:
     e.constant(base & 0xFF, 26)
     e.constant(base >> 8, 27)
     e.ins("add", 26, A[0])
-    e.ins("adc", 27, ZERO)
+    e.ins("adc", 27, e.zero)
     e.ins("andi", B[0], 7)
     e.constant(1, A[1])
     top, done = e.new_label(), e.new_label()
@@ -402,7 +402,7 @@ def jump_if_bit_of(cx, op: ir.JumpIfBitOf) -> None:
     e.branch("brmi", zero)  # no bit: reads 0
     e.ins("cpi", B[0], 32)
     for reg in B[1:]:
-        e.ins("cpc", reg, ZERO)
+        e.ins("cpc", reg, e.zero)
     within = e.new_label()
     e.branch("brcs", within)
     e.constant(31, B[0])  # past the value: its sign bit
@@ -464,7 +464,7 @@ def table(cx, op: ir.Table) -> None:
             e.ins("lsl", 30)
             e.ins("rol", 31)
     elif n == 3:
-        e.ins("movw", 26, 30)
+        e.pair(26, 30)
         e.ins("lsl", 30)
         e.ins("rol", 31)
         e.ins("add", 30, 26)
@@ -473,7 +473,7 @@ def table(cx, op: ir.Table) -> None:
     e.ins("add", 30, 26)
     e.ins("adc", 31, 27)
     for reg in A[:n]:
-        e.ins("lpm_p", reg)
+        e.ins("lpm_p" if e.core.flash_data is None else "ld_zp", reg)
     store(cx, op.dst, A[:n])
 
 
@@ -481,7 +481,7 @@ def permute(cx, op: ir.Permute) -> None:
     e = cx.e
     w, n = size(cx, op.src), target_size(cx, op.dst)
     load(cx, op.src, B[:w])
-    e.ins("mov", A[0], ZERO)
+    e.ins("mov", A[0], e.zero)
     for source, dest in op.pairs:
         source = min(source, 8 * w - 1)  # past the width: the sign bit
         e.ins("sbrc", B[source // 8], source % 8)

@@ -97,6 +97,17 @@ def _addr16_rr(base, k, r):
     return _rd_addr16(base, r, k)
 
 
+def _rd_addr7(base, d, k):
+    """The reduced core's one-word LDS/STS: data addresses 0x40..0xBF, bit 7
+    the inverse of bit 6."""
+    _check(k, 0x40, 0xBF, "data address (0x40..0xBF)")
+    return [base | (k & 0x40) << 2 | (k & 0x30) << 5 | _upper(d) << 4 | (k & 0x0F)]
+
+
+def _addr7_rr(base, k, r):
+    return _rd_addr7(base, r, k)
+
+
 def _pair_k6(base, d, k):
     if d not in (24, 26, 28, 30):
         raise EncodingError(f"SBIW needs r24, r26, r28 or r30, not r{d}")
@@ -152,11 +163,53 @@ OPCODES: dict[str, Opcode] = {
     **_ops(_rd, "d,X", ld_x=0x900C),
     **_ops(_rd, "X,r", st_x=0x920C),
     **_ops(_rd, "X+,r", st_xp=0x920D),
-    **_ops(_rd, "d,Z+", lpm_p=0x9005),
+    **_ops(_rd, "d,Z+", lpm_p=0x9005, ld_zp=0x9001),
 }
 
+
+@dataclass(frozen=True)
+class Core:
+    """An instruction-set variant: the classic AVR core, or the reduced core
+    (AVRrc: ATtiny4/5/9/10/20/40) with sixteen registers, no MUL, MOVW,
+    ADIW/SBIW, LPM or JMP/CALL, a one-word LDS/STS, and its I/O registers at
+    data addresses 0x00..0x3F (registers are not in the data space), flash
+    read with LD through the data space at `flash_data`."""
+
+    name: str
+    registers: range
+    io_offset: int  # data address of I/O address 0
+    lacks: frozenset[str]
+    forms: dict[str, Opcode]  # the core's own encoding of a mnemonic
+    flash_data: int | None  # data address of flash byte 0 (LD reads it), None: LPM reads flash
+
+    def opcode(self, mnemonic: str) -> Opcode:
+        if mnemonic in self.lacks:
+            raise EncodingError(f"the {self.name} core has no {SPELLING.get(mnemonic, mnemonic).upper()}")
+        return self.forms.get(mnemonic) or OPCODES[mnemonic]
+
+    def has(self, mnemonic: str) -> bool:
+        return mnemonic not in self.lacks
+
+    @property
+    def io_end(self) -> int:
+        """First data address IN/OUT cannot reach."""
+        return self.io_offset + 0x40
+
+    @property
+    def bit_io_end(self) -> int:
+        """First data address SBI/CBI/SBIS/SBIC cannot reach."""
+        return self.io_offset + 0x20
+
+
+CLASSIC = Core("classic", range(32), 0x20, frozenset(), {}, None)
+REDUCED = Core("reduced", range(16, 32), 0x00,
+               frozenset({"mul", "movw", "sbiw", "lpm_p", "jmp", "call"}),
+               {"lds": Opcode(0xA000, _rd_addr7, "d,k"), "sts": Opcode(0xA800, _addr7_rr, "k,r")}, 0x4000)
+CORES = {core.name: core for core in (CLASSIC, REDUCED)}
+
 # the mnemonic avr-as knows, where the table's key differs from it
-SPELLING = {"and_": "and", "or_": "or", "in_": "in", "ld_x": "ld", "st_x": "st", "st_xp": "st", "lpm_p": "lpm"}
+SPELLING = {"and_": "and", "or_": "or", "in_": "in", "ld_x": "ld", "st_x": "st", "st_xp": "st", "lpm_p": "lpm",
+            "ld_zp": "ld"}
 
 # the branch taken on the opposite condition
 INVERSE = {"breq": "brne", "brne": "breq", "brcs": "brcc", "brcc": "brcs", "brmi": "brpl",
@@ -167,14 +220,17 @@ INVERSE = {"breq": "brne", "brne": "breq", "brcs": "brcc", "brcc": "brcs", "brmi
 SKIP_INVERSE = {"sbrc": "sbrs", "sbrs": "sbrc", "sbic": "sbis", "sbis": "sbic"}
 
 
-def encode(mnemonic: str, *operands: int) -> list[int]:
-    op = OPCODES[mnemonic]
+def encode(mnemonic: str, *operands: int, core: Core = CLASSIC) -> list[int]:
+    op = core.opcode(mnemonic)
+    for field, value in zip(op.syntax.split(","), operands):
+        if field in ("d", "r") and value not in core.registers:
+            raise EncodingError(f"register r{value} is not one of the {core.name} core's")
     return op.encode(op.base, *operands)
 
 
-def size(mnemonic: str) -> int:
+def size(mnemonic: str, core: Core = CLASSIC) -> int:
     """Words the instruction takes."""
-    return OPCODES[mnemonic].words
+    return core.opcode(mnemonic).words
 
 
 def text(mnemonic: str, *operands: int) -> str:

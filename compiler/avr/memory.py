@@ -4,7 +4,8 @@ Bits are packed eight to a byte. Input pins are bits of their PIN register,
 outputs bits of their PORT latch. The program's relays and the elements'
 hidden memories go to registers r3..r15 (the most used first), where one
 instruction tests or copies them, and the rest to RAM bytes. The rung's
-temporary power bits share registers r16 and r17: two temporaries whose uses
+temporary power bits share registers r16 and r17 (on the reduced core, which
+has r16..r31 only, memory bits are in RAM and temporaries in r17): two temporaries whose uses
 do not overlap get the same bit; when more are live at once they spill to
 RAM. Integer variables are consecutive RAM bytes, least significant first;
 `#PORTB`-style names are the part's registers.
@@ -22,8 +23,22 @@ from ..errors import NOT_COMPILED, RAM_FULL, fail
 from ..target import Machine
 from .part import Part
 
-HOME_REGISTERS = tuple(range(3, 16))
-TEMP_REGISTERS = (16, 17)
+
+@dataclass(frozen=True)
+class Registers:
+    """The registers given to bits and to the two fixed uses, by core."""
+
+    zero: int  # always 0
+    loaded: int  # where a byte is loaded to test one of its bits
+    homes: tuple[int, ...]  # memory bits, eight each
+    temps: tuple[int, ...]  # the rung's power bits, eight each
+
+
+# the reduced core has r16..r31 only: the integer patterns keep r18..r31, so
+# memory bits live in RAM, eight power bits in r17, and r31 (free between
+# the routines that use it) takes the loaded byte
+REGISTERS = {"classic": Registers(2, 0, tuple(range(3, 16)), (16, 17)),
+             "reduced": Registers(16, 31, (), (17,))}
 
 
 @dataclass(frozen=True)
@@ -69,14 +84,15 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
     memory = [n for n, k in code.bits.items() if k == ir.MEMORY]
     counts = use_counts(code.scan, set(memory))
     ranked = sorted(memory, key=lambda n: -counts[n])
-    slots = [RegBit(r, b) for r in HOME_REGISTERS for b in range(8)]
+    plan = REGISTERS[part.core.name]
+    slots = [RegBit(r, b) for r in plan.homes for b in range(8)]
     for name, slot in zip(ranked, slots):
         bits[name] = slot
     ram_bits += ranked[len(slots):]
     homes = tuple(sorted({slot.reg for _, slot in zip(ranked, slots)}))
     # temporaries: interval allocation over the scan's ops
     temps = {n for n, k in code.bits.items() if k == ir.TEMP}
-    free = [RegBit(r, b) for r in TEMP_REGISTERS for b in range(8)]
+    free = [RegBit(r, b) for r in plan.temps for b in range(8)]
     active: list[tuple[int, RegBit]] = []  # (last use, the bit) of the temporaries in registers
     for name, (start, end) in sorted(live_intervals(code.scan, temps).items(), key=lambda kv: kv[1]):
         for last, held in list(active):
@@ -105,9 +121,13 @@ def allocate(code: ir.Code, part: Part, machine: Machine) -> Layout:
         variables[name] = Storage(address, size, True)
         address += size
     used = address - part.ram_start
-    reserve = 8 * (part.pc_bytes + 2) + 4 * part.pc_bytes + 8
-    size = part.ram_end - part.ram_start + 1
-    if used + reserve > size:
-        raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {reserve}; "
-                             f"the {part.title} has {size}")
+    fits_ram(part, used, part.stack_reserve)
     return Layout(bits, variables, used, homes)
+
+
+def fits_ram(part: Part, used: int, stack: int) -> None:
+    """LD704 unless the variables and the stack fit the part's RAM."""
+    size = part.ram_end - part.ram_start + 1
+    if used + stack > size:
+        raise fail(RAM_FULL, f"the variables need {used} bytes of RAM and the stack {stack}; "
+                             f"the {part.title} has {size}")

@@ -5,7 +5,9 @@ Register addresses are data-space addresses. Below 0x60 a register is also
 reachable with IN/OUT (I/O address = data address - 0x20), below 0x40 with
 the bit instructions SBI/CBI/SBIS/SBIC; from 0x60 on ("extended I/O", such as
 the UART and timer registers of the ATmega328P or PORTF/G of the ATmega128)
-only LDS/STS reach it. Bit positions that are the same on every part are
+only LDS/STS reach it. On the reduced core (`"core": "reduced"`, the
+ATtiny10) the I/O registers are data addresses 0x00..0x3F themselves
+(`isa.Core.io_offset`). Bit positions that are the same on every part are
 constants here; tests/test_compiler_parts.py checks them against avr-libc.
 
 Its `cycle_timer` (Timer1 in CTC mode: clock divider, prescalers, counts),
@@ -21,8 +23,7 @@ from dataclasses import dataclass
 
 from lang.devices import Device
 
-IO_END = 0x60  # first data address IN/OUT cannot reach
-BIT_IO_END = 0x40  # first data address SBI/CBI/SBIS/SBIC cannot reach
+from . import isa
 
 # bit positions common to all the parts
 WGM12 = 3  # TCCR1B: clear timer on compare match
@@ -68,9 +69,26 @@ class Part:
         return self.avr["long_jumps"]
 
     @property
+    def core(self) -> isa.Core:
+        return isa.CORES[self.avr.get("core", "classic")]
+
+    @property
     def has_mul(self) -> bool:
-        """MUL and its kin: all but the ATtiny85's core."""
-        return self.avr.get("mul", True)
+        """MUL and its kin: not on the ATtiny85's core nor the reduced one."""
+        return self.avr.get("mul", True) and self.core.has("mul")
+
+    @property
+    def measures_stack(self) -> bool:
+        """The stack's depth is read from the image (stack.py): the ATtiny10,
+        whose 32 bytes of RAM cannot spare the other parts' fixed reserve."""
+        return self.avr.get("stack") == "measured"
+
+    @property
+    def stack_reserve(self) -> int:
+        """RAM kept for the stack before the code is written: none where the
+        image is measured, else room for eight levels of calls with their
+        saved registers."""
+        return 0 if self.measures_stack else 8 * (self.pc_bytes + 2) + 4 * self.pc_bytes + 8
 
     @property
     def pc_bytes(self) -> int:

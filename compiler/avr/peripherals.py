@@ -13,12 +13,11 @@ from lang.semantics import ir
 
 from ..image import LoopBound
 from . import bits, integers
-from .emit import LOADED, SCRATCH, A, B
+from .emit import SCRATCH, A, B
 from .memory import MemBit
 from .part import (
     ADEN,
     ADSC,
-    BIT_IO_END,
     EEMWE,
     EERE,
     EEWE,
@@ -67,7 +66,8 @@ def adc_prescaler(crystal_hz: int) -> int:
 
 def read_adc(cx, op: ir.ReadAdc) -> None:
     e, part, adc = cx.e, cx.part, cx.part.adc
-    _write(e, part, adc["ADMUX"], (op.refs & 3) << 6 | (op.channel & 7))
+    refs = (op.refs & 3) << 6 if adc.get("refs", True) else 0  # the ATtiny10 has VCC only
+    _write(e, part, adc["ADMUX"], refs | (op.channel & 7))
     if "MUX5" in adc:  # channels 8 and up: the register and bit of MUX5 differ by part
         register, bit = adc["MUX5"]
         _io_bit(e, part, register, bit, op.channel >= 8)
@@ -76,7 +76,15 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
     _wait_while(e, part, adc["ADCSRA"], ADSC, True,
                 LoopBound(None, "the A/D conversion", cycles=ADC_CONVERSION_CLOCKS * prescaler))
     e.load_byte(part.reg(adc["ADCL"]), A[0], False)  # ADCL first: it latches ADCH
-    e.load_byte(part.reg(adc["ADCH"]), A[1], False)
+    if adc.get("bits", 10) == 8:
+        # an 8-bit converter (the ATtiny10): its reading times 4, on the
+        # 0..1023 scale READ ADC has on every other part
+        e.ins("mov", A[1], e.zero)
+        for _ in range(2):
+            e.ins("lsl", A[0])
+            e.ins("rol", A[1])
+    else:
+        e.load_byte(part.reg(adc["ADCH"]), A[1], False)
     n = integers.target_size(cx, op.dst)
     integers.extend(cx, A[:max(n, 2)], 2, signed=False)
     integers.store(cx, op.dst, A[:max(n, 2)])
@@ -192,8 +200,8 @@ def _status(cx) -> MemBit:
 def uart_ready(cx, dst) -> None:
     """dst = TXC, or nothing sent yet"""
     e = cx.e
-    e.load_byte(_status(cx).addr, LOADED, False)
-    e.ins("bst", LOADED, TXC)
+    e.load_byte(_status(cx).addr, e.loaded, False)
+    e.ins("bst", e.loaded, TXC)
     bits.when(e, cx.bit(ir.Bit(UART_IDLE)), True, lambda: e.ins("set"))
     bits.from_t(e, cx.bit(dst))
 
@@ -205,8 +213,8 @@ def uart_send(cx, op: ir.UartSend) -> None:
     top = e.new_label()
     e.label(top, loop=op.wait, bound=_transmitter_wait(cx) if op.wait else None)
     status = part.reg(uart["UCSRA"])
-    e.load_byte(status, LOADED, False)
-    e.ins("sbrc", LOADED, TXC)
+    e.load_byte(status, e.loaded, False)
+    e.ins("sbrc", e.loaded, TXC)
     e.jump(ready)
     bits.jump_if(e, cx.bit(ir.Bit(UART_IDLE)), True, ready)
     if op.wait:
@@ -285,13 +293,13 @@ def eeprom_save(cx, op: ir.EepromSave) -> None:
     st = integers.storage(cx, op.var)
     for i in range(st.size):
         same = e.new_label()
-        _eeprom_read(cx, op.address + i, LOADED)
+        _eeprom_read(cx, op.address + i, e.loaded)
         e.load_byte(st.addr + i, A[0], st.ram)
-        e.ins("cp", LOADED, A[0])
+        e.ins("cp", e.loaded, A[0])
         e.branch("breq", same)
         e.store_byte(part.reg("EEDR"), A[0], False)
         # the write must follow the master enable within four cycles
-        assert part.reg("EECR") < BIT_IO_END
+        assert e.bit_io(part.reg("EECR")) is not None
         _io_bit(e, part, "EECR", EEMWE, True)
         _io_bit(e, part, "EECR", EEWE, True)
         e.jump(done)

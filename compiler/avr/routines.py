@@ -8,7 +8,7 @@ register but r2..r17.
 from __future__ import annotations
 
 from ..image import LoopBound
-from .emit import ZERO, A, B, Emitter
+from .emit import A, B, Emitter
 
 R = (26, 27, 28, 29)
 COUNTER = 30
@@ -41,7 +41,7 @@ def mul32(e: Emitter) -> None:
         e.ins("mul", a[i], b[j])
         e.ins("add", R[1], 0)
         e.ins("adc", R[2], 1)
-        e.ins("adc", R[3], ZERO)
+        e.ins("adc", R[3], e.zero)
     e.ins("movw", a[0], R[0])
     e.ins("movw", a[2], R[2])
     e.ins("ret")
@@ -116,7 +116,7 @@ def divmod32(e: Emitter) -> None:
 def bin2bcd(e: Emitter) -> None:
     """A0:A1 (0..9999) to unpacked BCD: A0 ones, A1 tens, A2 hundreds, A3
     thousands, by counting subtractions."""
-    e.ins("movw", R[0], A[0])
+    e.pair(R[0], A[0])
     for digit, step in ((A[3], 1000), (A[2], 100)):
         e.ins("clr", digit)
         top, done = e.new_label("bcd"), e.new_label("bcd")
@@ -152,7 +152,7 @@ def bcd2bin(e: Emitter) -> None:
     e.ins("add", 0, A[2])  # thousands * 10 + hundreds
     e.ins("mul", 0, R[0])
     e.ins("add", 0, A[1])
-    e.ins("adc", 1, ZERO)
+    e.ins("adc", 1, e.zero)
     e.ins("movw", R[2], 0)  # (.. * 10 + tens), times 10 below
     e.ins("lsl", R[2])
     e.ins("rol", R[3])
@@ -164,7 +164,7 @@ def bcd2bin(e: Emitter) -> None:
     e.ins("add", R[2], COUNTER)
     e.ins("adc", R[3], SIGNS)
     e.ins("add", R[2], A[0])
-    e.ins("adc", R[3], ZERO)
+    e.ins("adc", R[3], e.zero)
     e.ins("movw", A[0], R[2])
     e.ins("ret")
 
@@ -190,8 +190,8 @@ def mul32_shift(e: Emitter) -> None:
         e.ins("rol", reg)
     e.ins("dec", COUNTER)
     e.branch("brne", top)
-    e.ins("movw", A[0], R[0])
-    e.ins("movw", A[2], R[2])
+    e.pair(A[0], R[0])
+    e.pair(A[2], R[2])
     e.ins("ret")
 
 
@@ -202,7 +202,7 @@ def bcd2bin_shift(e: Emitter) -> None:
     e.ins("mov", R[0], A[3])
     e.ins("clr", R[1])
     for digit in (A[2], A[1], A[0]):
-        e.ins("movw", R[2], R[0])
+        e.pair(R[2], R[0])
         for _ in range(2):
             e.ins("lsl", R[0])
             e.ins("rol", R[1])
@@ -211,8 +211,8 @@ def bcd2bin_shift(e: Emitter) -> None:
         e.ins("lsl", R[0])
         e.ins("rol", R[1])
         e.ins("add", R[0], digit)
-        e.ins("adc", R[1], ZERO)
-    e.ins("movw", A[0], R[0])
+        e.ins("adc", R[1], e.zero)
+    e.pair(A[0], R[0])
     e.ins("ret")
 
 

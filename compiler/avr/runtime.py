@@ -21,7 +21,7 @@ from ..analysis import uses_uart
 from ..image import LoopBound
 from ..target import Machine
 from . import bits
-from .emit import ZERO, A, B
+from .emit import SCRATCH, A, B
 from .memory import MemBit, RegBit
 from .part import WGM12, Part
 from .peripherals import uart_init
@@ -36,33 +36,64 @@ def _write(cx: Context, register: str, value: int) -> None:
 
 
 def _pins(machine: Machine) -> dict[str, tuple[int, int]]:
-    """Port letter -> (DDR, PORT) values: outputs low, inputs pulled up as
-    the PULL-UP LIST says (all of them by default), PWM pins outputs."""
+    """Port letter -> (DDR, pull-up) masks: outputs (Y, P) low, inputs pulled
+    up as the PULL-UP LIST says (all of them by default), PWM pins outputs."""
     ports: dict[str, list[int]] = {}
     for name, pin in machine.pins.items():
         if not pin.is_io or name[:1] not in ("X", "Y", "P"):
             continue
         letter, bit = pin.port_bit
-        ddr, port = ports.setdefault(letter, [0, 0])
+        ddr, pulled = ports.setdefault(letter, [0, 0])
         if name[0] == "X":
-            pulled = machine.pullups.get(letter, 0xFF) >> bit & 1
-            ports[letter] = [ddr, port | pulled << bit]
+            ports[letter] = [ddr, pulled | (machine.pullups.get(letter, 0xFF) >> bit & 1) << bit]
         else:
-            ports[letter] = [ddr | 1 << bit, port]
-    return {letter: (ddr, port) for letter, (ddr, port) in ports.items()}
+            ports[letter] = [ddr | 1 << bit, pulled]
+    return {letter: (ddr, pulled) for letter, (ddr, pulled) in ports.items()}
+
+
+def _protected(cx: Context, register: str, value: int) -> None:
+    """A write the configuration change protection guards (the reduced
+    core's CCP): the key, then the write within four cycles."""
+    e, protect = cx.e, cx.part.avr["protect"]
+    e.constant(value, SCRATCH + 1)
+    e.constant(protect["key"], SCRATCH)
+    e.store_byte(cx.part.reg(protect["register"]), SCRATCH, False)
+    e.store_byte(cx.part.reg(register), SCRATCH + 1, False)
+
+
+def _clock(cx: Context, crystal_hz: int) -> None:
+    """A part whose clock comes from its own oscillator through a prescaler
+    (the ATtiny10: 8 MHz divided by 8 at reset): the division that makes the
+    program's clock, or else the external clock on CLKI."""
+    clock = cx.part.avr["clock"]
+    divisions = {clock["oscillator_hz"] >> k: k for k in range(9)}
+    if crystal_hz in divisions:
+        _protected(cx, clock["prescaler"], divisions[crystal_hz])
+    else:
+        _protected(cx, clock["source"], clock["external"])
+        _protected(cx, clock["prescaler"], 0)
+
+
+def _watchdog(cx: Context) -> None:
+    e, watchdog = cx.e, cx.part.avr["watchdog"]
+    e.ins("wdr")
+    if "protect" in cx.part.avr:
+        _protected(cx, watchdog["control"], 1 << watchdog["WDE"] | WATCHDOG_2S)
+        return
+    # the change enable bit opens a four-cycle window for the new setting
+    _write(cx, watchdog["control"], 1 << watchdog["WDCE"] | 1 << watchdog["WDE"])
+    _write(cx, watchdog["control"], 1 << watchdog["WDE"] | WATCHDOG_2S)
 
 
 def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
     e, part, layout = cx.e, cx.part, cx.layout
     e.ins("cli")
-    e.ins("clr", ZERO)
+    e.ins("clr", e.zero)
     _write(cx, "SPH", part.ram_end >> 8)
     _write(cx, "SPL", part.ram_end & 0xFF)
-    watchdog = part.avr["watchdog"]
-    e.ins("wdr")
-    # the change enable bit opens a four-cycle window for the new setting
-    _write(cx, watchdog["control"], 1 << watchdog["WDCE"] | 1 << watchdog["WDE"])
-    _write(cx, watchdog["control"], 1 << watchdog["WDE"] | WATCHDOG_2S)
+    _watchdog(cx)
+    if "clock" in part.avr:
+        _clock(cx, cx.crystal_hz)
     for reg in layout.homes + tuple(sorted({b.reg for b in layout.bits.values()
                                             if isinstance(b, RegBit) and b.reg not in layout.homes})):
         e.ins("clr", reg)
@@ -73,11 +104,18 @@ def _start(cx: Context, code: ir.Code, machine: Machine) -> None:
         e.constant(layout.ram_used & 0xFF, 24)
         e.constant(layout.ram_used >> 8, 25)
         e.label(top, loop=True, bound=LoopBound(layout.ram_used, "clearing RAM at start-up"))
-        e.ins("st_xp", ZERO)
-        e.ins("sbiw", 24, 1)
+        e.ins("st_xp", e.zero)
+        if e.core.has("sbiw"):
+            e.ins("sbiw", 24, 1)
+        else:
+            e.ins("subi", 24, 1)
+            e.ins("sbci", 25, 0)
         e.branch("brne", top)
-    for letter, (ddr, port) in sorted(_pins(machine).items()):
-        _write(cx, f"PORT{letter}", port)
+    pullups = part.avr.get("pullups")  # a register of its own (PUEB), or the PORT latch of an input
+    for letter, (ddr, pulled) in sorted(_pins(machine).items()):
+        if pullups:
+            _write(cx, f"{pullups}{letter}", pulled)
+        _write(cx, f"PORT{letter}", 0 if pullups else pulled)
         _write(cx, f"DDR{letter}", ddr)
     if part.uart and uses_uart(code):
         uart_init(cx)
@@ -122,23 +160,25 @@ def _scan(cx: Context, code: ir.Code, machine: Machine) -> None:
 
 
 def _compare_cycle(cx: Context, code: ir.Code, machine: Machine) -> None:
-    """Timer1 in CTC mode: its compare flag marks each cycle."""
+    """A 16-bit timer in CTC mode (Timer1; the ATtiny10's Timer0): its
+    compare flag marks each cycle."""
     e, part = cx.e, cx.part
     setting = cycle_setting(part.device, cx.crystal_hz, machine.cycle_us, free=False)
-    assert setting is not None  # the checks refuse a cycle Timer1 cannot make (LD706)
+    assert setting is not None  # the checks refuse a cycle the timer cannot make (LD706)
     select_bits, counts = setting
-    _write(cx, "TCCR1A", 0)
-    _write(cx, "OCR1AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
-    _write(cx, "OCR1AL", (counts - 1) & 0xFF)
-    _write(cx, "TCCR1B", 1 << WGM12 | select_bits)
+    flags = part.avr["cycle_timer"]
+    n = flags.get("timer", 1)
+    _write(cx, f"TCCR{n}A", 0)
+    _write(cx, f"OCR{n}AH", (counts - 1) >> 8)  # the high byte first: it goes through TEMP
+    _write(cx, f"OCR{n}AL", (counts - 1) & 0xFF)
+    _write(cx, f"TCCR{n}B", 1 << WGM12 | select_bits)  # WGMn2: bit 3 of TCCRnB on every part
     _scan(cx, code, machine)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"))
     e.ins("wdr")
-    flags = part.avr["cycle_timer"]
-    flag = MemBit(part.reg(flags["flags"]), flags["OCF1A"], False)
+    flag = MemBit(part.reg(flags["flags"]), flags[f"OCF{n}A"], False)
     bits.jump_if(e, flag, False, "wait")
     e.label("waited")  # the wait loop ends here (benchmarks time the scan without it)
-    _write(cx, flags["flags"], 1 << flags["OCF1A"])  # writing 1 clears it
+    _write(cx, flags["flags"], 1 << flags[f"OCF{n}A"])  # writing 1 clears it
     e.jump("scan")
 
 

@@ -67,8 +67,9 @@ def _taken(program: Program, device, entry: dict, analog: bool) -> str | None:
         if crystal in internal:
             return None
         made = ", ".join(format_frequency(hz) for hz in internal[:-1]) + f" and {format_frequency(internal[-1])}"
+        taken = entry.get("clock_source", "a crystal takes XTAL1 and XTAL2 (an external clock XTAL1 alone)")
         return (f"when it runs at {format_frequency(crystal)}, a clock its internal oscillator cannot make (it makes "
-                f"{made}), so a crystal takes XTAL1 and XTAL2 (an external clock XTAL1 alone)")
+                f"{made}), so {taken}")
     if analog:
         return None  # an A/D input on the reset pin reads while its voltage stays above the reset level
     return f"unless the {entry['fuse']} fuse is programmed, which also ends programming the chip over ISP"

@@ -21,7 +21,8 @@ reset input or programming interface, each with when it does: ``field``,
 ``mask`` and ``values`` (a PIC: the configuration word ANDed with the mask
 is one of the values, gputils' symbols), ``clock_hz_internal`` (an AVR's
 crystal pins: taken unless the crystal setting is one of these internal
-oscillator frequencies) or ``fuse`` (taken unless that fuse, which the build
+oscillator frequencies; ``clock_source`` says what takes them otherwise,
+when not a crystal on XTAL1/XTAL2: the ATtiny10's CLKI) or ``fuse`` (taken unless that fuse, which the build
 does not write, is programmed). The check LD413 reads it.
 
 Compilers may add their own top-level keys to the files; ``Device.data`` keeps
