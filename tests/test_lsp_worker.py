@@ -15,6 +15,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent / "e2e"))
 import editor_env as env
+from test_harness import needs_simavr
 
 from compiler.run.record import Event, record_pins
 from lsp.worker import connect
@@ -83,7 +84,9 @@ def test_diagnostics_hover_and_simulation_through_whole_messages():
     asyncio.run(run())
 
 
-def test_files_are_exported_not_written(tmp_path):
+def _exported() -> list[dict]:
+    """The fixed lamp program's answers to ladder.export (hex, c, ld, ladder), ladder.build,
+    ladder.convert and an export to a target that does not exist."""
     async def run() -> list[dict]:
         client = Client()
         await _session(client)
@@ -96,8 +99,13 @@ def test_files_are_exported_not_written(tmp_path):
         answers.append(await client.command("ladder.export", "pdf"))
         return answers
 
-    hex_file, c_files, ld_file, ladder_file, build, convert, bad = asyncio.run(run())
+    return asyncio.run(run())
+
+
+def test_files_are_exported_not_written(tmp_path):
+    hex_file, c_files, ld_file, ladder_file, build, convert, bad = _exported()
     assert "ATmega328" in hex_file["result"]["summary"]
+    assert [f["name"] for f in hex_file["result"]["files"]] == ["Untitled-1.hex"]
     assert [f["name"] for f in c_files["result"]["files"]] == ["Untitled-1.c", "Untitled-1.h", "ladder.h"]
     ld = base64.b64decode(ld_file["result"]["files"][0]["data"])
     assert ld.startswith(b"LDmicro") and b"\r\n" in ld
@@ -105,14 +113,6 @@ def test_files_are_exported_not_written(tmp_path):
     for answer in (build, convert):
         assert "in the browser no file is written" in answer["error"]["message"]
     assert "target must be one of" in bad["error"]["message"]
-    # the HEX downloaded runs in simavr: the lamp follows its input
-    (image,) = hex_file["result"]["files"]
-    assert image["name"] == "Untitled-1.hex"
-    (tmp_path / image["name"]).write_bytes(base64.b64decode(image["data"]))
-    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
-    recording = record_pins(tmp_path / image["name"], "atmega328p", 16_000_000, 10_000, events, 5,
-                            {"Xstart": "PD2", "Ylamp": "PD3"})
-    assert [row["Ylamp"] for row in recording.rows] == [0, 0, 1, 1, 1]
     # the C files compile with the host's compiler
     for f in c_files["result"]["files"]:
         (tmp_path / f["name"]).write_bytes(base64.b64decode(f["data"]))
@@ -121,6 +121,17 @@ def test_files_are_exported_not_written(tmp_path):
     out = subprocess.run([cc, "-c", "-Wall", "-o", str(tmp_path / "prog.o"), str(tmp_path / "Untitled-1.c")],
                          capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
+
+
+@needs_simavr
+def test_the_exported_hex_runs_in_simavr(tmp_path):
+    """The lamp follows its input: Xstart low for two scans, then high."""
+    (image,) = _exported()[0]["result"]["files"]
+    (tmp_path / image["name"]).write_bytes(base64.b64decode(image["data"]))
+    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
+    recording = record_pins(tmp_path / image["name"], "atmega328p", 16_000_000, 10_000, events, 5,
+                            {"Xstart": "PD2", "Ylamp": "PD3"})
+    assert [row["Ylamp"] for row in recording.rows] == [0, 0, 1, 1, 1]
 
 
 def test_a_message_that_is_no_json_costs_that_message_only():

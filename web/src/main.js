@@ -19,7 +19,7 @@ const doc = { uri: 'inmemory://playground/conveyor.ladder', languageId: 'ladder'
 const editStarted = new Map();
 const loading = Annotation.define();
 let simulation = null; // the last state while one runs
-let history_ = [];
+let plotted = []; // the states of the running simulation: {t, values}
 
 // --- the editor ------------------------------------------------------------------------
 
@@ -95,24 +95,24 @@ const view = new EditorView({
 
 // --- diagnostics -------------------------------------------------------------------------
 
-client.on('textDocument/publishDiagnostics', (params_) => {
-  if (params_.uri !== doc.uri || (params_.version != null && params_.version !== doc.version)) return;
+client.on('textDocument/publishDiagnostics', (published) => {
+  if (published.uri !== doc.uri || (published.version != null && published.version !== doc.version)) return;
   const now = performance.now();
   if (timings.firstDiagnosticsMs === null) {
     timings.firstDiagnosticsMs = now;
     setStatus(`ready: first diagnostics ${(now / 1000).toFixed(1)} s after the page began to load`);
   }
-  if (editStarted.has(params_.version)) {
-    timings.edits.push(now - editStarted.get(params_.version));
+  if (editStarted.has(published.version)) {
+    timings.edits.push(now - editStarted.get(published.version));
     editStarted.clear();
   }
   const state = view.state;
-  const found = params_.diagnostics.map((d) => ({
+  const found = published.diagnostics.map((d) => ({
     from: offset(state, d.range.start), to: Math.max(offset(state, d.range.end), offset(state, d.range.start)),
     severity: d.severity === 1 ? 'error' : 'warning', message: d.message, source: d.code,
   }));
   view.dispatch(setDiagnostics(state, found));
-  $('problems').replaceChildren(...params_.diagnostics.map((d, i) => {
+  $('problems').replaceChildren(...published.diagnostics.map((d, i) => {
     const item = document.createElement('li');
     item.textContent = `${d.range.start.line + 1}:${d.range.start.character + 1} ${d.code} ${d.message}`;
     item.className = d.severity === 1 ? 'error' : 'warning';
@@ -174,8 +174,8 @@ function showState(state) {
   }));
   $('sim-time').textContent = running ? `${(state.timeMs / 1000).toFixed(2)} s, scan ${state.scan}` : '';
   if (running) {
-    history_.push({ t: state.timeMs, values: state.values });
-    while (history_.length > 2 && history_[0].t < state.timeMs - PLOT_SPAN_MS) history_.shift();
+    plotted.push({ t: state.timeMs, values: state.values });
+    while (plotted.length > 2 && plotted[0].t < state.timeMs - PLOT_SPAN_MS) plotted.shift();
   }
   plot();
 }
@@ -185,20 +185,22 @@ function plot() {
   const width = svg.clientWidth || 300;
   const height = svg.clientHeight || 150;
   const names = simulation ? Object.keys(simulation.values).filter((n) => /^[XYR]/.test(n)).sort().slice(0, PLOT_ROWS) : [];
-  if (!names.length || !history_.length) {
+  if (!names.length || !plotted.length) {
     svg.replaceChildren();
     return;
   }
   const label = 60;
-  const end = history_[history_.length - 1].t;
-  const x = (t) => label + (width - label - 4) * (1 - (end - t) / PLOT_SPAN_MS);
+  const end = plotted[plotted.length - 1].t;
+  // the last ten seconds, or what there is of them (one second at least)
+  const span = Math.min(PLOT_SPAN_MS, Math.max(end - plotted[0].t, 1000));
+  const x = (t) => label + (width - label - 4) * (1 - (end - t) / span);
   const row = height / names.length;
   const parts = [];
   names.forEach((name, i) => {
     const y = (v) => i * row + (v ? 3 : row - 3);
     let d = '';
     let last = null;
-    for (const { t, values } of history_) {
+    for (const { t, values } of plotted) {
       const v = values[name] ? 1 : 0;
       d += d ? ` H${x(t).toFixed(1)}` : `M${x(t).toFixed(1)} ${y(v)}`;
       if (last !== null && v !== last) d += ` V${y(v)}`;
@@ -225,7 +227,7 @@ async function toggle(name) {
 }
 
 $('sim-start').onclick = async () => {
-  history_ = [];
+  plotted = [];
   await simCommand('ladder.sim.start');
   if (simulation) await simCommand('ladder.sim.runRealtime', true);
 };
@@ -233,7 +235,7 @@ $('sim-stop').onclick = () => simCommand('ladder.sim.stop');
 $('sim-step').onclick = () => simCommand('ladder.sim.step', 1);
 $('sim-run').onclick = () => simCommand('ladder.sim.runRealtime', !(simulation && simulation.realtime));
 $('sim-reset').onclick = () => {
-  history_ = [];
+  plotted = [];
   return simCommand('ladder.sim.reset');
 };
 
@@ -245,7 +247,7 @@ function open(name, text, languageId) {
   doc.uri = `inmemory://playground/${encodeURIComponent(name)}`;
   doc.languageId = languageId;
   doc.version = 1;
-  history_ = [];
+  plotted = [];
   showState({ running: false, energized: [], values: {} });
   view.dispatch({ changes: { from: 0, to: view.state.doc.length, insert: text }, annotations: loading.of(true) });
   client.notify('textDocument/didOpen', { textDocument: { uri: doc.uri, languageId, version: 1, text } });
