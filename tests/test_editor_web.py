@@ -255,6 +255,7 @@ def test_the_playground_in_chromium(dist, site, tmp_path):
     raw_mb, gzipped_mb = _gzipped_mb(dist)
     figures = {
         "first diagnostics after page load (s)": round(timings["firstDiagnosticsMs"] / 1000, 2),
+        "the worker's start-up (ms)": timings["workerStart"],
         f"edit to diagnostics, {BIG_RUNGS} rungs, median (ms)": round(_median(timings["editsMs"]), 1),
         "native over stdio, same edits, median (ms)": round(_median(native), 1),
         "native in process, same edits, median (ms)": round(_median(in_process), 1),

@@ -9,8 +9,9 @@ import { Client } from './lsp.js';
 
 const $ = (id) => document.getElementById(id);
 const params = new URLSearchParams(location.search);
-// what the tests and the curious read: when the first diagnostics came, how long each edit took
-const timings = { firstDiagnosticsMs: null, edits: [] };
+// what the tests and the curious read: when the first diagnostics came, how long each edit took,
+// the worker's start-up by stage
+const timings = { firstDiagnosticsMs: null, edits: [], start: null };
 const PLOT_SPAN_MS = 10000;
 const PLOT_ROWS = 12;
 
@@ -126,6 +127,8 @@ client.on('textDocument/publishDiagnostics', (published) => {
 
 client.on('window/showMessage', (p) => showMessage(p.message));
 client.on('window/logMessage', (p) => {
+  const started = /^ladder: started (\{.*\})$/.exec(p.message);
+  if (started) timings.start = JSON.parse(started[1]);
   if (p.type === 1) console.error(p.message);
 });
 

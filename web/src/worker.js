@@ -32,10 +32,13 @@ async function start() {
     if (!r.ok) throw new Error(`site.zip: HTTP ${r.status}`);
     return r.arrayBuffer();
   });
+  const timings = {};
   const take = await startServer({
-    loadPyodide, indexURL: new URL('pyodide/', base).href, site,
+    loadPyodide, indexURL: new URL('pyodide/', base).href, site, timings,
     post: (text) => self.postMessage(JSON.parse(text)),
   });
+  // where the start-up went, for the client's log (docs/browser.md, "Cold start and speed")
+  self.postMessage({ jsonrpc: '2.0', method: 'window/logMessage', params: { type: 4, message: `ladder: started ${JSON.stringify(timings)}` } });
   for (const message of waiting.splice(0)) take(JSON.stringify(message));
   receive = take;
 }

@@ -54,6 +54,7 @@ async function main() {
     await page.goto(args.url, { waitUntil: 'domcontentloaded' });
     await page.waitForFunction(() => window.ladder && window.ladder.timings.firstDiagnosticsMs !== null, null, { timeout: 90000 });
     timings.firstDiagnosticsMs = Math.round(await page.evaluate(() => window.ladder.timings.firstDiagnosticsMs));
+    timings.workerStart = await page.evaluate(() => window.ladder.timings.start);
     log(`first diagnostics after ${timings.firstDiagnosticsMs} ms`);
 
     log('type a program with an error');
