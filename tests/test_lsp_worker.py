@@ -1,5 +1,5 @@
 """The language server as a Web Worker runs it (lsp/worker.py): whole JSON messages in, whole
-JSON messages out, no standard input, on documents that are not files (untitled:, inmemory:).
+JSON messages out, no standard input, on documents that are not files (untitled:, vscode-vfs:, inmemory:).
 Here on CPython's event loop; tests/test_editor_web.py runs the same entry point on Pyodide
 under Node and in Chromium."""
 
@@ -13,6 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 sys.path.insert(0, str(Path(__file__).parent / "e2e"))
 import editor_env as env
 from test_harness import needs_simavr
@@ -21,10 +23,14 @@ from compiler.run.record import Event, record_pins
 from lsp.worker import connect
 
 URI = "untitled:Untitled-1"
+# documents a browser has: VS Code's unsaved buffer, a file of vscode.dev's virtual file system,
+# a model of an editor in a page (no suffix: the language is the client's languageId)
+URIS = [URI, "vscode-vfs://github/someone/plc/lamp.ladder", "inmemory://model/1"]
 
 
 class Client:
-    def __init__(self) -> None:
+    def __init__(self, uri: str = URI) -> None:
+        self.uri = uri
         self.received: list[dict] = []
         self.send_text = connect(lambda text: self.received.append(json.loads(text)))
         self.next_id = 0
@@ -52,26 +58,27 @@ class Client:
         raise AssertionError(f"no diagnostics for version {version}")
 
     async def command(self, name: str, *arguments: object) -> dict:
-        return await self.request("workspace/executeCommand", {"command": name, "arguments": [URI, *arguments]})
+        return await self.request("workspace/executeCommand", {"command": name, "arguments": [self.uri, *arguments]})
 
 
 async def _session(client: Client) -> None:
     await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
     client.notify("initialized", {})
-    client.notify("textDocument/didOpen", {"textDocument": {"uri": URI, "languageId": "ladder", "version": 1,
+    client.notify("textDocument/didOpen", {"textDocument": {"uri": client.uri, "languageId": "ladder", "version": 1,
                                                              "text": env.LAMP_BAD}})
 
 
-def test_diagnostics_hover_and_simulation_through_whole_messages():
+@pytest.mark.parametrize("uri", URIS)
+def test_diagnostics_hover_and_simulation_through_whole_messages(uri):
     async def run() -> None:
-        client = Client()
+        client = Client(uri)
         await _session(client)
         found = await client.diagnostics(1)
         assert [d["code"] for d in found] == ["LD102"] and found[0]["range"]["start"]["line"] == env.BAD_LINE
-        hover = await client.request("textDocument/hover", {"textDocument": {"uri": URI},
+        hover = await client.request("textDocument/hover", {"textDocument": {"uri": uri},
                                                             "position": {"line": env.BAD_LINE, "character": 61}})
         assert "Xlamp" in json.dumps(hover["result"])
-        client.notify("textDocument/didChange", {"textDocument": {"uri": URI, "version": 2},
+        client.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2},
                                                  "contentChanges": [{"text": env.lamp_fixed()}]})
         assert await client.diagnostics(2) == []
         started = await client.command("ladder.sim.start")
