@@ -7,7 +7,8 @@ web/dist is missing).
   cannot write.
 * In Debian's Chromium, headless, through playwright-core against a static server on
   127.0.0.1: a program typed with an error, its diagnostic, the fix typed, a simulation, an input
-  clicked and the output energized, the HEX downloaded (run in simavr); then the cold start
+  clicked and the output energized, the HEX downloaded (run in simavr), an .ld file opened
+  and downloaded as a .ladder file; then the cold start
   and edit figures of docs/browser.md, the edits timed beside the native server's on the same
   document, and the download's size gzipped.
 
@@ -38,6 +39,8 @@ sys.path.insert(0, str(env.REPO / "benchmarks"))
 from lsp_bench import GENERATED, middle_name
 
 from compiler.run.record import Event, record_pins
+from ide.convert import render
+from lang.loader import TEXT_KIND, parse
 from lsp.worker import connect
 
 pytestmark = pytest.mark.slow
@@ -241,13 +244,20 @@ def test_the_playground_in_chromium(dist, site, tmp_path):
     bad.write_text(env.LAMP_BAD)
     big_text, edits = _big_program()
     big.write_text(big_text)
+    ld = tmp_path / "lamp.ld"
+    program, problems = parse(env.lamp_fixed(), TEXT_KIND)
+    ld.write_bytes(render(program, problems, "ld", "cp1252", ld.name).data)
     result = _node(WEB / "test" / "playground_e2e.mjs", "--url", site + "?delay=0", "--bad", str(bad),
-                   "--fixes", json.dumps(_fixes()), "--input", "Xstart", "--output", "Ylamp",
+                   "--fixes", json.dumps(_fixes()), "--input", "Xstart", "--output", "Ylamp", "--ld", str(ld),
                    "--big", str(big), "--edits", json.dumps(edits), "--out", str(out), timeout=240)
     assert any("LD102" in line for line in result["bad"]), result["bad"]
     assert result["before"] == "0"
     assert "( )" in result["energized"], result  # the coil, drawn energized
     assert _runs_in_simavr(Path(result["hex"])) == [0, 0, 1, 1, 1]
+    # the .ld opened has no problem, and the .ladder downloaded is the program it was made from
+    assert result["ldProblems"] == []
+    assert Path(result["ladder"]).name == "lamp.ladder"
+    assert parse(Path(result["ladder"]).read_text(encoding="utf-8"), TEXT_KIND)[0] == program
 
     timings = result["timings"]
     native = _native_stdio_ms(big_text, edits)

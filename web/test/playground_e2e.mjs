@@ -1,11 +1,13 @@
 // The playground in Debian's Chromium, headless, through playwright-core: what a person does and
 // sees. Types a program with an error and sees its diagnostic, fixes it by typing, starts a
 // simulation, clicks an input and sees the output energized in the drawing and 1 in the values;
-// downloads the HEX; then opens a bigger program and times one-character edits to their diagnostics.
+// downloads the HEX; opens an .ld file and downloads it as a .ladder file; then opens a bigger program and times one-character edits to their diagnostics.
 //
-//   node playground_e2e.mjs --url URL --bad FILE --fixes JSON --input NAME --output NAME --big FILE --edits JSON --out DIR
+//   node playground_e2e.mjs --url URL --bad FILE --fixes JSON --input NAME --output NAME --ld FILE --big FILE
+//                           --edits JSON --out DIR
 //     --fixes: [[line, column, length, typed]...] turning --bad into a program without problems
 //     --input, --output: the input to click once the simulation runs, the output it drives
+//     --ld: an LDmicro file to open and download as a .ladder file
 //     --edits: [[line, column]...] characters of --big to type over, one edit each
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, "timings": {...}, "hex": PATH});
@@ -94,6 +96,15 @@ async function main() {
     const hex = path.join(args.out, download.suggestedFilename());
     await download.saveAs(hex);
 
+    log('open an .ld file and download it as a .ladder file');
+    await page.setInputFiles('#open', args.ld);
+    await page.waitForFunction(() => window.ladder.doc.uri.endsWith('.ld') && window.ladder.timings.firstDiagnosticsMs !== null);
+    await page.waitForTimeout(500); // its diagnostics, if it had any
+    const ldProblems = await problems(page);
+    const [converted] = await Promise.all([page.waitForEvent('download'), page.click('[data-export="ladder"]')]);
+    const ladder = path.join(args.out, converted.suggestedFilename());
+    await converted.saveAs(ladder);
+
     log('time edits on a bigger program');
     await page.evaluate((text) => window.ladder.open('big.ladder', text, 'ladder'), fs.readFileSync(args.big, 'utf8'));
     await page.waitForFunction(() => window.ladder.timings.firstDiagnosticsMs !== null);
@@ -109,7 +120,7 @@ async function main() {
       await page.waitForFunction((n) => window.ladder.timings.edits.length > n, count);
     }
     timings.editsMs = (await page.evaluate(() => window.ladder.timings.edits)).map((ms) => +ms.toFixed(1));
-    console.log(JSON.stringify({ ok: errors.length === 0, errors, timings, bad, before, energized, hex }));
+    console.log(JSON.stringify({ ok: errors.length === 0, errors, timings, bad, before, energized, hex, ldProblems, ladder }));
   } catch (error) {
     await page.screenshot({ path: path.join(args.out, 'playground-failure.png') }).catch(() => {});
     console.log(JSON.stringify({ ok: false, error: String(error.stack || error), errors, timings }));
