@@ -30,8 +30,6 @@ def convert(source: Path | None, target: object, encoding: str,
             read: tuple[Program, list[Diagnostic]] | None = None) -> Converted:
     """Write the program of `source` (as `read` already, else read from the
     file, LDmicro's files in `encoding`) beside it as `target`, "ladder" or "ld"."""
-    if target not in TARGETS:
-        raise ConvertError(f"target must be \"ladder\" or \"ld\", not {target!r}")
     if source is None:
         raise ConvertError("save the document to a file first: the converted file is written beside it")
     if read is None:
@@ -41,13 +39,36 @@ def convert(source: Path | None, target: object, encoding: str,
             raise ConvertError(f"cannot read {source}: {problem.strerror or problem}") from problem
         read = loaded.program, loaded.diagnostics
     program, problems = read
+    made = render(program, problems, target, encoding, source.name)
+    out = source.with_suffix(made.suffix)
+    if out == source:
+        raise ConvertError(f"{source.name} is already a {made.suffix} file")
+    try:
+        write_whole(out, made.data)
+    except OSError as problem:
+        raise ConvertError(f"cannot write {out}: {problem.strerror or problem}") from problem
+    return Converted(out, made.warnings)
+
+
+@dataclass(frozen=True)
+class Rendered:
+    suffix: str  # ".ladder" or ".ld"
+    data: bytes  # the file's contents
+    warnings: tuple[str, ...]
+
+
+def render(program: Program, problems: list[Diagnostic], target: object, encoding: str, name: str) -> Rendered:
+    """The file's contents as `target` ("ladder" or "ld") of the program read
+    from `name` with `problems`: written beside the source by `convert`,
+    handed to the browser as a download."""
+    if target not in TARGETS:
+        raise ConvertError(f"target must be \"ladder\" or \"ld\", not {target!r}")
     if any(p.severity == ERROR for p in problems):
-        raise ConvertError(f"{source.name} has errors; fix them before converting")
+        raise ConvertError(f"{name} has errors; fix them before converting")
     warnings: list[Diagnostic] = []
     if target == "ld":
         from lang.ldfile import write_ld
 
-        out = source.with_suffix(".ld")
         text = write_ld(program, diagnostics=warnings)
         refused = [d.message for d in warnings if d.severity == ERROR]
         if refused:  # a pin the .ld cannot hold: no file LDmicro would refuse
@@ -57,15 +78,7 @@ def convert(source: Path | None, target: object, encoding: str,
         except UnicodeEncodeError as problem:
             raise ConvertError(f"{problem.object[problem.start]!r} cannot be written in {encoding}, the code page "
                                "of the .ld file; rename it or choose another ladder.encoding") from None
-    else:
-        from lang.textform.writer import render_program
+        return Rendered(".ld", data, tuple(d.message for d in warnings))
+    from lang.textform.writer import render_program
 
-        out = source.with_suffix(".ladder")
-        data = encode_text(render_program(program), "utf-8")
-    if out == source:
-        raise ConvertError(f"{source.name} is already a {'.ld' if target == 'ld' else '.ladder'} file")
-    try:
-        write_whole(out, data)
-    except OSError as problem:
-        raise ConvertError(f"cannot write {out}: {problem.strerror or problem}") from problem
-    return Converted(out, tuple(d.message for d in warnings))
+    return Rendered(".ladder", encode_text(render_program(program), "utf-8"), ())

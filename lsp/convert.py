@@ -32,7 +32,13 @@ def _uri_argument(args: Sequence[object]) -> str:
     return args[0]
 
 
+# a server in a browser (lsp/worker.py) has no disk to write beside the document
+NO_DISK = "in the browser no file is written beside the document: ladder.export gives the {what} to download"
+
+
 def convert_document(ls: LadderServer, uri: str, target: object) -> dict[str, str]:
+    if not ls.writes_files:
+        raise UserError(NO_DISK.format(what="converted file"))
     analysis = ls.documents.analysis(uri)
     try:
         done = convert(file_path(uri), target, ls.settings.encoding,
@@ -61,6 +67,9 @@ def register(server: LadderServer) -> None:
     def saved(ls: LadderServer, uri: str | None) -> None:
         if not ls.settings.compile_on_save or uri is None:
             return
+        if not ls.writes_files:
+            ls.log("compile on save: " + NO_DISK.format(what="HEX file"), types.MessageType.Warning)
+            return
         analysis = ls.documents.analysis(uri)
         if analysis is None or analysis.has_errors or not analysis.program.settings.mcu:
             return
@@ -76,6 +85,8 @@ def register(server: LadderServer) -> None:
 
 def build(ls: LadderServer, uri: str) -> dict[str, Any]:
     """Compile the document's program to a HEX file beside it (`ladder build`)."""
+    if not ls.writes_files:
+        raise UserError(NO_DISK.format(what="HEX file"))
     analysis = ls.documents.analysis(uri)
     if analysis is None:
         raise UserError("not a ladder document")

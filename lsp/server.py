@@ -53,6 +53,8 @@ class LadderServer(LanguageServer):
                          protocol_cls=LadderProtocol)
         self._reader: ResyncReader | None = None
         self.settings = Settings()
+        # False in a browser (lsp/worker.py): nothing is written beside the documents
+        self.writes_files = True
         self.documents = Documents(self)
         self.protocol._converter.register_unstructure_hook(Raw, lambda raw: raw.value)
         self.faults = {name.strip() for name in os.environ.get(FAULTS_ENV, "").split(",") if name.strip()}

@@ -108,7 +108,8 @@ class LadderProtocol(LanguageServerProtocol):
         else:
             super()._send_data(data)
             return
-        header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n"
+        header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n" \
+            if self._include_headers else ""  # a worker's messages are whole already (lsp/worker.py)
         written = self.writer.write((header + body).encode(self.CHARSET))
         if inspect.isawaitable(written):
             asyncio.ensure_future(written)

@@ -1,0 +1,285 @@
+"""The browser: the language server on Pyodide (lsp/worker.py behind web/src/worker.js) and the
+playground page (web/), from the build in web/dist (`npm run build` in web/, run here when
+web/dist is missing).
+
+* Under Node, the worker's entry point from the build answers a session: diagnostics, a fix,
+  a simulation, `ladder.export` of the HEX (run in simavr), and `ladder.build` says why it
+  cannot write.
+* In Debian's Chromium, headless, through playwright-core against a static server on
+  127.0.0.1: a program typed with an error, its diagnostic, the fix typed, a simulation, an input
+  clicked and the output energized, the HEX downloaded (run in simavr), an .ld file opened
+  and downloaded as a .ladder file; then the cold start
+  and edit figures of docs/browser.md, the edits timed beside the native server's on the same
+  document, and the download's size gzipped.
+
+Slow: runs in the editor step of .ci/run. Figures and screenshots go to build/editor-e2e/
+(LADDER_E2E_OUT).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import gzip
+import http.server
+import json
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent / "e2e"))
+import editor_env as env
+
+sys.path.insert(0, str(env.REPO / "benchmarks"))
+from lsp_bench import GENERATED, middle_name
+
+from compiler.run.record import Event, record_pins
+from ide.convert import render
+from lang.loader import TEXT_KIND, parse
+from lsp.worker import connect
+
+pytestmark = pytest.mark.slow
+
+WEB = env.REPO / "web"
+DIST = WEB / "dist"
+BIG_RUNGS = 200
+BIG_URI = "inmemory://playground/big.ladder"
+EDITS = 10
+TYPED = "abcdefghijklmnopqrstuvwxyz"  # typed over the same character, one letter an edit
+WARM_UP_S = 1.5  # after an open, until the warm-up of the document's answers (lsp/warmup.py) is over
+# docs/browser.md, "Cold start": the issue's targets
+FIRST_DIAGNOSTICS_TARGET_S = 4.0
+EDIT_TARGET_FACTOR = 3.0
+DOWNLOAD_TARGET_MB = 8.0
+# what the page asserts: a machine twice as slow as this one still passes; the figures are reported
+FIRST_DIAGNOSTICS_LIMIT_S = 20.0
+DOWNLOAD_LIMIT_MB = DOWNLOAD_TARGET_MB
+
+
+@pytest.fixture(scope="module")
+def dist() -> Path:
+    if not (DIST / "index.html").exists() or not (DIST / "site.zip").exists():
+        env.require(env.which("npm") is not None, "npm is not installed")
+        env.require((WEB / "node_modules" / "pyodide").exists(), "web/node_modules is missing (npm ci in web/)")
+        made = subprocess.run(["npm", "run", "build"], cwd=WEB, capture_output=True, text=True, timeout=300,
+                              env={**os.environ, "PYTHON": sys.executable})
+        assert made.returncode == 0, made.stdout + made.stderr
+    env.require((WEB / "node_modules" / "playwright-core").exists(), "web/node_modules is missing (npm ci in web/)")
+    return DIST
+
+
+class _Quiet(http.server.SimpleHTTPRequestHandler):
+    extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map,
+                      ".js": "text/javascript", ".mjs": "text/javascript", ".wasm": "application/wasm",
+                      ".zip": "application/zip", ".json": "application/json"}
+
+    def log_message(self, *args: object) -> None:
+        pass
+
+
+@pytest.fixture(scope="module")
+def site(dist: Path):
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(dist)))
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{server.server_address[1]}/"
+    server.shutdown()
+
+
+def _runs_in_simavr(hex_path: Path) -> list[int]:
+    """Ylamp after each of five scans, Xstart low for two, then high."""
+    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
+    recording = record_pins(hex_path, "atmega328p", 16_000_000, 10_000, events, 5, {"Xstart": "PD2", "Ylamp": "PD3"})
+    return [row["Ylamp"] for row in recording.rows]
+
+
+def _node(script: Path, *args: str, timeout: int = 180) -> dict:
+    node = env.which("node")
+    env.require(node is not None, "node is not installed")
+    proc = subprocess.run([node, str(script), *args], capture_output=True, text=True, timeout=timeout, cwd=WEB)
+    lines = proc.stdout.strip().splitlines()
+    assert lines, proc.stderr[-3000:]
+    result = json.loads(lines[-1])
+    assert result["ok"], json.dumps(result, indent=1) + "\n" + proc.stderr[-3000:]
+    return result
+
+
+def test_the_worker_entry_point_on_pyodide_under_node(dist, tmp_path):
+    bad, fixed = tmp_path / "bad.ladder", tmp_path / "fixed.ladder"
+    bad.write_text(env.LAMP_BAD)
+    fixed.write_text(env.lamp_fixed())
+    result = _node(WEB / "test" / "node_worker.mjs", str(bad), str(fixed), "Xstart", "Ylamp")
+    assert "in the browser no file is written" in result["buildMessage"]
+    (tmp_path / "lamp.hex").write_text(result["hex"])
+    assert _runs_in_simavr(tmp_path / "lamp.hex") == [0, 0, 1, 1, 1]
+
+
+def _fixes() -> list[tuple[int, int, int, str]]:
+    """The keystrokes that turn LAMP_BAD into lamp_fixed(): the coil's name, and its row of the I/O table."""
+    lines = env.LAMP_BAD.split("\n")
+    row = next(i for i, line in enumerate(lines) if line.startswith("  Xlamp"))
+    fixes = [(env.BAD_LINE, lines[env.BAD_LINE].index(env.BAD_NAME), 1, "Y"), (row, 2, 1, "Y"),
+             (row, lines[row].index("digital in "), len("digital in "), "digital out")]
+    for line, column, length, text in fixes:
+        lines[line] = lines[line][:column] + text + lines[line][column + length:]
+    assert "\n".join(lines) == env.lamp_fixed()
+    return fixes
+
+
+def _big_program() -> tuple[str, list[tuple[int, int]]]:
+    """A 200-rung program (the benchmark's chain of timers and parallels) and the characters to type over:
+    the last one of a name in the middle rung, each edit a new name, as a person typing one."""
+    text = GENERATED[0].text(BIG_RUNGS)
+    line, column = middle_name(text.split("\n"), BIG_RUNGS)
+    return text, [(line, column)] * EDITS
+
+
+def _session(text: str) -> list[dict]:
+    """The messages that open `text` with the diagnostics delay 0, as the page's `?delay=0`."""
+    return [{"jsonrpc": "2.0", "id": 1, "method": "initialize",
+             "params": {"processId": None, "rootUri": None, "capabilities": {}}},
+            {"jsonrpc": "2.0", "method": "initialized", "params": {}},
+            {"jsonrpc": "2.0", "method": "workspace/didChangeConfiguration",
+             "params": {"settings": {"ladder": {"diagnosticsDelayMs": 0}}}},
+            {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+                "uri": BIG_URI, "languageId": "ladder", "version": 1, "text": text}}}]
+
+
+def _edit(version: int, line: int, column: int) -> dict:
+    """Types a letter over the character at (line, column): as the page's test does."""
+    return {"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+        "textDocument": {"uri": BIG_URI, "version": version},
+        "contentChanges": [{"range": {"start": {"line": line, "character": column},
+                                      "end": {"line": line, "character": column + 1}},
+                            "text": TYPED[(version - 2) % len(TYPED)]}]}}
+
+
+def _native_in_process_ms(text: str, edits: list[tuple[int, int]]) -> list[float]:
+    """The same edits to the native server fed as the worker feeds it (lsp/worker.py), in this
+    process: the server's own time from an edit to its diagnostics."""
+    async def run() -> list[float]:
+        arrived: dict[int, float] = {}
+
+        def received(message: str) -> None:
+            data = json.loads(message)
+            if data.get("method") == "textDocument/publishDiagnostics":
+                arrived[data["params"]["version"]] = time.perf_counter()
+
+        send = connect(received)
+        for message in _session(text):
+            send(json.dumps(message))
+        await asyncio.sleep(WARM_UP_S)
+        times = []
+        for version, (line, column) in enumerate(edits, start=2):
+            start = time.perf_counter()
+            send(json.dumps(_edit(version, line, column)))
+            while version not in arrived:
+                await asyncio.sleep(0)
+            times.append((arrived[version] - start) * 1000)
+        return times
+
+    return asyncio.run(run())
+
+
+def _native_stdio_ms(text: str, edits: list[tuple[int, int]]) -> list[float]:
+    """The same edits to `ladder lsp` over standard input and output, as a desktop editor runs it:
+    from an edit written to its diagnostics read."""
+    proc = subprocess.Popen([sys.executable, "-m", "ladder", "lsp"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.DEVNULL, cwd=env.REPO)
+
+    def send(message: dict) -> None:
+        body = json.dumps(message).encode()
+        proc.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
+        proc.stdin.flush()
+
+    def diagnostics_of(version: int) -> None:
+        while True:
+            length = 0
+            while (line := proc.stdout.readline().strip()):
+                if line.lower().startswith(b"content-length:"):
+                    length = int(line.split(b":")[1])
+            data = json.loads(proc.stdout.read(length))
+            if data.get("method") == "textDocument/publishDiagnostics" and data["params"]["version"] == version:
+                return
+
+    try:
+        for message in _session(text):
+            send(message)
+        diagnostics_of(1)
+        time.sleep(WARM_UP_S)
+        times = []
+        for version, (line, column) in enumerate(edits, start=2):
+            start = time.perf_counter()
+            send(_edit(version, line, column))
+            diagnostics_of(version)
+            times.append((time.perf_counter() - start) * 1000)
+        return times
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+def _gzipped_mb(dist: Path) -> tuple[float, float]:
+    """The page's files as sent raw and gzipped (a static host that compresses): megabytes."""
+    files = [p for p in dist.rglob("*") if p.is_file()]
+    raw = sum(p.stat().st_size for p in files)
+    packed = sum(len(gzip.compress(p.read_bytes(), 9)) for p in files)
+    return raw / 1e6, packed / 1e6
+
+
+def _median(values: list[float]) -> float:
+    ordered = sorted(values)
+    return ordered[len(ordered) // 2]
+
+
+def test_the_playground_in_chromium(dist, site, tmp_path):
+    env.require(Path("/usr/bin/chromium").exists() or bool(os.environ.get("CHROMIUM")), "chromium is not installed")
+    out = env.OUT / "web"
+    bad, big = tmp_path / "bad.ladder", tmp_path / "big.ladder"
+    bad.write_text(env.LAMP_BAD)
+    big_text, edits = _big_program()
+    big.write_text(big_text)
+    ld = tmp_path / "lamp.ld"
+    program, problems = parse(env.lamp_fixed(), TEXT_KIND)
+    ld.write_bytes(render(program, problems, "ld", "cp1252", ld.name).data)
+    result = _node(WEB / "test" / "playground_e2e.mjs", "--url", site + "?delay=0", "--bad", str(bad),
+                   "--fixes", json.dumps(_fixes()), "--input", "Xstart", "--output", "Ylamp", "--ld", str(ld),
+                   "--big", str(big), "--edits", json.dumps(edits), "--out", str(out), timeout=240)
+    assert any("LD102" in line for line in result["bad"]), result["bad"]
+    assert result["before"] == "0"
+    assert "( )" in result["energized"], result  # the coil, drawn energized
+    assert _runs_in_simavr(Path(result["hex"])) == [0, 0, 1, 1, 1]
+    # the .ld opened has no problem, and the .ladder downloaded is the program it was made from
+    assert result["ldProblems"] == []
+    assert Path(result["ladder"]).name == "lamp.ladder"
+    assert parse(Path(result["ladder"]).read_text(encoding="utf-8"), TEXT_KIND)[0] == program
+
+    timings = result["timings"]
+    native = _native_stdio_ms(big_text, edits)
+    in_process = _native_in_process_ms(big_text, edits)
+    raw_mb, gzipped_mb = _gzipped_mb(dist)
+    figures = {
+        "first diagnostics after page load (s)": round(timings["firstDiagnosticsMs"] / 1000, 2),
+        "the worker's start-up (ms)": timings["workerStart"],
+        f"edit to diagnostics, {BIG_RUNGS} rungs, median (ms)": round(_median(timings["editsMs"]), 1),
+        "native over stdio, same edits, median (ms)": round(_median(native), 1),
+        "native in process, same edits, median (ms)": round(_median(in_process), 1),
+        "ratio to native over stdio": round(_median(timings["editsMs"]) / _median(native), 2),
+        "download raw (MB)": round(raw_mb, 2),
+        "download gzipped (MB)": round(gzipped_mb, 2),
+        "targets": {"first diagnostics (s)": FIRST_DIAGNOSTICS_TARGET_S, "ratio": EDIT_TARGET_FACTOR,
+                    "download gzipped (MB)": DOWNLOAD_TARGET_MB},
+        "browser edits (ms)": timings["editsMs"],
+        "native edits over stdio (ms)": [round(ms, 1) for ms in native],
+        "native edits in process (ms)": [round(ms, 1) for ms in in_process],
+    }
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "figures.json").write_text(json.dumps(figures, indent=1))
+    print(json.dumps(figures, indent=1))
+    assert timings["firstDiagnosticsMs"] / 1000 <= FIRST_DIAGNOSTICS_LIMIT_S, figures
+    assert gzipped_mb <= DOWNLOAD_LIMIT_MB, figures

@@ -1,0 +1,32 @@
+// Starts textladder's language server on Pyodide (lsp/worker.py) and returns the function that
+// takes the client's messages. Shared by the Web Worker (worker.js) and the Node test
+// (tests/web_worker_node.mjs), so that both run the same start-up.
+//
+// site: the bytes of site.zip (textladder and its packages, precompiled by build.mjs).
+// post(text): receives each message of the server, as JSON text.
+// timings (optional): filled with the milliseconds of each stage (docs/browser.md, "Cold start").
+export async function startServer({ loadPyodide, indexURL, site, post, timings = {} }) {
+  let last = performance.now();
+  const stage = (name) => {
+    const now = performance.now();
+    timings[name] = Math.round(now - last);
+    last = now;
+  };
+  const py = await loadPyodide({
+    indexURL,
+    // the precompiled standard library (build.mjs), not the one Pyodide's package ships with
+    stdLibURL: `${indexURL}python_stdlib.zip`,
+    stdout: () => {},
+    stderr: (line) => console.warn(line),
+  });
+  stage('loadPyodideMs');
+  py.unpackArchive(await site, 'zip', { extractDir: '/site' });
+  stage('unpackMs');
+  py.runPython('import sys; sys.path.insert(0, "/site")');
+  const worker = py.pyimport('lsp.worker');
+  stage('importMs');
+  const receive = worker.connect((text) => post(text));
+  worker.destroy();
+  stage('connectMs');
+  return (text) => receive(text);
+}
