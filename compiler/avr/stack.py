@@ -46,18 +46,19 @@ class _Reader:
                 return None
             held += {"push": 1, "pop": -1}.get(ins.text, 0)
             deepest = max(deepest, held)
-            if ins.flow == CALL:
-                inner = self.routine(ins.target, active)
+            target = ins.target
+            if ins.flow == CALL and target is not None:
+                inner = self.routine(target, active)
                 if inner is None:
                     return None
                 deepest = max(deepest, held + self.pc_bytes + inner)
                 todo.append((ins.next, held))
-            elif ins.flow == JUMP:
-                todo.append((ins.target, held))
-            elif ins.flow in (BRANCH, SKIP):
-                todo += [(ins.next, held), (ins.target, held)]
+            elif ins.flow == JUMP and target is not None:
+                todo.append((target, held))
+            elif ins.flow in (BRANCH, SKIP) and target is not None:
+                todo += [(ins.next, held), (target, held)]
             elif ins.flow == NEXT:
                 todo.append((ins.next, held))
             elif ins.flow != RETURN:
-                return None  # a computed jump
+                return None  # a computed jump, or one whose target the decoder does not know
         return deepest
