@@ -240,7 +240,6 @@ def test_known_ldmicro_names_without_data():
         "ESP8266",
         "PC LPT COM",
         "Atmel AVR ATtiny10 6-Pin packages",
-        "Microchip PIC16F1827 18-Pin PDIP, SOIC",
     ]:
         assert is_known_ldmicro_name(name), name
         assert find_device(name) is None
