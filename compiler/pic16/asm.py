@@ -141,6 +141,8 @@ class Writer:
 
 
 class Assembler(Writer):
+    isa = isa  # the instruction table the words are encoded with
+
     def __init__(self, flash_words: int, page_words: int = 2048):
         super().__init__()
         self.flash_words = flash_words
@@ -169,7 +171,7 @@ class Assembler(Writer):
                 assert skip is None or isinstance(item, Comment), f"label {item} right after a skip"
                 before.append(item)
                 continue
-            if isinstance(item, Ins) and item.op in isa.SKIPS and skip is None:
+            if isinstance(item, Ins) and item.op in self.isa.SKIPS and skip is None:
                 skip = item
                 continue
             words: list[_Word] = []
@@ -183,7 +185,7 @@ class Assembler(Writer):
                 falls = item.call or bool(guard)
             elif isinstance(item, Ins):
                 words = guard + [_Word(item.op, item.args, comment=item.comment)]
-                falls = item.op not in isa.ENDS or bool(guard)
+                falls = item.op not in self.isa.ENDS or bool(guard)
             elif isinstance(item, Address):
                 words = guard + [_Word("movlw", target=item.target, high=item.high)]
                 falls = True
@@ -256,7 +258,7 @@ class Assembler(Writer):
                 if offset == lead:
                     lines += heading(before)
                 op, args, text = self._resolve(word, address, labels, jump)
-                value = isa.encode(op, *args)
+                value = self.isa.encode(op, *args)
                 words.append(value)
                 note = f"  {word.comment}" if word.comment else ""
                 lines.append(f"\t{op}\t{text}".rstrip() + f"\t; {address:04X} {value:04X}{note}")
@@ -273,21 +275,25 @@ class Assembler(Writer):
                 page = labels[jump] // self.page_words
             else:
                 page = address // self.page_words
-            bit = word.args[0]
-            op = "bsf" if page >> PAGE_BITS.index(bit) & 1 else "bcf"
-            return op, (PCLATH, bit), f"0x{PCLATH:02X}, {bit}"
+            return self._page_selection(word, page)
         if word.target is not None:
             target = labels[word.target]
             if word.op == "movlw":
                 value = (target >> 8) if word.high else target & 0xFF
                 return "movlw", (value,), address_text(word.target, word.high)
             return word.op, (target & 0x7FF,), label_name(word.target)
-        pattern = isa.INSTRUCTIONS[word.op].pattern
+        pattern = self.isa.INSTRUCTIONS[word.op].pattern
         args = word.args
         text = {"fd": lambda: f"0x{args[0]:02X}, {args[1]}", "f": lambda: f"0x{args[0]:02X}",
                 "fb": lambda: f"0x{args[0]:02X}, {args[1]}", "k8": lambda: f"0x{args[0] & 0xFF:02X}",
-                "": lambda: ""}[pattern]()
+                "": lambda: ""}.get(pattern, lambda: ", ".join(f"0x{arg:02X}" for arg in args))()
         return word.op, args, text
+
+    def _page_selection(self, word: _Word, page: int) -> tuple[str, tuple, str]:
+        """The instruction of a page selection word: BCF/BSF of its PCLATH bit."""
+        bit = word.args[0]
+        op = "bsf" if page >> PAGE_BITS.index(bit) & 1 else "bcf"
+        return op, (PCLATH, bit), f"0x{PCLATH:02X}, {bit}"
 
 
 

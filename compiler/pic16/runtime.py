@@ -21,6 +21,7 @@ from __future__ import annotations
 from lang.hardware import cycle_runs_free, cycle_setting
 from lang.semantics import ir
 
+from ..errors import NOT_COMPILED, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -90,8 +91,31 @@ def _clear(cx: Context, addresses: list[int]) -> None:
         e.goto(top)
 
 
+def _oscillator(cx: Context) -> None:
+    """OSCCON for the program's clock where the configuration word selects
+    the internal oscillator (it starts at 500 kHz): LDmicro leaves OSCCON
+    alone, so its code runs at 500 kHz whatever clock the program names
+    (docs/pic16.md)."""
+    part, machine = cx.part, cx.machine
+    intosc = part.feature("intosc")
+    fosc = part.config_field("FOSC")
+    if intosc is None or fosc is None:
+        return
+    word = part.config_words[0][1] if machine.config_word is None else machine.config_word & 0x3FFF
+    if word & fosc.mask != fosc.value:
+        return  # the program's configuration word chooses a crystal or an external clock
+    value = intosc["settings"].get(str(machine.crystal_hz))
+    if value is None:
+        clocks = ", ".join(f"{int(hz) / 1e6:g}" for hz in sorted(intosc["settings"], key=int, reverse=True))
+        raise fail(NOT_COMPILED, f"the {part.title}'s internal oscillator runs at {clocks} MHz, not at "
+                                 f"{machine.crystal_hz / 1e6:g} MHz: choose one of them, or a configuration word "
+                                 "with a crystal")
+    _write(cx, intosc["register"], value)
+
+
 def _start(cx: Context, code: ir.Code) -> None:
     part = cx.part
+    _oscillator(cx)
     # the scratch bytes are written before they are read
     _clear(cx, sorted(cx.e.ram - set(cx.layout.scratch)))
     for features in ("digital_io", "comparators_off"):
