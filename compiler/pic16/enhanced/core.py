@@ -16,6 +16,7 @@ CORE_REGISTERS = 0x0C  # 0x00-0x0B of every bank
 class EnhancedCore:
     unknown = (None,)
     moves_far = False
+    carry_ops = True
 
     def __init__(self, part: Part):
         self.status = part.reg("STATUS")
