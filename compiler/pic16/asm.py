@@ -142,6 +142,7 @@ class Writer:
 
 class Assembler(Writer):
     isa = isa  # the instruction table the words are encoded with
+    code_space = 0  # what gpasm adds to a code label's address in high(): 0x8000 on the enhanced core
 
     def __init__(self, flash_words: int, page_words: int = 2048):
         super().__init__()
@@ -279,7 +280,7 @@ class Assembler(Writer):
         if word.target is not None:
             target = labels[word.target]
             if word.op == "movlw":
-                value = (target >> 8) if word.high else target & 0xFF
+                value = (target + self.code_space) >> 8 & 0xFF if word.high else target & 0xFF
                 return "movlw", (value,), address_text(word.target, word.high)
             return word.op, (target & 0x7FF,), label_name(word.target)
         pattern = self.isa.INSTRUCTIONS[word.op].pattern

@@ -10,6 +10,8 @@ from . import isa
 
 class Assembler(midrange.Assembler):
     isa = isa
+    # program memory is at 0x8000 up for FSR0/FSR1: gpasm's high() of a code label has bit 7 set (PCLATH ignores it)
+    code_space = 0x8000
 
     def _select(self, which: str) -> list[midrange._Word]:
         return [midrange._Word("pagesel", select=which)]
