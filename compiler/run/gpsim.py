@@ -11,8 +11,8 @@ missing HEX still exits 0, so the output is scanned for error messages.
 * Outputs: ``log w portX`` / ``log w trisX`` record every write to the watched ports' latch
   and direction registers with the instruction cycle of the write, so every output edge is
   known to the cycle (an output pin's level is its latch bit while its TRIS bit is 0; a pin
-  set as input counts as 0, as an undriven pin does). A PIC18 has its latch apart, LATX: a
-  write to PORTX writes it, so ``log w latX`` sees every write.
+  set as input counts as 0, as an undriven pin does). A PIC18 and an enhanced mid-range PIC16
+  have their latch apart, LATX: a write to PORTX writes it, so ``log w latX`` sees every write.
 * UART: ``log w txreg`` records every transmitted byte with its cycle (gpsim's usart module
   captured nothing).
 
@@ -83,11 +83,13 @@ def _pin_label(port: str, bit: int) -> str:
 
 
 def _registers(port: str, processor: str = "") -> tuple[str, str]:
-    """gpsim's names of a port's data and direction registers: the latch a
-    PIC18's outputs are written in (LATB), else the port."""
+    """gpsim's names of a port's data and direction registers: the latch the
+    outputs of a PIC18 or an enhanced mid-range PIC16 (p12f1840, p16f1825:
+    four digits after the F) are written in (LATB), else the port."""
     if port == GPIO:
         return "gpio", "trisio"
-    return (f"lat{port}" if processor.startswith("p18") else f"port{port}"), f"tris{port}"
+    latched = processor.startswith("p18") or re.fullmatch(r"p1[026]l?f1\d{3}", processor) is not None
+    return (f"lat{port}" if latched else f"port{port}"), f"tris{port}"
 
 
 def _port_of(register: str) -> tuple[str, str] | None:
