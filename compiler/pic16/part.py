@@ -195,9 +195,9 @@ class Part:
 
     def pullup_switch(self) -> tuple[int, int] | None:
         """(register, bit) whose clearing turns the weak pull-ups on (RBPU,
-        GPPU), None when the part has none."""
+        GPPU; WPUEN on the enhanced core), None when the part has none."""
         for register, named in self.facts["bits"].items():
-            for bit in ("NOT_RBPU", "NOT_GPPU"):
+            for bit in ("NOT_RBPU", "NOT_GPPU", "NOT_WPUEN"):
                 if bit in named:
                     return self.reg(register), named[bit]
         return None

@@ -54,14 +54,15 @@ def _pins(cx: Context) -> dict[str, int]:
     return ports
 
 
-def _pulled_up(cx: Context) -> int:
-    """The inputs of the port with weak pull-ups (PORTB, or GPIO) that want one."""
-    mask = 0
+def _pulled_up(cx: Context) -> dict[str, int]:
+    """Port letter -> its inputs that want a weak pull-up, on the ports that
+    have them (PORTB, GPIO; on the enhanced core every port with a WPUx)."""
+    masks: dict[str, int] = {}
     for name, pin in cx.machine.pins.items():
-        if name[:1] == "X" and pin.is_io and pin.port in ("B", "P"):
+        if name[:1] == "X" and pin.is_io and (pin.port in ("B", "P") or cx.part.has(f"WPU{pin.port}")):
             letter, bit = pin.port_bit
-            mask |= (cx.machine.pullups.get(letter, 0xFF) >> bit & 1) << bit
-    return mask
+            masks[letter] = masks.get(letter, 0) | (cx.machine.pullups.get(letter, 0xFF) >> bit & 1) << bit
+    return {letter: mask for letter, mask in masks.items() if mask}
 
 
 def _clear(cx: Context, addresses: list[int]) -> None:
@@ -132,13 +133,14 @@ def _start(cx: Context, code: ir.Code) -> None:
         cx.e.load_constant(direction)
         cx.e.store(part.tris(letter))
     pulled = _pulled_up(cx)
+    for letter, mask in sorted(pulled.items()):
+        register = "WPU" if letter == "P" else f"WPU{letter}"
+        if part.has(register):
+            _write(cx, register, mask)
     if pulled:
-        for register in ("WPUB", "WPU"):
-            if part.has(register):
-                _write(cx, register, pulled)
         switch = part.pullup_switch()
         assert switch is not None  # a port with weak pull-ups has their switch
-        cx.e.ins("bcf", *switch)  # RBPU/GPPU low: the weak pull-ups on
+        cx.e.ins("bcf", *switch)  # RBPU/GPPU/WPUEN low: the weak pull-ups on
     uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
