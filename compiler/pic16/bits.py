@@ -39,6 +39,14 @@ def jump_if(e: Emitter, loc: FileBit, value: bool, target: str) -> None:
     e.goto(target)
 
 
+def _near(e: Emitter, dst: FileBit, src: FileBit) -> None:
+    """Select the destination's bank first when the source is reached from
+    any bank: the skips then test it there and the writes need no selection
+    of their own (each skip guards the write alone, no GOTO around it)."""
+    if e.reaches(src.addr):
+        e.select(dst.addr)
+
+
 def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
     if dst == src:
         if invert:
@@ -50,14 +58,17 @@ def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
         write(e, dst, False)
         when(e, src, not invert, lambda: write(e, dst, True))
         return
+    _near(e, dst, src)
     when(e, src, not invert, lambda: write(e, dst, True))
     when(e, src, invert, lambda: write(e, dst, False))
 
 
 def and_(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
     """dst = dst and (src, or not src when inverted)"""
+    _near(e, dst, src)
     when(e, src, invert, lambda: write(e, dst, False))
 
 
 def or_(e: Emitter, dst: FileBit, src: FileBit) -> None:
+    _near(e, dst, src)
     when(e, src, True, lambda: write(e, dst, True))
