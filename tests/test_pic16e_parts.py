@@ -35,12 +35,16 @@ PARTS = {
 
 
 @cache
-def mcutable() -> str:
+def ldmicro_source(name: str) -> str:
     with tarfile.open(LDMICRO_SOURCE) as archive:
-        member = next(m for m in archive.getmembers() if m.name.endswith("ldmicro/mcutable.h"))
+        member = next(m for m in archive.getmembers() if m.name.endswith(f"ldmicro/{name}"))
         file = archive.extractfile(member)
         assert file is not None
         return file.read().decode("latin-1")
+
+
+def mcutable() -> str:
+    return ldmicro_source("mcutable.h")
 
 
 def _table(name: str) -> str:
@@ -92,6 +96,24 @@ def test_pins_are_ldmicros(part):
 def test_config_words_are_ldmicros(part):
     words = [value for _, value in Part.of(find_device(part)).config_words]
     assert words == ldmicro_config(PARTS[part][0])
+
+
+@pytest.mark.parametrize("part", sorted(PARTS))
+def test_the_internal_oscillator_is_set_as_ldmicro_sets_it(part):
+    """OSCCON for each clock as LDmicro's pic16.cpp writes it (SPLLEN:IRCF at
+    bit 3) on the parts it sets it for: those whose configuration word selects
+    the internal oscillator."""
+    facts = Part.of(find_device(part))
+    code = ldmicro_source("pic16.cpp")
+    sets = re.search(r'McuAs\(" PIC16F1824 "\).*?switch\(Prog.mcuClock\)(.*?)default:', code, re.S)
+    assert sets
+    ldmicro = {int(hz): int(value, 16) << 3 for hz, value in re.findall(r"case (\d+):\s*spllen_ircf = (0x[0-9A-F]+);",
+                                                                    sets.group(1))}
+    fosc = facts.config_field("FOSC")
+    assert (fosc.symbol == "_FOSC_INTOSC") == (part in ("pic12f1840", "pic16f1824", "pic16f1827"))
+    intosc = facts.feature("intosc")
+    assert ({int(hz): value for hz, value in intosc["settings"].items()} if intosc else None) == (
+        ldmicro if fosc.symbol == "_FOSC_INTOSC" else None)
 
 
 @base.needs_gputils
