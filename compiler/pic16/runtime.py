@@ -94,9 +94,8 @@ def _clear(cx: Context, addresses: list[int]) -> None:
 
 def _oscillator(cx: Context) -> None:
     """OSCCON for the program's clock where the configuration word selects
-    the internal oscillator (it starts at 500 kHz): LDmicro leaves OSCCON
-    alone, so its code runs at 500 kHz whatever clock the program names
-    (docs/pic16.md)."""
+    the internal oscillator (it starts at 500 kHz), with LDmicro's values;
+    a clock it cannot make is an error, as in LDmicro (docs/pic16.md)."""
     part, machine = cx.part, cx.machine
     intosc = part.feature("intosc")
     fosc = part.config_field("FOSC")
