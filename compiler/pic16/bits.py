@@ -4,15 +4,17 @@ BTFSC/BTFSS and written with BCF/BSF.
 A conditional write is a skip over a GOTO around the write; the emitter's
 `compress_skips` makes it a single skip over the write when the write needs
 no bank selection of its own. A copy to a pin sets it when the source is set
-and clears it when it is clear, so that it never glitches; a copy to a RAM
-bit clears it, then sets it if the source is set (one word less).
+and clears it when it is clear, so that it never glitches (a source in
+another bank is read into Z first, so that the pin's bank is selected once);
+a copy to a RAM bit clears it, then sets it if the source is set (one word
+less).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
-from .emit import Emitter
+from .emit import Emitter, Z
 from .memory import FileBit
 
 
@@ -57,6 +59,16 @@ def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
         # RAM may change for an instruction's time: clear, then set if the source says so
         write(e, dst, False)
         when(e, src, not invert, lambda: write(e, dst, True))
+        return
+    if not (e.reaches(src.addr) or e.reaches(dst.addr)) and e.core.wanted(src.addr) != e.core.wanted(dst.addr):
+        # banks apart (an input's PORTx and an output's LATx on the enhanced core): the source bit
+        # into Z through W, then the pin's bank once and a skip on Z before each write
+        e.load(src.addr)
+        e.select(dst.addr)
+        e.ins("andlw", 1 << src.bit)
+        clear = FileBit(e.status, Z, False)
+        when(e, clear, False, lambda: write(e, dst, not invert))
+        when(e, clear, True, lambda: write(e, dst, invert))
         return
     _near(e, dst, src)
     when(e, src, not invert, lambda: write(e, dst, True))
