@@ -18,7 +18,8 @@ the page the PC is in. So
   into the next page.
 
 Page selections are only ever added while the layout is repeated, so the
-layout converges. Parts with one page need none of this.
+layout converges. Parts with one page need none of this, nor does a program
+that fits in the first page.
 
 A table is a run of RETLW reached by a computed jump that sets all of
 PCLATH (`address` loads a label's high or low byte with MOVLW), so it may
@@ -148,12 +149,13 @@ class Assembler(Writer):
         super().__init__()
         self.flash_words = flash_words
         self.page_words = page_words
+        self._one_page = False  # the program is laid out as if the part had one page
 
     # --- layout ------------------------------------------------------------------
 
     @property
     def _paged(self) -> bool:
-        return self.flash_words > self.page_words
+        return self.flash_words > self.page_words and not self._one_page
 
     def _select(self, which: str) -> list[_Word]:
         pages = -(-self.flash_words // self.page_words)
@@ -231,6 +233,13 @@ class Assembler(Writer):
         return placed, labels, address
 
     def assemble(self, processor: str, config: dict[int, int]) -> Assembled:
+        # a program that fits in page 0 needs no page selection: PCLATH's page bits stay 0 (a
+        # table's computed jump leaves them so too)
+        self._one_page = True
+        placed, labels, size = self._layout(set())
+        if size <= self.page_words:
+            return self._output(placed, labels, processor, config)
+        self._one_page = False
         far: set[int] = set()
         jumps = [(i, item.target) for i, item in enumerate(self.items) if isinstance(item, Goto)]
         while True:
