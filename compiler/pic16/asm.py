@@ -237,7 +237,7 @@ class Assembler(Writer):
         # table's computed jump leaves them so too)
         self._one_page = True
         placed, labels, size = self._layout(set())
-        if size <= self.page_words:
+        if size <= min(self.page_words, self.flash_words):
             return self._output(placed, labels, processor, config)
         self._one_page = False
         far: set[int] = set()
