@@ -4,7 +4,8 @@ ADCON1's clock select, GO_NOT_DONE), UART text sent and bytes received
 (EUSART), PERSIST through the data EEPROM (EEADRL/EEDATL), on the PIC12F1840
 and the PIC16F1824 (gpsim's p16f1825); SET PWM's duty and frequency on the
 CCP pin; and the located errors: PERSIST on the PIC16F151x (no data
-EEPROM), a clock the internal oscillator cannot make."""
+EEPROM), a clock the internal oscillator cannot make, a run of a part gpsim
+has no model of."""
 
 from __future__ import annotations
 
@@ -18,6 +19,8 @@ import compiler
 from compiler.errors import CompileError
 from compiler.pic16.part import Part
 from compiler.run import gpsim
+from compiler.run.firmware import record
+from compiler.run.record import FirmwareError
 
 pytestmark = needs_gpsim
 
@@ -82,3 +85,10 @@ def test_a_clock_the_internal_oscillator_cannot_make_is_refused():
         compiler.build(prog)
     (found,) = raised.value.diagnostics
     assert found.code == "LD702" and "32, 16, 8, 4" in found.message and "20 MHz" in found.message
+
+
+def test_running_a_part_gpsim_has_no_model_of_says_so():
+    """`ladder test --on pic16` of a PIC16F1827 program: a stated reason, not gpsim's error."""
+    prog = program([contact("Xa"), coil("Ya")], mcu="pic16f1827", pins={"Xa": "RB0", "Ya": "RB4"})
+    with pytest.raises(FirmwareError, match="gpsim has no model of the PIC16F1827"):
+        record("pic16", prog, [], 3, {"Ya"})

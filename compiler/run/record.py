@@ -284,6 +284,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
         timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
     part = pic_part(device)
+    if part.gpsim is None:
+        raise FirmwareError(f"gpsim has no model of the {part.title} (nor of a sibling with its pins): its image "
+                            "cannot be run here")
     uart = part.feature("uart")
     lines = [f"processor {part.gpsim}", "load fw.hex", f"frequency {settings.crystal_hz}"]
     if modules:
