@@ -100,7 +100,7 @@ def test_compiled_programs_reassemble_to_the_same_words(part, tmp_path):
 
 @needs_gpsim
 def test_a_program_over_two_pages_runs_as_the_simulator_says(tmp_path):
-    prog = _busy_program("pic12f1840", 40, {"Xa": "RA4", "Xb": "RA3", "Yb": "RA5"}, [contact("Xb"), coil("Yb")])
+    prog = _busy_program("pic12f1840", 40, {"Xa": "RA4", "Xb": "RA2", "Yb": "RA5"}, [contact("Xb"), coil("Yb")])
     assert len(compiler.build(prog).image.words) > 2048
     events = [Event(0, "Xa", 1), Event(2, "Xb", 1), Event(4, "Xa", 0), Event(5, "Xb", 0)]
     assert differential(prog, events, 8, tmp_path) == []

@@ -45,13 +45,16 @@ def _uses_uart(program) -> bool:
     return any(e.kind.startswith("UART") or e.kind == "FORMATTED_STRING" for _, e in program.elements())
 
 
-def moved(program, part: str):
+def moved(program, part: str, input_only: bool = True):
     """The program on the part, each name on a pin that can serve it, the
-    duty output on one more; None when the part has too few pins."""
+    duty output on one more; None when the part has too few pins.
+    `input_only` False leaves the MCLR pin alone (gpsim 0.31 restarts the
+    p12f1840 and p16f1825 on its edges although the configuration makes it
+    an input)."""
     device = find_device(part)
     facts = Part.of(device)
     reserved = set(device.uart.values()) if _uses_uart(program) else set()
-    free = [p for p in device.io_pins() if p.name not in reserved]
+    free = [p for p in device.io_pins() if p.name not in reserved and (input_only or not p.input_only)]
     clocks = sorted(int(hz) for hz in facts.feature("intosc")["settings"])
     crystal = min(clocks, key=lambda hz: (abs(hz - program.settings.crystal_hz), -hz))
     pwm = {str(e.args["name"]) for _, e in program.elements() if e.kind == "SET_PWM"}  # a corpus test leaves it unpinned

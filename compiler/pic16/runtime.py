@@ -195,12 +195,17 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     high, deadline = clock, [clock + 1 + i for i in range(3)]
     s = cx.layout.scratch
     count = [s[11], s[12], s[13]]  # the tick count read now, less the deadline
+    overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
+    # TMR1 is undefined after power-on (and gpsim's enhanced models start it near an overflow):
+    # the count starts at 0 with no overflow pending
+    e.ins("clrf", part.reg("TMR1L"))
+    e.ins("clrf", part.reg("TMR1H"))
+    bits.write(e, overflow, False)
     _write(cx, "T1CON", select_bits << 4 | 1)  # TMR1ON
     _scan(cx, code)
     ints.add_constant(e, deadline, ticks)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
-    overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
 
     def count_overflow() -> None:
         bits.write(e, overflow, False)
