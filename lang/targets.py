@@ -34,7 +34,9 @@ FAMILIES: dict[str, Family] = {
                               "atmega164p", "atmega324p", "atmega644p", "atmega32u4", "at90usb647", "attiny85", "attiny10")),
         Family("pic16", "PIC16", ("pic16f628", "pic16f628a", "pic16f876", "pic16f876a", "pic16f877",
                                   "pic16f877a", "pic16f88", "pic16f819", "pic16f886", "pic16f887",
-                                  "pic16f72", "pic12f675", "pic12f683")),
+                                  "pic16f72", "pic12f675", "pic12f683",
+                                  # the enhanced mid-range core (`core` in their device files: compiler/pic16/enhanced/)
+                                  "pic12f1840", "pic16f1512", "pic16f1516", "pic16f1527", "pic16f1824", "pic16f1827")),
         Family("pic18", "PIC18", ("pic18f4520", "pic18f2520")),
         Family("pic10", "PIC10", ("pic10f200", "pic10f202")),
         # portable C (`ladder build --emit c`): no part of its own, the program's pins are the user's runtime's

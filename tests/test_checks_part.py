@@ -42,6 +42,7 @@ INPUT_ONLY = {
     "pic12f675": {"GP3"}, "pic12f683": {"GP3"}, "pic10f200": {"GP3"}, "pic10f202": {"GP3"},
     "pic16f628": {"RA5"}, "pic16f628a": {"RA5"}, "pic16f819": {"RA5"}, "pic16f88": {"RA5"},
     "pic16f886": {"RE3"}, "pic16f887": {"RE3"},
+    "pic12f1840": {"RA3"}, "pic16f1824": {"RA3"}, "pic16f1827": {"RA5"}, "pic16f1512": {"RE3"}, "pic16f1516": {"RE3"},
 }
 
 
@@ -273,8 +274,8 @@ def test_input_only_pins_are_the_datasheets_and_ldmicros():
     for device in all_devices():
         marked = {pin.name for pin in device.pins.values() if pin.input_only}
         assert marked == INPUT_ONLY.get(device.part, set()), device
-        # LDmicro's own pin list says "(Input Only)" of exactly these
-        labelled = {pin.name for pin in device.io_pins() if "(Input Only)" in pin.label}
+        # LDmicro's own pin list says "(Input Only)" (the PIC16F1824's "(Input only)") of exactly these
+        labelled = {pin.name for pin in device.io_pins() if "(input only)" in pin.label.lower()}
         assert marked == labelled, device
         assert all(device.pin(name).is_io for name in marked)
 

@@ -27,11 +27,12 @@ EXPECTED_PARTS = [
     "pic16f628", "pic16f628a",
     "pic16f72", "pic16f876", "pic16f876a", "pic16f877", "pic16f877a",
     "pic16f88", "pic16f819", "pic16f886", "pic16f887", "pic12f675", "pic12f683",
+    "pic12f1840", "pic16f1512", "pic16f1516", "pic16f1527", "pic16f1824", "pic16f1827",
     "pic18f4520", "pic18f2520", "pic10f200", "pic10f202",
 ]
 # LDmicro lists only the non-A parts and, of the PIC18s, the PIC18F4520: these have no LDmicro name
 NOT_IN_LDMICRO = {"pic16f628a", "pic16f876a", "pic16f877a", "pic18f2520"}
-PORT_BIT = {"avr": re.compile(r"^P[A-L][0-7]$"), "pic16": re.compile(r"^(R[A-E]|GP)[0-7]$"),
+PORT_BIT = {"avr": re.compile(r"^P[A-L][0-7]$"), "pic16": re.compile(r"^(R[A-G]|GP)[0-7]$"),
             "pic18": re.compile(r"^R[A-E][0-7]$"), "pic10": re.compile(r"^GP[0-3]$")}
 
 
@@ -238,7 +239,6 @@ def test_known_ldmicro_names_without_data():
         "St ARM STM32F40X 144-LQFP",
         "ESP8266",
         "PC LPT COM",
-        "Microchip PIC16F1827 18-Pin PDIP, SOIC",
     ]:
         assert is_known_ldmicro_name(name), name
         assert find_device(name) is None

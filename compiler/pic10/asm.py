@@ -51,7 +51,7 @@ def lowered(op: str, args: tuple, temp: int) -> list[tuple[str, tuple]] | None:
 
 
 class Assembler(Pic16Assembler):
-    instruction_set = isa
+    isa = isa  # the baseline's 12-bit words
 
     def __init__(self, flash_words: int, call_words: int, temp: int):
         super().__init__(flash_words, page_words=flash_words)

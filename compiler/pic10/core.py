@@ -12,6 +12,7 @@ class BaselineCore:
     status, fsr, indf = STATUS, FSR, INDF
     unknown: tuple = ()
     moves_far = False
+    carry_ops = False
 
     def unbanked(self, address: int) -> bool:
         return True

@@ -18,7 +18,8 @@ the page the PC is in. So
   into the next page.
 
 Page selections are only ever added while the layout is repeated, so the
-layout converges. Parts with one page need none of this.
+layout converges. Parts with one page need none of this, nor does a program
+that fits in the first page.
 
 A table is a run of RETLW reached by a computed jump that sets all of
 PCLATH (`address` loads a label's high or low byte with MOVLW), so it may
@@ -141,18 +142,20 @@ class Writer:
 
 
 class Assembler(Writer):
-    instruction_set = isa  # the encoder: a module with INSTRUCTIONS, SKIPS, ENDS and encode (the baseline's differs)
+    isa = isa  # the instruction table the words are encoded with
+    code_space = 0  # what gpasm adds to a code label's address in high(): 0x8000 on the enhanced core
 
     def __init__(self, flash_words: int, page_words: int = 2048):
         super().__init__()
         self.flash_words = flash_words
         self.page_words = page_words
+        self._one_page = False  # the program is laid out as if the part had one page
 
     # --- layout ------------------------------------------------------------------
 
     @property
     def _paged(self) -> bool:
-        return self.flash_words > self.page_words
+        return self.flash_words > self.page_words and not self._one_page
 
     def _select(self, which: str) -> list[_Word]:
         pages = -(-self.flash_words // self.page_words)
@@ -171,7 +174,7 @@ class Assembler(Writer):
                 assert skip is None or isinstance(item, Comment), f"label {item} right after a skip"
                 before.append(item)
                 continue
-            if isinstance(item, Ins) and item.op in self.instruction_set.SKIPS and skip is None:
+            if isinstance(item, Ins) and item.op in self.isa.SKIPS and skip is None:
                 skip = item
                 continue
             words: list[_Word] = []
@@ -185,7 +188,7 @@ class Assembler(Writer):
                 falls = item.call or bool(guard)
             elif isinstance(item, Ins):
                 words = guard + [_Word(item.op, item.args, comment=item.comment)]
-                falls = item.op not in self.instruction_set.ENDS or bool(guard)
+                falls = item.op not in self.isa.ENDS or bool(guard)
             elif isinstance(item, Address):
                 words = guard + [_Word("movlw", target=item.target, high=item.high)]
                 falls = True
@@ -230,6 +233,13 @@ class Assembler(Writer):
         return placed, labels, address
 
     def assemble(self, processor: str, config: dict[int, int]) -> Assembled:
+        # a program that fits in page 0 needs no page selection: PCLATH's page bits stay 0 (a
+        # table's computed jump leaves them so too)
+        self._one_page = True
+        placed, labels, size = self._layout(set())
+        if size <= min(self.page_words, self.flash_words):
+            return self._output(placed, labels, processor, config)
+        self._one_page = False
         far: set[int] = set()
         jumps = [(i, item.target) for i, item in enumerate(self.items) if isinstance(item, Goto)]
         while True:
@@ -258,7 +268,7 @@ class Assembler(Writer):
                 if offset == lead:
                     lines += heading(before)
                 op, args, text = self._resolve(word, address, labels, jump)
-                value = self.instruction_set.encode(op, *args)
+                value = self.isa.encode(op, *args)
                 words.append(value)
                 note = f"  {word.comment}" if word.comment else ""
                 lines.append(f"\t{op}\t{text}".rstrip() + f"\t; {address:04X} {value:04X}{note}")
@@ -275,21 +285,25 @@ class Assembler(Writer):
                 page = labels[jump] // self.page_words
             else:
                 page = address // self.page_words
-            bit = word.args[0]
-            op = "bsf" if page >> PAGE_BITS.index(bit) & 1 else "bcf"
-            return op, (PCLATH, bit), f"0x{PCLATH:02X}, {bit}"
+            return self._page_selection(word, page)
         if word.target is not None:
             target = labels[word.target]
             if word.op == "movlw":
-                value = (target >> 8) if word.high else target & 0xFF
+                value = (target + self.code_space) >> 8 & 0xFF if word.high else target & 0xFF
                 return "movlw", (value,), address_text(word.target, word.high)
             return word.op, (target & 0x7FF,), label_name(word.target)
-        pattern = self.instruction_set.INSTRUCTIONS[word.op].pattern
+        pattern = self.isa.INSTRUCTIONS[word.op].pattern
         args = word.args
         text = {"fd": lambda: f"0x{args[0]:02X}, {args[1]}", "f": lambda: f"0x{args[0]:02X}",
                 "fb": lambda: f"0x{args[0]:02X}, {args[1]}", "k8": lambda: f"0x{args[0] & 0xFF:02X}",
-                "": lambda: ""}[pattern]()
+                "": lambda: ""}.get(pattern, lambda: ", ".join(f"0x{arg:02X}" for arg in args))()
         return word.op, args, text
+
+    def _page_selection(self, word: _Word, page: int) -> tuple[str, tuple, str]:
+        """The instruction of a page selection word: BCF/BSF of its PCLATH bit."""
+        bit = word.args[0]
+        op = "bsf" if page >> PAGE_BITS.index(bit) & 1 else "bcf"
+        return op, (PCLATH, bit), f"0x{PCLATH:02X}, {bit}"
 
 
 

@@ -3,13 +3,15 @@ configuration word(s) and a gpasm listing."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from lang.semantics import ir
 
 from ..errors import FLASH_FULL, fail
 from ..image import Image, Symbol
 from . import asm as a
 from . import flow as pic16_flow
-from .emit import Emitter, MidRange, compress_skips
+from .emit import Core, Emitter, MidRange, compress_skips
 from .memory import allocate
 from .part import Part
 from .peripherals import DELAY_LOOP_CYCLES
@@ -56,37 +58,48 @@ class Pic16Backend:
     delay_loop_cycles = DELAY_LOOP_CYCLES
     flow = pic16_flow
 
+    def __init__(self, enhanced: Callable[[ir.Code, object], Image]):
+        self._enhanced = enhanced  # the enhanced mid-range core's back end (compiler/pic16/enhanced/)
+
     def compile(self, code: ir.Code, machine) -> Image:
         part = Part.of(machine.device)
+        if part.enhanced:
+            return self._enhanced(code, machine)
         layout = allocate(code, part, machine, free_running(code, part, machine))
         # the PIC12F675 keeps its oscillator calibration (a RETLW) in its last word
         reserved = 1 if part.feature("osccal") else 0
-        assembler = a.Assembler(part.flash_words - reserved, part.page_words)
         ram = ram_in_use(layout)
         # banks 2 and 3 only at start-up (ANSEL of the PIC16F88x), or not at all: RP1 stays 0 in the scan
         high_banks = any(a >= 0x100 for a in ram) or any(st.addr >= 0x100 for st in layout.vars.values()) or any(
             isinstance(op, (ir.EepromLoad, ir.EepromSave)) for op in code.scan)
-        cx = Context(Emitter(assembler, part, ram, MidRange(part, high_banks)), part, layout, machine)
-        prepare(cx, code)
-        write_runtime(cx, code)
-        write_routines(cx.e, layout.scratch, cx.routines)
-        _write_tables(cx)
-        compress_skips(assembler.items)
-        config = _config(part, machine.config_word)
-        header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
-                  f"; reassemble: gpasm -p {part.processor} FILE\n")
-        try:
-            assembled = assembler.assemble(processor=part.processor, config=config)
-        except a.ProgramTooLarge as error:
-            raise fail(FLASH_FULL, f"the program needs {error.words} words of program memory; the "
-                                   f"{part.title} has {part.flash_words - reserved}") from None
-        listing = header.format(words=len(assembled.words)) + assembled.listing
-        return Image(
-            words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
-            labels=assembled.symbols,
-            segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-            listing_suffix=".asm", loops=dict(cx.e.bounds))
+        return image(code, machine, layout, a.Assembler(part.flash_words - reserved, part.page_words),
+                     MidRange(part, high_banks))
+
+
+def image(code: ir.Code, machine, layout, assembler: a.Assembler, core: Core) -> Image:
+    """The program's image, written through a family's assembler and core."""
+    part = Part.of(machine.device)
+    cx = Context(Emitter(assembler, part, ram_in_use(layout), core), part, layout, machine)
+    prepare(cx, code)
+    write_runtime(cx, code)
+    write_routines(cx.e, layout.scratch, cx.routines)
+    _write_tables(cx)
+    compress_skips(assembler.items)
+    config = _config(part, machine.config_word)
+    header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
+              f"; reassemble: gpasm -p {part.processor} FILE\n")
+    try:
+        assembled = assembler.assemble(processor=part.processor, config=config)
+    except a.ProgramTooLarge as error:
+        raise fail(FLASH_FULL, f"the program needs {error.words} words of program memory; the "
+                               f"{part.title} has {assembler.flash_words}") from None
+    listing = header.format(words=len(assembled.words)) + assembled.listing
+    return Image(
+        words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
+        flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
+        labels=assembled.symbols,
+        segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
+        listing_suffix=".asm", loops=dict(cx.e.bounds))
 
 
 def _config(part: Part, setting: int | None) -> dict[int, int]:

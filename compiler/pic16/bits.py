@@ -4,15 +4,17 @@ BTFSC/BTFSS and written with BCF/BSF.
 A conditional write is a skip over a GOTO around the write; the emitter's
 `compress_skips` makes it a single skip over the write when the write needs
 no bank selection of its own. A copy to a pin sets it when the source is set
-and clears it when it is clear, so that it never glitches; a copy to a RAM
-bit clears it, then sets it if the source is set (one word less).
+and clears it when it is clear, so that it never glitches (a source in
+another bank is read into Z first, so that the pin's bank is selected once);
+a copy to a RAM bit clears it, then sets it if the source is set (one word
+less).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
-from .emit import Emitter
+from .emit import Emitter, Z
 from .memory import FileBit
 
 
@@ -39,6 +41,14 @@ def jump_if(e: Emitter, loc: FileBit, value: bool, target: str) -> None:
     e.goto(target)
 
 
+def _near(e: Emitter, dst: FileBit, src: FileBit) -> None:
+    """Select the destination's bank first when the source is reached from
+    any bank: the skips then test it there and the writes need no selection
+    of their own (each skip guards the write alone, no GOTO around it)."""
+    if e.reaches(src.addr):
+        e.select(dst.addr)
+
+
 def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
     if dst == src:
         if invert:
@@ -50,14 +60,27 @@ def copy(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
         write(e, dst, False)
         when(e, src, not invert, lambda: write(e, dst, True))
         return
+    if not (e.reaches(src.addr) or e.reaches(dst.addr)) and e.core.wanted(src.addr) != e.core.wanted(dst.addr):
+        # banks apart (an input's PORTx and an output's LATx on the enhanced core): the source bit
+        # into Z through W, then the pin's bank once and a skip on Z before each write
+        e.load(src.addr)
+        e.select(dst.addr)
+        e.ins("andlw", 1 << src.bit)
+        clear = FileBit(e.status, Z, False)
+        when(e, clear, False, lambda: write(e, dst, not invert))
+        when(e, clear, True, lambda: write(e, dst, invert))
+        return
+    _near(e, dst, src)
     when(e, src, not invert, lambda: write(e, dst, True))
     when(e, src, invert, lambda: write(e, dst, False))
 
 
 def and_(e: Emitter, dst: FileBit, src: FileBit, invert: bool) -> None:
     """dst = dst and (src, or not src when inverted)"""
+    _near(e, dst, src)
     when(e, src, invert, lambda: write(e, dst, False))
 
 
 def or_(e: Emitter, dst: FileBit, src: FileBit) -> None:
+    _near(e, dst, src)
     when(e, src, True, lambda: write(e, dst, True))

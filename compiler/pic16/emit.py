@@ -39,7 +39,7 @@ _SKIPS = frozenset(("btfsc", "btfss", "decfsz", "incfsz"))
 _INVERSE = {"btfsc": "btfss", "btfss": "btfsc"}
 # byte operations: they write W when d = 0, the file register when d = 1
 _BYTE_OPS = frozenset(("addwf", "andwf", "comf", "decf", "decfsz", "incf", "incfsz", "iorwf", "movf", "rlf",
-                       "rrf", "subwf", "swapf", "xorwf"))
+                       "rrf", "subwf", "swapf", "xorwf", "addwfc", "subwfb", "lslf", "lsrf", "asrf"))
 # instructions whose first operand is a file register: its bank is selected first
 _FILE_OPS = _BYTE_OPS | {"movwf", "clrf", "bcf", "bsf", "btfsc", "btfss", "mulwf"}
 _LITERAL_OPS = frozenset(("addlw", "andlw", "iorlw", "movlw", "sublw", "xorlw", "retlw", "mullw"))
@@ -58,6 +58,7 @@ class Core(Protocol):
     indf: int  # the byte it points at
     unknown: tuple  # the selection where nothing is known (a component may keep its reset value)
     moves_far: bool  # MOVFF copies a byte between any two addresses, whatever the bank
+    carry_ops: bool  # the patterns may use ADDWFC, SUBWFB, LSLF, LSRF and ASRF (the enhanced mid-range core)
 
     def unbanked(self, address: int) -> bool:
         """True when an instruction reaches the address whatever the bank."""
@@ -92,6 +93,7 @@ class MidRange:
 
     status, fsr, indf = STATUS, FSR, INDF
     moves_far = False
+    carry_ops = False
     # core registers that every bank maps to the same register
     _UNBANKED = frozenset((INDF, PCL, STATUS, FSR, PCLATH, INTCON))
 

@@ -13,6 +13,7 @@ part has it) and stored from there.
 | x + 1                | INCF, then INCF of each higher byte while the lower one is zero  |
 | x + k                | MOVLW/ADDWF, carry in by choosing k_i or k_i + 1                |
 | x + y, x - y         | MOVF y_i; BTFSC C; INCFSZ y_i,W; ADDWF/SUBWF x_i                 |
+|                      | (the enhanced core: MOVF y_i or MOVLW k_i; ADDWFC/SUBWFB x_i)    |
 | x & y, x | y, x ^ y  | ANDWF/IORWF/XORWF byte by byte, constants' identity bytes skipped|
 | x <rel> y            | signs flipped (XOR 0x80), an unsigned subtraction chain, C       |
 | x * y, x / y, shifts | the routines (routines.py) on A, B and C                        |
@@ -183,7 +184,10 @@ def add_constant(e: Emitter, regs: list[int], k: int) -> None:
     for i in range(first + 1, n):
         ki = (k >> 8 * i) & 0xFF
         reg = regs[i]
-        if i == n - 1 and ki == 0:
+        if e.core.carry_ops:
+            e.load_constant(ki)
+            e.ins("addwfc", reg, F)
+        elif i == n - 1 and ki == 0:
             e.select(reg)
             e.ins("btfsc", e.status, C)
             e.ins("incf", reg, F)
@@ -228,6 +232,10 @@ def chain(e: Emitter, kind: str, regs: list[int], b: list[Byte]) -> None:
         if i == 0:
             load_w(e, bi)
             e.ins(op, reg, dest)
+        elif e.core.carry_ops:
+            load_w(e, bi)
+            e.select(reg)
+            e.ins("addwfc" if kind == "add" else "subwfb", reg, dest)
         elif bi.kind == "const" and bi.value == 0xFF:
             # with a carry in, adding (a borrow: subtracting) 0x100 leaves
             # the byte and carries (borrows) out
@@ -490,8 +498,18 @@ def _equality(cx, a, b, width: int, equal: bool, target: str) -> None:
 
 # --- shifts -------------------------------------------------------------------------------
 
+_FIRST_SHIFT = {"shl": "lslf", "sr0": "lsrf", "shr": "asrf"}
+
+
 def shift_once(e: Emitter, kind: str, regs: list[int]) -> None:
-    """One bit: the carry takes what comes in (0, the sign, the bit going round)."""
+    """One bit: the carry takes what comes in (0, the sign, the bit going round);
+    the enhanced core's LSLF, LSRF and ASRF shift the first byte in by themselves."""
+    if e.core.carry_ops and kind in _FIRST_SHIFT:
+        order = regs if kind == "shl" else list(reversed(regs))
+        e.ins(_FIRST_SHIFT[kind], order[0], F)
+        for reg in order[1:]:
+            e.ins("rlf" if kind == "shl" else "rrf", reg, F)
+        return
     if kind in ("shl", "sr0"):
         e.ins("bcf", e.status, C)
     elif kind in ("shr", "rol"):

@@ -10,7 +10,8 @@ instruction carries (STATUS RP1:RP0 pick the bank, IRP:FSR the same 9 bits).
 The `pic16` key:
 
 processor, gpsim
-    gpasm's -p name ("p16f877a") and the gpsim processor its builds run in.
+    gpasm's -p name ("p16f877a") and the gpsim processor its builds run in
+    (null: gpsim has no model of the part or of a sibling with its pins).
     `gpsim_exact` is false when gpsim has no model of the part and runs a
     sibling: the PIC16F72 runs as "p16f73", whose registers are a superset
     but whose RAM is 192 bytes without the 16F72's mirrors.
@@ -39,6 +40,10 @@ config
     fields: name -> {word, mask, value, symbol}: every field of the words,
     its bits, its value in the words and the header symbol meaning that value
     (a listing writes __CONFIG as the AND of the symbols of a word).
+core
+    "enhanced" on the enhanced mid-range parts (BSR banks, 32 of them, the
+    core registers at 0x00-0x0B of each, FSR0/FSR1, MOVLP pages, LATx),
+    which compiler/pic16/enhanced/ builds for; absent on the mid-range ones.
 cycle_timer, baud, pwm
     what lang/hardware.py makes of the program's settings, for the checks and
     this back end alike: Timer1 as the scan's timer (Fosc/4, its T1CKPS
@@ -58,7 +63,10 @@ features
     the part offers, as LDmicro does: "timer0" (TMR0 and a software divisor),
     "timer1" (TMR1 reset by CCP1's special event trigger, CCP1CON = 0b1011).
     uart: the USART is there. eeprom: {data, address, control, unlock, flag}:
-    the data EEPROM's registers and the PIR register holding EEIF. osccal:
+    the data EEPROM's registers and the PIR register holding EEIF. intosc:
+    {register, settings}: where the configuration selects the internal
+    oscillator, OSCCON's value for each clock it makes (Hz -> value: IRCF,
+    and SPLLEN for 32 MHz). osccal:
     {address, register}: the factory calibration (a RETLW) in the last program
     word: keep it, CALL it and store W in the register.
 """
@@ -105,6 +113,11 @@ class Part:
     @property
     def gpsim(self) -> str:
         return self.facts["gpsim"]
+
+    @property
+    def enhanced(self) -> bool:
+        """The enhanced mid-range core (PIC12F1840, PIC16F1512...: compiler/pic16/enhanced/)."""
+        return self.facts.get("core") == "enhanced"
 
     @property
     def gpsim_exact(self) -> bool:
@@ -182,9 +195,9 @@ class Part:
 
     def pullup_switch(self) -> tuple[int, int] | None:
         """(register, bit) whose clearing turns the weak pull-ups on (RBPU,
-        GPPU), None when the part has none."""
+        GPPU; WPUEN on the enhanced core), None when the part has none."""
         for register, named in self.facts["bits"].items():
-            for bit in ("NOT_RBPU", "NOT_GPPU"):
+            for bit in ("NOT_RBPU", "NOT_GPPU", "NOT_WPUEN"):
                 if bit in named:
                     return self.reg(register), named[bit]
         return None

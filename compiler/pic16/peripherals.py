@@ -112,9 +112,10 @@ def delay(cx, op: ir.Delay) -> None:
 # --- A/D converter ---------------------------------------------------------------------------
 
 def adc_clock(part: Part, crystal_hz: int) -> int:
-    """ADCS1:0: the smallest of Fosc/2, /8, /32 whose period is at least
-    TAD_MIN_NS; the converter's own RC clock (3) beyond that."""
-    for select, divisor in enumerate((2, 8, 32)):
+    """ADCS: the smallest of Fosc/2, /8, /32 (the part's `clocks`: the
+    enhanced core's /2 to /64) whose period is at least TAD_MIN_NS; the
+    converter's own RC clock (3) beyond that."""
+    for divisor, select in part.feature("adc").get("clocks", [[2, 0], [8, 1], [32, 2]]):
         if divisor * 1e9 / crystal_hz >= TAD_MIN_NS:
             return select
     return 3
@@ -129,6 +130,16 @@ def analog_setup(cx, channels: set[int]) -> None:
     if adc is None or not channels:
         return
     adfm = next((r for r in ("ADCON1", "ADCON0") if "ADFM" in part.bits(r)), None)
+    if part.enhanced:
+        # an ANSELx per port; ADCON1: right-justified, the conversion clock, VDD as the reference
+        analog: dict[str, int] = {}
+        for pin, channel in part.device.adc.items():
+            if channel in channels:
+                analog[pin[1]] = analog.get(pin[1], 0) | 1 << int(pin[2])
+        for letter, mask in sorted(analog.items()):
+            _write(cx, f"ANSEL{letter}", mask)
+        _write(cx, "ADCON1", 1 << part.bit("ADCON1", "ADFM") | _adcs(part, "ADCON1", adc_clock(part, cx.machine.crystal_hz)))
+        return
     if part.has("ANSEL"):
         mask = sum(1 << c for c in channels)
         clock = 0
@@ -149,7 +160,7 @@ def analog_setup(cx, channels: set[int]) -> None:
 
 
 def _adcs(part: Part, register: str, select: int) -> int:
-    return (select & 1) << part.bit(register, "ADCS0") | (select >> 1) << part.bit(register, "ADCS1")
+    return sum((select >> i & 1) << part.bit(register, f"ADCS{i}") for i in range(3) if f"ADCS{i}" in part.bits(register))
 
 
 def read_adc(cx, op: ir.ReadAdc) -> None:
@@ -162,7 +173,7 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
         control |= 1 << part.bit("ADCON0", "ADFM")
     _write(cx, "ADCON0", control)
     _spin(cx, _cycles(cx, ACQUISITION_US), "the A/D input's acquisition time")
-    go = _bit(cx, "ADCON0", "GO")
+    go = _bit(cx, "ADCON0", "GO" if "GO" in part.bits("ADCON0") else "GO_NOT_DONE")
     bits.write(e, go, True)
     # 12 converter clocks of at most 32 instruction cycles... each pass is 4 cycles
     _wait_while(cx, go, True, LoopBound(12 * 32 // 4 + 1, "an A/D conversion"))

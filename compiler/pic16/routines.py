@@ -30,15 +30,14 @@ def negate(e: Emitter, regs: list[int]) -> None:
 
 def _shift_left(e: Emitter, regs: list[int], clear: bool = True) -> None:
     if clear:
-        e.ins("bcf", e.status, C)
+        ints.shift_once(e, "shl", regs)
+        return
     for reg in regs:
         e.ins("rlf", reg, F)
 
 
 def _shift_right(e: Emitter, regs: list[int]) -> None:
-    e.ins("bcf", e.status, C)
-    for reg in reversed(regs):
-        e.ins("rrf", reg, F)
+    ints.shift_once(e, "sr0", regs)
 
 
 def mul(e: Emitter, s: Scratch, n: int) -> None:

@@ -21,6 +21,7 @@ from __future__ import annotations
 from lang.hardware import cycle_runs_free, cycle_setting
 from lang.semantics import ir
 
+from ..errors import NOT_COMPILED, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -53,14 +54,15 @@ def output_masks(cx: Context) -> dict[str, int]:
     return ports
 
 
-def pulled_up(cx: Context) -> int:
-    """The inputs of the port with weak pull-ups (PORTB, or GPIO) that want one."""
-    mask = 0
+def pulled_up(cx: Context) -> dict[str, int]:
+    """Port letter -> its inputs that want a weak pull-up, on the ports that
+    have them (PORTB, GPIO; on the enhanced core every port with a WPUx)."""
+    masks: dict[str, int] = {}
     for name, pin in cx.machine.pins.items():
-        if name[:1] == "X" and pin.is_io and pin.port in ("B", "P"):
+        if name[:1] == "X" and pin.is_io and (pin.port in ("B", "P") or cx.part.has(f"WPU{pin.port}")):
             letter, bit = pin.port_bit
-            mask |= (cx.machine.pullups.get(letter, 0xFF) >> bit & 1) << bit
-    return mask
+            masks[letter] = masks.get(letter, 0) | (cx.machine.pullups.get(letter, 0xFF) >> bit & 1) << bit
+    return {letter: mask for letter, mask in masks.items() if mask}
 
 
 def _clear(cx: Context, addresses: list[int]) -> None:
@@ -90,8 +92,30 @@ def _clear(cx: Context, addresses: list[int]) -> None:
         e.goto(top)
 
 
+def _oscillator(cx: Context) -> None:
+    """OSCCON for the program's clock where the configuration word selects
+    the internal oscillator (it starts at 500 kHz), with LDmicro's values;
+    a clock it cannot make is an error, as in LDmicro (docs/pic16.md)."""
+    part, machine = cx.part, cx.machine
+    intosc = part.feature("intosc")
+    fosc = part.config_field("FOSC")
+    if intosc is None or fosc is None:
+        return
+    word = part.config_words[0][1] if machine.config_word is None else machine.config_word & 0x3FFF
+    if word & fosc.mask != fosc.value:
+        return  # the program's configuration word chooses a crystal or an external clock
+    value = intosc["settings"].get(str(machine.crystal_hz))
+    if value is None:
+        clocks = ", ".join(f"{int(hz) / 1e6:g}" for hz in sorted(intosc["settings"], key=int, reverse=True))
+        raise fail(NOT_COMPILED, f"the {part.title}'s internal oscillator runs at {clocks} MHz, not at "
+                                 f"{machine.crystal_hz / 1e6:g} MHz: choose one of them, or a configuration word "
+                                 "with a crystal")
+    _write(cx, intosc["register"], value)
+
+
 def _start(cx: Context, code: ir.Code) -> None:
     part = cx.part
+    _oscillator(cx)
     # the scratch bytes are written before they are read
     _clear(cx, sorted(cx.e.ram - set(cx.layout.scratch)))
     for features in ("digital_io", "comparators_off"):
@@ -108,13 +132,14 @@ def _start(cx: Context, code: ir.Code) -> None:
         cx.e.load_constant(direction)
         cx.e.store(part.tris(letter))
     pulled = pulled_up(cx)
+    for letter, mask in sorted(pulled.items()):
+        register = "WPU" if letter == "P" else f"WPU{letter}"
+        if part.has(register):
+            _write(cx, register, mask)
     if pulled:
-        for register in ("WPUB", "WPU"):
-            if part.has(register):
-                _write(cx, register, pulled)
         switch = part.pullup_switch()
         assert switch is not None  # a port with weak pull-ups has their switch
-        cx.e.ins("bcf", *switch)  # RBPU/GPPU low: the weak pull-ups on
+        cx.e.ins("bcf", *switch)  # RBPU/GPPU/WPUEN low: the weak pull-ups on
     uart_setup(cx, code)
     pwm_setup(cx, code)
     select(cx, code.init)
@@ -170,12 +195,17 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     high, deadline = clock, [clock + 1 + i for i in range(3)]
     s = cx.layout.scratch
     count = [s[11], s[12], s[13]]  # the tick count read now, less the deadline
+    overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
+    # TMR1 is undefined after power-on (and gpsim's enhanced models start it near an overflow):
+    # the count starts at 0 with no overflow pending
+    e.ins("clrf", part.reg("TMR1L"))
+    e.ins("clrf", part.reg("TMR1H"))
+    bits.write(e, overflow, False)
     _write(cx, "T1CON", select_bits << 4 | 1)  # TMR1ON
     _scan(cx, code)
     ints.add_constant(e, deadline, ticks)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
-    overflow = FileBit(part.reg("PIR1"), part.bit("PIR1", "TMR1IF"), False)
 
     def count_overflow() -> None:
         bits.write(e, overflow, False)

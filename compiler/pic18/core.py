@@ -12,6 +12,7 @@ from .part import Part
 class Pic18Core:
     unknown = (None,)
     moves_far = True
+    carry_ops = False  # the PIC18 has ADDWFC and SUBWFB, but no LSLF, LSRF, ASRF
 
     def __init__(self, part: Part):
         self.status = part.reg("STATUS")

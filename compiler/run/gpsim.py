@@ -12,7 +12,8 @@ missing HEX still exits 0, so the output is scanned for error messages.
   and direction registers with the instruction cycle of the write, so every output edge is
   known to the cycle (an output pin's level is its latch bit while its TRIS bit is 0; a pin
   set as input counts as 0, as an undriven pin does). A PIC18 has its latch apart, LATX: a
-  write to PORTX writes it, so ``log w latX`` sees every write.
+  write to PORTX writes it, so ``log w latX`` sees every write; an enhanced mid-range PIC16 too,
+  but gpsim logs a write to PORTX as that: both are logged there.
 * UART: ``log w txreg`` records every transmitted byte with its cycle (gpsim's usart module
   captured nothing).
 
@@ -88,13 +89,18 @@ def _baseline(processor: str) -> bool:
 
 def _registers(port: str, processor: str = "") -> tuple[str, ...]:
     """gpsim's names of a port's data and direction registers: the latch a
-    PIC18's outputs are written in (LATB), else the port. A baseline PIC10
+    PIC18's outputs are written in (LATB), else the port; on an enhanced
+    mid-range PIC16 (p12f1840, p16f1825: four digits after the F) both, the
+    latch our code writes and the port LDmicro's writes (which writes the
+    latch too, but gpsim logs it as a write to the port). A baseline PIC10
     sets its directions with the TRIS instruction, which gpsim cannot log:
     its data register only."""
     if _baseline(processor):
         return ("gpio",)
     if port == GPIO:
         return "gpio", "trisio"
+    if re.fullmatch(r"p1[26]l?f1\d{3}", processor):
+        return f"lat{port}", f"port{port}", f"tris{port}"
     return (f"lat{port}" if processor.startswith("p18") else f"port{port}"), f"tris{port}"
 
 

@@ -286,6 +286,9 @@ def record_pic16(build, hex_path: Path, events: list[Event], scans: int, names: 
         timeline += [(cycle, 1, i, f"reg({address:#x})") for i, address in enumerate(addresses)]
         timeline.append((cycle, 1, len(addresses), "pc"))
     timeline.sort()
+    if part.gpsim is None:
+        raise FirmwareError(f"gpsim has no model of the {part.title} (nor of a sibling with its pins): its image "
+                            "cannot be run here")
     uart = part.feature("uart")
     lines = [f"processor {part.gpsim}", "load fw.hex", f"frequency {clock_hz}"]
     if modules:
