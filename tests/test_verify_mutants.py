@@ -1,20 +1,18 @@
 """The mutant suite of `ladder verify` (docs/verify.md, "The examples' properties
 and their mutants"): the properties of the examples and of two corpus programs
 are proved, and for each of them a fault planted in the program's model (a
-contact negated or removed, a rung dropped, a timer shortened, a coil swapped)
-makes `ladder verify` find a counterexample, which `ladder test` replays failing
+contact negated or removed, a comparison removed, a timer shortened, a
+counter's limit raised, a coil swapped or negated) makes `ladder verify` find a counterexample, which `ladder test` replays failing
 at the scan the prover named, on the simulator and on the AVR image in simavr.
 No proof without a check that it can fail.
 
 A fault that shows only once the traffic light's 1 s clock has stepped Ccycle
 to 8 or 12 would need a search of 800 to 1200 scans; such a mutant runs on a
-carrier, the program with its clock's timers at 10 ms, on which the property
+carrier, the program with its clock's timers at 20 ms, on which the property
 is first proved again: the fault, not the carrier, is what breaks it."""
 
 from __future__ import annotations
 
-import copy
-import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -47,6 +45,14 @@ class Subject:
     setup: tuple[Edit, ...] = ()  # what the copy a mutant is planted in needs besides the fault
 
 
+def _pins_for_rung_6(program: Program) -> None:
+    """demo.ld's rung 6 reads inputs and drives an output that have no pin (LD407: neither `ladder
+    build` nor LDmicro builds it); free pins of the ATmega328P, which no property reads, make its
+    AVR image."""
+    for name, pin in {"Xa": "PD4", "Xb": "PD5", "Xc": "PD6", "Xe": "PD7", "Yout": "PB2"}.items():
+        program.pins[name] = PinAssignment(name, pin)
+
+
 SUBJECTS = {
     "traffic-uno": Subject(EXAMPLES / "traffic-uno.ladder"),
     "conveyor": Subject(EXAMPLES / "conveyor.ladder"),
@@ -57,11 +63,7 @@ SUBJECTS = {
     "corpus-demo": Subject(EXPORTS / "demo.ld", (
         "always Ymotor implies Rrun", "always Rrun implies not Xstop", "always Ymotor implies Tdly >= 150",
         "Rrun within 0 ms after Xstart and not Xstop"),
-        # its rung 6 reads inputs and drives an output that have no pin (LD407: neither this nor LDmicro
-        # builds it); free pins of the ATmega328P, which the properties do not read, make the AVR image
-        (lambda program: program.pins.update(
-            (name, PinAssignment(name, pin))
-            for name, pin in {"Xa": "PD4", "Xb": "PD5", "Xc": "PD6", "Xe": "PD7", "Yout": "PB2"}.items()),)),
+        (_pins_for_rung_6,)),
 }
 
 
@@ -145,14 +147,13 @@ def _verify(capsys, path: Path, *options: str) -> tuple[int, list[str]]:
     return status, out.splitlines()
 
 
-def _write(tmp_path: Path, name: str, subject: Subject, edits: tuple[Edit, ...], prop: str) -> Path:
-    """The subject's program with the edits made to its model, as a .ladder proving one property."""
+def _write(tmp_path: Path, name: str, subject: Subject, edits: tuple[Edit, ...], *properties: str) -> Path:
+    """The subject's program with the edits made to its model, as a .ladder with those properties."""
     program, problems = load_path(subject.path)
     assert not [p for p in problems if p.severity == "error"], problems
-    program = copy.deepcopy(program)
     for edit in edits:
         edit(program)
-    program.properties = [PropertyLine(prop)]
+    program.properties = [PropertyLine(prop) for prop in properties]
     path = tmp_path / f"{name}.ladder"
     path.write_text(render_program(program), encoding="utf-8")
     return path
@@ -177,10 +178,7 @@ def test_ladder_verify_proves_the_examples_properties(name, capsys):
 @pytest.mark.parametrize("name", ["corpus-traffic", "corpus-demo"])
 def test_the_corpus_programs_properties_are_proved(name, tmp_path, capsys):
     subject = SUBJECTS[name]
-    scenario = tmp_path / f"{name}.scn"
-    scenario.write_text(f"program {os.path.relpath(subject.path, tmp_path)}\n"
-                        + "".join(f"property {prop}\n" for prop in subject.properties), encoding="utf-8")
-    status, lines = _verify(capsys, scenario)
+    status, lines = _verify(capsys, _write(tmp_path, name, subject, subject.setup, *subject.properties))
     assert status == 0
     assert [line.split(": ", 1)[1] for line in lines] == [f"proved (k = 1): {prop}" for prop in subject.properties]
 
