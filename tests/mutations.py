@@ -1,7 +1,7 @@
 """Damaging a drawing the way a hand edit or a bad paste would: characters
 replaced, deleted or inserted, lines swapped (used by the fuzz test and the
 time-boxed fuzz benchmark); and faults planted in a program's model (a contact
-negated or removed, a timer shortened, a coil swapped), used by
+negated or removed, a rung dropped, a timer shortened, a coil swapped), used by
 the mutant suite of `ladder verify`."""
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ def mutate(text: str, rng: random.Random, count: int) -> str:
 
 
 # Faults planted in a program's model, as a wrong edit of the drawing would: each
-# finds its element by the rung's coil (or the element's name) and changes it in place.
+# finds its element in the first rung with the coil named that has one, and changes it in place.
 
 def _walk(node: Node, parent: Series | Parallel | None = None) -> Iterator[tuple[Element, Series | Parallel | None]]:
     if isinstance(node, Element):
@@ -54,10 +54,10 @@ def _named(element: Element) -> str | None:
     return name if isinstance(name, str) else None
 
 
-def _rungs_of(program: Program, name: str) -> Iterator[Rung]:
-    """The rungs with an element of that name (its coil, a contact, a comparison's operand)."""
+def _rungs_of(program: Program, coil: str) -> Iterator[Rung]:
+    """The rungs with a coil of that name (of any kind: ( ), (/), (S), (R))."""
     for rung in program.rungs:
-        if any(_named(element) == name for element, _ in _walk(rung.circuit)):
+        if any(element.kind == "COIL" and _named(element) == coil for element, _ in _walk(rung.circuit)):
             yield rung
 
 
@@ -83,10 +83,14 @@ def remove_element(program: Program, coil: str, kind: str, name: str) -> None:
     rung.circuit = rung_circuit(rung.circuit)
 
 
+def drop_rung(program: Program, coil: str) -> None:
+    program.rungs.remove(next(_rungs_of(program, coil)))
+
+
 def set_operand(program: Program, name: str, operand: str, value: object) -> None:
-    """A timer's delay, a counter's limit...: every element of that name gets the new value."""
+    """A timer's delay, a counter's limit...: every element of that name with the operand gets the new value."""
     for _, element in program.elements():
-        if element.args.get("name") == name:
+        if element.args.get("name") == name and operand in element.args:
             element.args[operand] = value
 
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 from corpus import CORPUS, EXPORTS
-from mutations import negate_contact, remove_element, set_operand, swap_coil
+from mutations import drop_rung, negate_contact, remove_element, set_operand, swap_coil
 from test_firmware_scenarios import needs_simavr
 from test_verify import needs_z3
 
@@ -56,6 +56,9 @@ def _pins_for_rung_6(program: Program) -> None:
 SUBJECTS = {
     "traffic-uno": Subject(EXAMPLES / "traffic-uno.ladder"),
     "conveyor": Subject(EXAMPLES / "conveyor.ladder"),
+    # its safety properties (its `within` fails and its `reachable` is reached, as docs/verify.md shows)
+    "reversing-motor": Subject(EXAMPLES / "reversing-motor.ladder", (
+        "never Ymotor_fwd and Ymotor_rev", "always Ylamp implies (Ymotor_fwd or Ymotor_rev)", "always Cstarts <= 100")),
     # LDmicro's own traffic light, and a motor start/stop with a start delay exported by LDmicro
     "corpus-traffic": Subject(CORPUS / "ldmicro" / "sample" / "traffic.ld", (
         "never Yred and Yyellow", "never Yred and Ygreen", "never Yyellow and Ygreen",
@@ -129,6 +132,12 @@ MUTANTS = _traffic("traffic-uno") + _traffic("corpus-traffic") + [
            (given(negate_contact, coil="Yhorn", contact="Ymotor"),)),
     Mutant("conveyor", "always Ymotor implies Twarn >= 200", "the horn's 2 s TON shortened to 200 ms",
            (given(set_operand, name="Twarn", operand="delay", value=200_000),)),
+    Mutant("reversing-motor", "never Ymotor_fwd and Ymotor_rev", "the reverse rung's interlock contact removed",
+           (given(remove_element, coil="Ymotor_rev", kind="CONTACTS", name="Ymotor_fwd"),)),
+    Mutant("reversing-motor", "always Ylamp implies (Ymotor_fwd or Ymotor_rev)", "the lamp's forward contact negated",
+           (given(negate_contact, coil="Ylamp", contact="Ymotor_fwd"),)),
+    Mutant("reversing-motor", "always Cstarts <= 100", "the counter's start value 0 mistyped as 1000",
+           (given(set_operand, name="Cstarts", operand="init", value="1000"),)),
     Mutant("corpus-demo", "always Ymotor implies Rrun", "the delay rung's Rrun contact negated",
            (given(negate_contact, coil="Ymotor", contact="Rrun"),), FAST_DELAY),
     Mutant("corpus-demo", "always Rrun implies not Xstop", "the stop contact's negation lost",
@@ -175,8 +184,8 @@ def test_ladder_verify_proves_the_examples_properties(name, capsys):
 
 
 @needs_z3
-@pytest.mark.parametrize("name", ["corpus-traffic", "corpus-demo"])
-def test_the_corpus_programs_properties_are_proved(name, tmp_path, capsys):
+@pytest.mark.parametrize("name", ["reversing-motor", "corpus-traffic", "corpus-demo"])
+def test_the_properties_of_the_corpus_programs_and_the_reversing_motor_are_proved(name, tmp_path, capsys):
     subject = SUBJECTS[name]
     status, lines = _verify(capsys, _write(tmp_path, name, subject, subject.setup, *subject.properties))
     assert status == 0
@@ -227,3 +236,25 @@ def test_each_mutant_fails_its_property_and_ladder_test_replays_it(mutant, tmp_p
 def test_each_counterexample_fails_at_the_same_scan_on_the_avr_image(mutant, tmp_path, capsys):
     time_ms, scenario = _counterexample(mutant, tmp_path, capsys)
     _replay_fails_at(capsys, scenario, time_ms, "--on", "avr")
+
+
+@needs_z3
+@pytest.mark.parametrize("name, coil, prop", [("conveyor", "Yhorn", "never Ymotor and Yhorn"),
+                                              ("traffic-uno", "Yred", "always Yred or Yyellow or Ygreen")])
+def test_a_dropped_rung_leaves_its_property_reading_a_name_nothing_drives(name, coil, prop, tmp_path, capsys):
+    # a safety property holds the more surely the less a program does; what a dropped rung breaks is
+    # the property itself, which must not be proved about a name the program no longer has
+    path = _write(tmp_path, "dropped", SUBJECTS[name], (given(drop_rung, coil=coil),), prop)
+    assert main(["verify", str(path)]) == 1
+    assert f"error LD216 the property reads '{coil}', which the program does not use" in capsys.readouterr().err
+
+
+@needs_z3
+def test_the_forward_rungs_interlock_alone_can_go(tmp_path, capsys):
+    # the reverse rung, later in the same scan, drops reverse whenever forward is on: within the
+    # scan, its interlock alone keeps the two apart (the contactors still want both, and a hardware one)
+    subject = SUBJECTS["reversing-motor"]
+    path = _write(tmp_path, "one-interlock", subject,
+                  (given(remove_element, coil="Ymotor_fwd", kind="CONTACTS", name="Ymotor_rev"),),
+                  "never Ymotor_fwd and Ymotor_rev")
+    assert _verify(capsys, path)[1][0].endswith(": proved (k = 1): never Ymotor_fwd and Ymotor_rev")
