@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from builders import SIM_ONLY_LD
 from lsprotocol import types
-from test_lsp_support import Doc, apply_edits, example_text, lsp_fixture, new_uri, td
+from test_lsp_support import Doc, apply_edits, drawing_text, example_text, lsp_fixture, new_uri, td
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 client = lsp_fixture()
@@ -41,7 +41,8 @@ def _action(found) -> types.CodeAction:
 
 
 async def test_quick_fix_renames_an_input_used_as_a_coil(client):
-    doc = Doc(client, new_uri(), example_text().replace("Yhorn", "Xhorn"))
+    # the drawing only: the rename fixes the program's names, not the PROPERTIES section's
+    doc = Doc(client, new_uri(), drawing_text().replace("Yhorn", "Xhorn"))
     found = await doc.diagnostics()
     assert [d.code for d in found] == ["LD102"]
     actions = await actions_at(client, doc, found[0].range.start, found[0].range.end, found, only=["quickfix"])
@@ -52,7 +53,7 @@ async def test_quick_fix_renames_an_input_used_as_a_coil(client):
     new = apply_edits(doc.text, edits_of(actions[0], doc.uri))
     doc.replace_all(new)
     assert await doc.diagnostics() == []
-    assert new == example_text()
+    assert new == drawing_text()
 
 
 async def test_quick_fix_for_a_misspelt_part(client):
@@ -141,7 +142,7 @@ async def test_convert_to_ld_and_back(client, tmp_path):
     source.unlink()
     result = await client.workspace_execute_command_async(types.ExecuteCommandParams(
         command="ladder.convert", arguments=[ld.uri, "ladder"]))
-    assert Path(result["path"]).read_text(encoding="utf-8") == example_text()
+    assert Path(result["path"]).read_text(encoding="utf-8") == drawing_text()
 
 
 async def test_convert_refuses_bad_arguments(client):

@@ -59,6 +59,11 @@ def example_text() -> str:
     return EXAMPLE.read_text(encoding="utf-8")
 
 
+def drawing_text() -> str:
+    """The example without its PROPERTIES section, which a .ld file has no place for."""
+    return example_text().split("\n\nPROPERTIES:")[0] + "\n"
+
+
 class Doc:
     """An open document on the test client, with its version."""
 
