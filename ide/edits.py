@@ -18,7 +18,7 @@ from lang.drawing import CELL
 from lang.instructions import INSTRUCTIONS
 from lang.model import Element, Node, Parallel, Program, Rung, Series, Span, rung_circuit
 from lang.textform.formatter import existing_width
-from lang.textform.sections import DETAILS, IO, VARS
+from lang.textform.sections import DETAILS, IO, PROPERTIES, VARS
 from lang.textform.writer import diagram_width, margin_width, render_rung
 from lang.values import is_name
 
@@ -312,7 +312,7 @@ def rename(program: Program, locator: Locator, text: str, old: str, new: str, ki
            ) -> tuple[list[LineEdit], list[TextEdit]]:
     """Rename a name everywhere: the rungs using it are drawn again (text
     form) or edited in place (.ld), and the I/O, VAR LIST and DETAILS rows
-    follow."""
+    follow, and so do the properties that name it."""
     if not is_name(new):
         raise EditError(f"{new!r} is not a valid name (letters, digits, _; not starting with a digit)")
     if old == new:
@@ -337,7 +337,7 @@ def rename(program: Program, locator: Locator, text: str, old: str, new: str, ki
         rows = _ld_io_rows(lines)
     else:
         rows = []
-        for title in (IO, VARS, DETAILS):
+        for title in (IO, VARS, DETAILS, PROPERTIES):
             bounds = locator.section_range(title)
             if bounds is not None:
                 rows.extend(range(bounds[0] + 1, bounds[1] + 1))

@@ -41,8 +41,8 @@ def _action(found) -> types.CodeAction:
 
 
 async def test_quick_fix_renames_an_input_used_as_a_coil(client):
-    # the drawing only: the rename fixes the program's names, not the PROPERTIES section's
-    doc = Doc(client, new_uri(), drawing_text().replace("Yhorn", "Xhorn"))
+    # the properties that name it are renamed with it
+    doc = Doc(client, new_uri(), example_text().replace("Yhorn", "Xhorn"))
     found = await doc.diagnostics()
     assert [d.code for d in found] == ["LD102"]
     actions = await actions_at(client, doc, found[0].range.start, found[0].range.end, found, only=["quickfix"])
@@ -53,7 +53,7 @@ async def test_quick_fix_renames_an_input_used_as_a_coil(client):
     new = apply_edits(doc.text, edits_of(actions[0], doc.uri))
     doc.replace_all(new)
     assert await doc.diagnostics() == []
-    assert new == drawing_text()
+    assert new == example_text()
 
 
 async def test_quick_fix_for_a_misspelt_part(client):

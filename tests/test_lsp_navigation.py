@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 from lsprotocol import types
 from test_lsp_support import Doc, apply_edits, example_text, lsp_fixture, new_uri, td
@@ -60,7 +62,10 @@ async def test_rename_redraws_the_rungs(client):
         text_document=td(doc.uri), position=at(doc, "Rrun", 1), new_name="Rrunning_motor"))
     changes = edit.document_changes[0].edits if edit.document_changes else edit.changes[doc.uri]
     new = apply_edits(doc.text, changes)
-    assert "Rrun " not in new and new.count("Rrunning_motor") == 4
+    drawing, _, properties = new.partition("PROPERTIES:")
+    # the four uses in the rungs, and the properties that name it
+    assert not re.search(r"\bRrun\b", new) and drawing.count("Rrunning_motor") == 4
+    assert properties.count("Rrunning_motor") == len(re.findall(r"\bRrun\b", doc.text.partition("PROPERTIES:")[2])) > 0
     # still aligned: the formatter has nothing to change
     doc.replace_all(new)
     assert await doc.diagnostics() == []
