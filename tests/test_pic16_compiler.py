@@ -180,15 +180,16 @@ RUNG
 END
 RUNG
     CONTACTS Xon 0 0
-    SET_PWM duty {freq} Ppwm 0-100%
+    SET_PWM {duty} {freq} Ppwm 0-100%
 END
 """
 
 
-@pytest.mark.parametrize("freq", [1000, 5000, 10000])
-def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, tmp_path):
-    """The pin as the CCP module drives it, sampled 400 times over 4 periods."""
-    program = _program(PWM_LD.format(freq=freq))
+@pytest.mark.parametrize("freq, duty", [(1000, "duty"), (5000, "duty"), (10000, "duty"), (5000, "30")])
+def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, duty, tmp_path):
+    """The pin as the CCP module drives it, sampled 400 times over 4 periods
+    (a literal duty is computed by the compiler, a variable one every scan)."""
+    program = _program(PWM_LD.format(freq=freq, duty=duty))
     build = compiler.build(program)
     build.write(tmp_path / "pwm.hex")
     period_ms = 1000 / freq

@@ -190,6 +190,9 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e, part = cx.e, cx.part
     s = ints.Scratch(cx.layout.scratch)
     setting = pwm_setting(part.device, op.unit, cx.machine.crystal_hz, op.freq)
+    if isinstance(op.duty, ir.Const):
+        _constant_duty(cx, op, setting.period)
+        return
     off, on, done = e.new_label("pwm"), e.new_label("pwm"), e.new_label("pwm")
     width = max(2, ints.size(cx, op.duty))
     duty = s.C[:width]
@@ -239,6 +242,18 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.label(off)
     _disconnect(cx, unit, False)
     e.label(done)
+
+
+def _constant_duty(cx, op: ir.SetPwm, period: int) -> None:
+    """A literal duty: its register values computed here, as the code
+    above would compute them every scan (the same truncating division)."""
+    duty = op.duty.value
+    if duty <= 0 or duty >= op.full:
+        _disconnect(cx, op.unit, duty > 0)
+        return
+    tenths = duty * 4 * period // op.full
+    _write(cx, f"{op.unit}CON", (tenths & 3) << 4 | PWM_MODE)
+    _write(cx, f"CCPR{op.unit[-1]}L", tenths >> 2)
 
 
 def pwm_setup(cx, code: ir.Code) -> None:
