@@ -347,3 +347,43 @@ def test_blink_runs_on_the_other_parts(part, tmp_path):
     program.pins["Xbutton"] = PinAssignment("Xbutton", "RB0")
     program.pins["Yled"] = PinAssignment("Yled", "RB1")
     assert differential(program, BLINK, 200, tmp_path, part) == []
+
+
+SLEEP_LD = """LDmicro0.2
+MICRO={micro}
+CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CRYSTAL=4000000 Hz
+BAUD=2400 Hz
+
+IO LIST
+    Xsleep at {sleep} 0 0
+    Yalive at {alive} 0 0
+END
+
+PROGRAM
+RUNG
+    OSC
+    COIL Yalive 0 0 0 0
+END
+RUNG
+    CONTACTS Xsleep 0 0
+    SLEEP
+END
+"""
+
+
+@pytest.mark.parametrize("micro, part, sleep, alive", [
+    ("Microchip PIC16F877 40-PDIP", "p16f877", ("RB1", 34), ("RD0", 19)),
+    ("Microchip PIC12F675 8-pin packages", "p12f675", ("GP4", 3), ("GP5", 2)),
+    ("Microchip PIC18F4520 40-PDIP", "p18f4520", ("RB1", 34), ("RD0", 19))])
+def test_sleep_stops_the_scans(micro, part, sleep, alive, tmp_path):
+    """Yalive toggles every scan until the first scan that sees Xsleep, then
+    never again: the MCU sleeps (its only wake-up source is the INT pin,
+    which gpsim does not model waking on; p16f877_sleep against LDmicro's
+    image in test_pic16_oracle.py)."""
+    program = _program(SLEEP_LD.format(micro=micro, sleep=sleep[1], alive=alive[1]))
+    compiler.build(program).write(tmp_path / "sleep.hex")
+    run = gpsim.run_pic(tmp_path / "sleep.hex", part, 4_000_000, inputs=[(0, sleep[0], 0), (55, sleep[0], 1)],
+                        watch=[alive[0]], until_ms=200, timeout=60)
+    edges = [t for t, _ in run.pin_edges(alive[0])]
+    assert len(edges) == 7 and all(abs(t - 10 * k) < 0.2 for k, t in enumerate(edges))  # the scans at 0 .. 60 ms

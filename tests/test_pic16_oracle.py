@@ -15,8 +15,9 @@ Left out, with the reason:
   by zero, a 2-byte SHR, a shift by a variable count of 0, AND/OR/XOR of a
   shorter operand): we follow the simulator, docs/pic16.md;
 * programs that need what gpsim cannot do (bytes into the UART receiver, a
-  wake-up from SLEEP) or instructions the PIC16 back end does not compile
-  (SLEEP and those of p16f877_target_extras: LD501);
+  wake-up from SLEEP: p16f877_sleep is compared on where it stops, below) or
+  instructions the PIC16 back end does not compile (those of
+  p16f877_target_extras: LD501);
 * the 16F72 with PWM, which LDmicro's own image hangs on (its Timer1/CCP
   clash), and the 12F675 and 16F72 programs, whose LDmicro images run on
   gpsim models that differ from the parts (no 16F72 model);
@@ -95,3 +96,26 @@ def test_same_outputs_as_ldmicros_image(name, ldmicro, tmp_path):
     text, expected = mine.uart_bytes(), reference.uart_bytes()
     common = min(len(text), len(expected))
     assert text[:common] == expected[:common] and abs(len(text) - len(expected)) <= 2
+
+
+def test_sleep_stops_the_scans_where_ldmicros_image_stops(ldmicro, tmp_path):
+    """p16f877_sleep: both images stop scanning in the first scan that sees
+    Xsleep (Yalive, toggled every scan, makes its last edge within a cycle of
+    LDmicro's and none after it). LDmicro's first scan comes a cycle late, so
+    the edges are not compared one by one; gpsim does not wake either image
+    on the RB0/INT edges of the stimulus."""
+    source = PROGRAMS / "p16f877_sleep.ld"
+    stimulus = json.loads((PROGRAMS / "p16f877_sleep.json").read_text())
+    program, _ = load_path(source)
+    build = compiler.build(program)
+    ours = tmp_path / "ours.hex"
+    build.write(ours)
+    theirs = tmp_path / "ldmicro.hex"
+    subprocess.run([str(ldmicro), "compile", str(source), str(theirs)], check=True, capture_output=True, timeout=300)
+    _, mine = _run(ours, program, build.device, stimulus)
+    _, reference = _run(theirs, program, build.device, stimulus)
+    slept_at = next(t for t, name, v in stimulus["inputs"] if name == "Xsleep" and v)
+    cycle_ms = program.settings.cycle_us / 1000
+    last_ours, last_theirs = mine.pin_edges("RD0")[-1][0], reference.pin_edges("RD0")[-1][0]
+    assert slept_at <= last_ours < slept_at + cycle_ms
+    assert abs(last_ours - last_theirs) <= cycle_ms
