@@ -549,8 +549,7 @@ for _n in ("7", "9", "14", "16"):
         box("{" + _n + "SEG ", "", "", "{dest}", ":=}"), box("{", "{common}", "", "{src}", "}"),
         f"While its input is 1, sets the destination to the {_n}-segment pattern of the "
         "source character (C common cathode, A common anode).",
-        # LDmicro has a font only for 7 segments; 9/14/16 are drawn, never run
-        "display", support=ALL if _n == "7" else DRAWN_ONLY,
+        "display",
         example=f"{_n}SEGMENTS dest src {'A' if _n == '16' else 'C'}", ldmicro_written=("dest",),
     )
 define(
