@@ -601,7 +601,7 @@ define("QUAD_ENCOD", "quadrature encoder",
         Field("zkind", "edge", access="", default="/"), integer("counts", 0, drawn=False)),
        box("~~[{a} {b}", "", "", "", "{dir}]-"), box("-{zkind}[{z}", "", " QUAD ENCOD ", "{counter}", "]^"),
        "Counts the pulses of a quadrature encoder on inputs A and B.",
-       "target", cells=2, support=DRAWN_ONLY, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
+       "target", cells=2, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
        ldmicro_written=('counter',))
 define("PULSER", "pulser",
        (token("p1"), token("p0"), token("accel"), Field("counter", "var", access="rw"), bit("coil", "YR", "write")),
