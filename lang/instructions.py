@@ -604,10 +604,10 @@ define("QUAD_ENCOD", "quadrature encoder",
        "target", cells=2, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
        ldmicro_written=('counter',))
 define("PULSER", "pulser",
-       (token("p1"), token("p0"), token("accel"), Field("counter", "var", access="rw"), bit("coil", "YR", "write")),
+       (token("p1"), token("p0"), token("accel"), Field("counter", "operand"), bit("coil", "YR", "write")),
        box("[PULSER ", "{counter}", "", " {coil}", "]->"), box("[", "", "{p1} {p0} {accel}", "", "]--"),
        "Generates pulses with the given high and low times (in scans).",
-       "target", cells=2, support=DRAWN_ONLY, example='PULSER D1 D0 accel_decel counter Ypulse')
+       "target", cells=2, example='PULSER D1 D0 accel_decel counter Ypulse')
 define("STEPPER", "stepper motor",
        (token("name"), token("max"), token("p"), integer("size"), integer("graph"), bit("coil", "Y", "write")),
        box("[STEPPER ", "{name} {max}", "", " {coil}", "]->"), box("[", "{p}", "", " {size} {graph}", "]--"),

@@ -283,6 +283,13 @@ def _quad(board):
                      st.sampled_from("/\\-o"), st.sampled_from((0, 4, 7, 100, -3)))
 
 
+def _pulser(board):
+    return st.builds(lambda times, n, coil: _e("PULSER", p1=times[0], p0=times[1], accel=times[2], counter=n, coil=coil),
+                     st.tuples(*[st.integers(1, 4).map(str)] * 3),
+                     st.one_of(st.sampled_from(INTS), st.integers(-1, 6).map(str)),
+                     st.sampled_from(board.output_names + RELAYS))
+
+
 def _bus(board):
     return st.builds(lambda r, s, bits: _e("BUS", dest=r, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
                      st.sampled_from(INTS), st.sampled_from(INTS), st.lists(st.integers(0, 7), min_size=8,
@@ -372,7 +379,7 @@ FACTORIES = {
     **{k: _bit_op(k) for k in ("SET_BIT", "CLEAR_BIT", "IF_BIT_SET", "IF_BIT_CLEAR")},
     **{k: _convert(k) for k in ("BIN2BCD", "BCD2BIN", "SWAP", "OPPOSITE")},
     **{k: _segments(k) for k in ("7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS")}, "BUS": _bus,
-    "QUAD_ENCOD": _quad, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
+    "QUAD_ENCOD": _quad, "PULSER": _pulser, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
     "SHIFT_REGISTER": _shift_register, "RANDOM": _random, "SEED_RANDOM": _seed, "MOVE": _move, "RES": _reset,
     "PERSIST": _persist, "READ_ADC": _adc, "SET_PWM": _pwm, "UART_SEND": _uart_send,
     "UART_SEND_READY": _simple("UART_SEND_READY"), "UART_RECV_AVAIL": _simple("UART_RECV_AVAIL"),

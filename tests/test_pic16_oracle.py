@@ -168,3 +168,11 @@ def test_quadrature_encoder_counts_as_ldmicros(ldmicro, tmp_path):
     direction and pulse outputs (PORTA) the same every scan."""
     mine, reference = _ports_each_scan("p16f877_quad", ldmicro, tmp_path, ("porta", "portc", "portd"))
     assert mine == reference and len(set(mine)) > 50
+
+
+def test_pulser_pulses_as_ldmicros(ldmicro, tmp_path):
+    """p16f877_pulser: PULSER as a square wave, with equal and unequal high
+    and low times ramped up and down, and with a counter variable, started
+    and restarted by its input: the outputs (PORTA, RE0) the same every scan."""
+    mine, reference = _ports_each_scan("p16f877_pulser", ldmicro, tmp_path, ("porta", "porte"))
+    assert mine == reference and len(set(mine)) > 8
