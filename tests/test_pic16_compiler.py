@@ -387,3 +387,61 @@ def test_sleep_stops_the_scans(micro, part, sleep, alive, tmp_path):
                         watch=[alive[0]], until_ms=200, timeout=60)
     edges = [t for t, _ in run.pin_edges(alive[0])]
     assert len(edges) == 7 and all(abs(t - 10 * k) < 0.2 for k, t in enumerate(edges))  # the scans at 0 .. 60 ms
+
+
+PWM_STEPS_LD = """LDmicro0.2
+MICRO=Microchip PIC16F877 40-PDIP
+CYCLE=10000 us at Timer1
+CRYSTAL=4000000 Hz
+BAUD=2400 Hz
+
+IO LIST
+    Ppwm at 17 0 0
+END
+
+PROGRAM
+RUNG
+    ADD duty duty {step}
+END
+RUNG
+    SET_PWM duty {freq} Ppwm {resolution}
+END
+"""
+
+
+@pytest.mark.parametrize("freq, resolution, full, step", [(2000, "0-100%", 100, 1), (300, "0-1024", 1024, 9),
+                                                          (15000, "0-256", 256, 3), (4000, "0-512", 512, 5)])
+def test_pwm_duty_registers_for_every_duty(freq, resolution, full, step, tmp_path):
+    """A duty stepping every scan through 0..full and past it: CCPR1L and
+    CCP1CON<5:4> hold duty * 4 * period / full (truncated) each scan, the
+    module off at full and beyond."""
+    from lang.hardware import pwm_setting
+
+    program = _program(PWM_STEPS_LD.format(freq=freq, resolution=resolution, step=step))
+    build = compiler.build(program)
+    build.write(tmp_path / "pwm.hex")
+    period = pwm_setting(build.device, "CCP1", 4_000_000, freq).period
+    scans = full // step + 3
+    reads = [(10 * k + 5, register) for k in range(scans) for register in ("ccpr1l", "ccp1con")]
+    run = gpsim.run_pic(tmp_path / "pwm.hex", "p16f877", 4_000_000, reads=reads, until_ms=10 * scans + 6, timeout=120)
+    values = [value for _, _, value in run.reads]
+    for k in range(scans):
+        duty, low, control = step * (k + 1), values[2 * k], values[2 * k + 1]
+        if duty >= full:
+            assert control == 0, f"duty {duty}: the CCP off"
+            continue
+        tenths = duty * 4 * period // full
+        assert (low, control) == (tenths >> 2, (tenths & 3) << 4 | 0x0C), f"duty {duty} of {full}"
+
+
+def test_every_pwm_setting_has_an_exact_scale():
+    """The variable-duty pattern's multiply-and-shift gives the truncated
+    duty * 4 * period / full for every duty, period and resolution."""
+    from compiler.pic16.peripherals import pwm_scale
+    from lang.semantics.operands import PWM_FULL
+
+    for full in PWM_FULL.values():
+        for period in range(1, 257):
+            factor, shift = pwm_scale(4 * period, full)
+            assert factor * (full - 1) < 1 << 24
+            assert all(d * factor >> shift == d * 4 * period // full for d in range(1, full))

@@ -207,19 +207,22 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
     e.ins("btfsc", e.status, 0)
     e.goto(on)
-    # A = duty * 4 * period, then / full: a 10-bit duty cycle
-    ints.copy_in(cx, ir.Const(0), s.A[:3])
-    for reg, src in zip(s.A, duty[:2]):
+    # duty * 4 * period / full, a 10-bit duty cycle, as duty * factor >> shift (no division)
+    factor, shift = pwm_scale(4 * setting.period, op.full)
+    for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
+        ints.put(e, ints.Byte("const", value), reg)
+    ints.copy_in(cx, ir.Const(0), s.B[2:3])
+    for reg, src in zip(s.B, duty[:2]):
         e.load(src)
         e.store(reg)
-    for reg, value in zip(s.B[:3], (4 * setting.period).to_bytes(3, "little")):
-        ints.put(e, ints.Byte("const", value), reg)
-    e.call(cx.routine("mul3"))
-    for src, dst in zip(s.C[:3], s.A[:3]):
-        ints.put(e, ints.Byte("mem", src), dst)
-    for reg, value in zip(s.B[:3], op.full.to_bytes(3, "little")):
-        ints.put(e, ints.Byte("const", value), reg)
-    e.call(cx.routine("udivmod3"))
+    e.call(cx.routine("mul3"))  # its passes: the duty's 10 bits at most
+    for _ in range(shift % 8):
+        e.ins("bcf", e.status, 0)
+        for reg in reversed(s.C[:3]):
+            e.ins("rrf", reg, F)
+    high = s.C[:3][shift // 8:][:2]
+    for src, dst in zip(high + [None], s.A[:2]):
+        ints.put(e, ints.Byte("mem", src) if src is not None else ints.Byte("const", 0), dst)
     unit = op.unit
     ccp = part.reg(f"{unit}CON")
     # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
@@ -242,6 +245,19 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.label(off)
     _disconnect(cx, unit, False)
     e.label(done)
+
+
+def pwm_scale(numerator: int, full: int) -> tuple[int, int]:
+    """(factor, shift) with duty * factor >> shift == duty * numerator // full
+    for every duty from 1 to full - 1 (checked here, one by one) and the
+    product within 24 bits: the largest shift that is exact. Every PWM
+    setting has one (numerator = 4 x a period of 1 to 256; full 100 to 1024)."""
+    for shift in range(23, -1, -1):
+        factor = -(-(numerator << shift) // full)
+        if factor * (full - 1) < 1 << 24 and all(
+                duty * factor >> shift == duty * numerator // full for duty in range(1, full)):
+            return factor, shift
+    raise AssertionError(f"no exact scale for {numerator}/{full}")
 
 
 def _constant_duty(cx, op: ir.SetPwm, period: int) -> None:
