@@ -14,20 +14,20 @@ from .builder import Builder, Holds, IsSet, lowers
 WORK = 2  # the size of LDmicro's generated variables ($var_...)
 
 
-def _mode(el) -> str:
+def _mode(b: Builder, el) -> str:
     """LDmicro's "Meander": 'square' (1, 1, 1: the output toggles every scan),
     'even' (equal literal high and low times) or 'ramped' (any other)."""
     p1, p0, accel = (str(el.args[f]) for f in ("p1", "p0", "accel"))
     if not (is_literal(p1) and is_literal(p0)):
         return "ramped"
-    if p1 == p0 == "1" and accel == "1":
+    if b.literal(p1) == b.literal(p0) == 1 and is_literal(accel) and b.literal(accel) == 1:
         return "square"
-    return "even" if int(p1, 0) == int(p0, 0) else "ramped"
+    return "even" if b.literal(p1) == b.literal(p0) else "ramped"
 
 
 @lowers("PULSER")
 def pulser(b: Builder, el, p: ir.Bit) -> None:
-    mode = _mode(el)
+    mode = _mode(b, el)
     p1, p0, accel, count = (b.operand(el.args[f]) for f in ("p1", "p0", "accel", "counter"))
     coil = b.bit(str(el.args["coil"]))
     busy, high, reload = b.memory_bit("busy"), b.memory_bit("osc"), b.memory_bit("reload")
