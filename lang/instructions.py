@@ -529,7 +529,7 @@ define("SLEEP", "sleep", (Field("name", "token", access="", default="", drawn=Fa
                           Field("delay", "token", access="", default="", drawn=False)),
        None, text("{{SLEEP}}"),
        "When its input is 1, puts the microcontroller into power-down sleep.",
-       "flow", eol=True, ld_form="sleep", support=frozenset({"parse", "check", "avr"}))
+       "flow", eol=True, ld_form="sleep", support=frozenset({"parse", "check", "avr", "pic16", "pic18"}))
 define("PLACEHOLDER", "empty rung", (), None, text("--"),
        "Marks an empty rung; a program with one cannot be compiled.", "flow",
        support=frozenset({"parse", "check"}), label='empty rung')
@@ -549,8 +549,7 @@ for _n in ("7", "9", "14", "16"):
         box("{" + _n + "SEG ", "", "", "{dest}", ":=}"), box("{", "{common}", "", "{src}", "}"),
         f"While its input is 1, sets the destination to the {_n}-segment pattern of the "
         "source character (C common cathode, A common anode).",
-        # LDmicro has a font only for 7 segments; 9/14/16 are drawn, never run
-        "display", support=ALL if _n == "7" else DRAWN_ONLY,
+        "display",
         example=f"{_n}SEGMENTS dest src {'A' if _n == '16' else 'C'}", ldmicro_written=("dest",),
     )
 define(
@@ -602,13 +601,13 @@ define("QUAD_ENCOD", "quadrature encoder",
         Field("zkind", "edge", access="", default="/"), integer("counts", 0, drawn=False)),
        box("~~[{a} {b}", "", "", "", "{dir}]-"), box("-{zkind}[{z}", "", " QUAD ENCOD ", "{counter}", "]^"),
        "Counts the pulses of a quadrature encoder on inputs A and B.",
-       "target", cells=2, support=DRAWN_ONLY, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
+       "target", cells=2, ld_form="quad", example='QUAD_ENCOD qCount0 0 XqA0 XqB0 XqZ0 YqDir0 / 0',
        ldmicro_written=('counter',))
 define("PULSER", "pulser",
-       (token("p1"), token("p0"), token("accel"), Field("counter", "var", access="rw"), bit("coil", "YR", "write")),
+       (token("p1"), token("p0"), token("accel"), Field("counter", "operand"), bit("coil", "YR", "write")),
        box("[PULSER ", "{counter}", "", " {coil}", "]->"), box("[", "", "{p1} {p0} {accel}", "", "]--"),
        "Generates pulses with the given high and low times (in scans).",
-       "target", cells=2, support=DRAWN_ONLY, example='PULSER D1 D0 accel_decel counter Ypulse')
+       "target", cells=2, example='PULSER D1 D0 accel_decel counter Ypulse')
 define("STEPPER", "stepper motor",
        (token("name"), token("max"), token("p"), integer("size"), integer("graph"), bit("coil", "Y", "write")),
        box("[STEPPER ", "{name} {max}", "", " {coil}", "]->"), box("[", "{p}", "", " {size} {graph}", "]--"),

@@ -116,8 +116,8 @@ def words(diagnostic: Diagnostic, *expected: str) -> None:
         assert word in diagnostic.message, f"{word!r} not in {diagnostic.message!r}"
 
 
-# an ATmega328P program with an instruction only the simulator runs (9SEGMENTS: LD501 when built)
-SIM_ONLY_LD = """LDmicro0.2
+# an ATmega328P program with an instruction no back end compiles (SPI, LDmicro's C back ends only: LD501 when built)
+NOT_COMPILED_LD = """LDmicro0.2
 MICRO=Atmel AVR ATmega328 28-PDIP
 CYCLE=10000 us at Timer1, YPlcCycleDuty:0
 CRYSTAL=16000000 Hz
@@ -130,6 +130,6 @@ END
 PROGRAM
 RUNG
   CONTACTS Xa 0 0
-  9SEGMENTS d s C
+  SPI SPI1 s d Master 0 8 MSB 1000000
 END
 """

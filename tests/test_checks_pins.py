@@ -166,16 +166,17 @@ def test_pin_on_an_unused_name():
 
 
 def test_instruction_the_family_cannot_compile():
-    sleep = el("SLEEP")
+    stop = el("NPULSE_OFF")
     pic = "Microchip PIC16F877 40-PDIP"
-    prog = program([contact("Xa"), sleep], mcu=pic, pins={"Xa": 2})
+    prog = program([contact("Xa"), stop], mcu=pic, pins={"Xa": 2})
     d = one(prog, "LD501")
-    assert d.severity == "warning" and d.span == span_of(sleep)
-    assert "SLEEP" in d.message and "PIC16" in d.message
+    assert d.severity == "warning" and d.span == span_of(stop)
+    assert "NPULSE OFF" in d.message and "PIC16" in d.message
     # the same rule, an error when the program is about to be compiled
     built = [d for d in check_program(prog, for_build=True) if d.code == "LD501"]
     assert [(b.severity, b.span, b.message) for b in built] == [("error", d.span, d.message)]
     none(program([contact("Xa"), el("SLEEP")], mcu=M328, pins={"Xa": 4}), "LD501")
+    none(program([contact("Xa"), el("SLEEP")], mcu=pic, pins={"Xa": 2}), "LD501")
     none(program([contact("Xa"), el("SLEEP")]), "LD501")  # no part: nothing to say
 
 

@@ -7,7 +7,7 @@ import re
 import shutil
 
 import pytest
-from builders import SIM_ONLY_LD
+from builders import NOT_COMPILED_LD
 from intelhex import IntelHex
 from test_compiler_harness import CORPUS
 
@@ -65,12 +65,12 @@ def test_no_part_is_an_error_and_a_missing_file_exits_2(tmp_path, capsys):
 
 def test_an_instruction_the_family_cannot_compile_warns_in_check_and_stops_build(tmp_path, capsys):
     source = tmp_path / "segments.ld"
-    source.write_text(SIM_ONLY_LD)
+    source.write_text(NOT_COMPILED_LD)
     assert main(["check", str(source)]) == 0
-    assert f"{source}:14:3: warning LD501 9SEGMENTS 'd' in rung 1 cannot be compiled for the ATmega328P: the " \
+    assert f"{source}:14:3: warning LD501 SPI 'd' in rung 1 cannot be compiled for the ATmega328P: the " \
            "AVR back end does not support it" in capsys.readouterr().out
     assert main(["build", str(source)]) == 1
-    assert f"{source}:14:3: error LD501 9SEGMENTS 'd' in rung 1" in capsys.readouterr().out
+    assert f"{source}:14:3: error LD501 SPI 'd' in rung 1" in capsys.readouterr().out
     assert sorted(p.name for p in tmp_path.iterdir()) == ["segments.ld"]
 
 

@@ -60,7 +60,7 @@ def test_a_part_no_back_end_compiles_has_no_target(monkeypatch):
 
 
 def test_instructions_without_the_avr_layer_are_located_errors():
-    prog = part(program([contact("Xa"), el("9SEGMENTS", dest="d", src="s")], [move("s", 3)]))
+    prog = part(program([contact("Xa"), el("SPI", name="SPI1", send="s", recv="d")], [move("s", 3)]))
     prog.pins = {"Xa": PinAssignment("Xa", "PD2")}
     found = errors(prog)
     assert [d.code for d in found] == ["LD501"]

@@ -270,9 +270,24 @@ def _convert(kind):
     return lambda board: st.builds(lambda r, s: _e(kind, dest=r, src=s), st.sampled_from(INTS), source)
 
 
-def _seven(board):
-    return st.builds(lambda r, s, c: _e("7SEGMENTS", dest=r, src=s, common=c), st.sampled_from(INTS),
-                     st.one_of(st.sampled_from(INTS), st.integers(0, 200).map(str)), st.sampled_from("CA"))
+def _segments(kind):
+    return lambda board: st.builds(lambda r, s, c: _e(kind, dest=r, src=s, common=c), st.sampled_from(INTS),
+                                   st.one_of(st.sampled_from(INTS), st.integers(0, 200).map(str)), st.sampled_from("CA"))
+
+
+def _quad(board):
+    return st.builds(lambda c, ab, z, d, zk, n: _e("QUAD_ENCOD", counter=c, int01=0, a=ab[0], b=ab[1], z=z, dir=d, zkind=zk,
+                                                   counts=n),
+                     st.sampled_from(INTS), st.permutations(board.input_names).map(lambda names: names[:2]),
+                     st.sampled_from(("",) + board.input_names), st.sampled_from(("",) + board.output_names + RELAYS),
+                     st.sampled_from("/\\-o"), st.sampled_from((0, 4, 7, 100, -3)))
+
+
+def _pulser(board):
+    return st.builds(lambda times, n, coil: _e("PULSER", p1=times[0], p0=times[1], accel=times[2], counter=n, coil=coil),
+                     st.tuples(*[st.integers(1, 4).map(str)] * 3),
+                     st.one_of(st.sampled_from(INTS), st.integers(-1, 6).map(str)),
+                     st.sampled_from(board.output_names + RELAYS))
 
 
 def _bus(board):
@@ -363,7 +378,8 @@ FACTORIES = {
     **{k: _unary(k) for k in ("NEG", "NOT")},
     **{k: _bit_op(k) for k in ("SET_BIT", "CLEAR_BIT", "IF_BIT_SET", "IF_BIT_CLEAR")},
     **{k: _convert(k) for k in ("BIN2BCD", "BCD2BIN", "SWAP", "OPPOSITE")},
-    "7SEGMENTS": _seven, "BUS": _bus, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
+    **{k: _segments(k) for k in ("7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS")}, "BUS": _bus,
+    "QUAD_ENCOD": _quad, "PULSER": _pulser, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
     "SHIFT_REGISTER": _shift_register, "RANDOM": _random, "SEED_RANDOM": _seed, "MOVE": _move, "RES": _reset,
     "PERSIST": _persist, "READ_ADC": _adc, "SET_PWM": _pwm, "UART_SEND": _uart_send,
     "UART_SEND_READY": _simple("UART_SEND_READY"), "UART_RECV_AVAIL": _simple("UART_RECV_AVAIL"),

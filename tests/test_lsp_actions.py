@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 import pytest
-from builders import SIM_ONLY_LD
+from builders import NOT_COMPILED_LD
 from lsprotocol import types
 from test_lsp_support import Doc, apply_edits, drawing_text, example_text, lsp_fixture, new_uri, td
 
@@ -191,13 +191,13 @@ async def test_build_errors_and_compile_on_save(client, tmp_path):
 
 async def test_an_instruction_the_family_cannot_compile_is_an_error_once_built(client, tmp_path):
     source = tmp_path / "segments.ld"
-    source.write_text(SIM_ONLY_LD, encoding="utf-8")
-    doc = Doc(client, source.as_uri(), SIM_ONLY_LD, language="ldmicro")
+    source.write_text(NOT_COMPILED_LD, encoding="utf-8")
+    doc = Doc(client, source.as_uri(), NOT_COMPILED_LD, language="ldmicro")
     editing = [d for d in await doc.diagnostics() if d.code == "LD501"]
     assert [d.severity for d in editing] == [types.DiagnosticSeverity.Warning]
     result = await client.workspace_execute_command_async(types.ExecuteCommandParams(
         command="ladder.build", arguments=[doc.uri]))
-    assert result["ok"] is False and "9SEGMENTS" in result["summary"] and not (tmp_path / "segments.hex").exists()
+    assert result["ok"] is False and "SPI" in result["summary"] and not (tmp_path / "segments.hex").exists()
     built = [d for d in await doc.diagnostics() if d.code == "LD501"]
     assert [(d.severity, d.range) for d in built] == [(types.DiagnosticSeverity.Error, editing[0].range)]
 

@@ -180,15 +180,16 @@ RUNG
 END
 RUNG
     CONTACTS Xon 0 0
-    SET_PWM duty {freq} Ppwm 0-100%
+    SET_PWM {duty} {freq} Ppwm 0-100%
 END
 """
 
 
-@pytest.mark.parametrize("freq", [1000, 5000, 10000])
-def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, tmp_path):
-    """The pin as the CCP module drives it, sampled 400 times over 4 periods."""
-    program = _program(PWM_LD.format(freq=freq))
+@pytest.mark.parametrize("freq, duty", [(1000, "duty"), (5000, "duty"), (10000, "duty"), (5000, "30")])
+def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, duty, tmp_path):
+    """The pin as the CCP module drives it, sampled 400 times over 4 periods
+    (a literal duty is computed by the compiler, a variable one every scan)."""
+    program = _program(PWM_LD.format(freq=freq, duty=duty))
     build = compiler.build(program)
     build.write(tmp_path / "pwm.hex")
     period_ms = 1000 / freq
@@ -346,3 +347,101 @@ def test_blink_runs_on_the_other_parts(part, tmp_path):
     program.pins["Xbutton"] = PinAssignment("Xbutton", "RB0")
     program.pins["Yled"] = PinAssignment("Yled", "RB1")
     assert differential(program, BLINK, 200, tmp_path, part) == []
+
+
+SLEEP_LD = """LDmicro0.2
+MICRO={micro}
+CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CRYSTAL=4000000 Hz
+BAUD=2400 Hz
+
+IO LIST
+    Xsleep at {sleep} 0 0
+    Yalive at {alive} 0 0
+END
+
+PROGRAM
+RUNG
+    OSC
+    COIL Yalive 0 0 0 0
+END
+RUNG
+    CONTACTS Xsleep 0 0
+    SLEEP
+END
+"""
+
+
+@pytest.mark.parametrize("micro, part, sleep, alive", [
+    ("Microchip PIC16F877 40-PDIP", "p16f877", ("RB1", 34), ("RD0", 19)),
+    ("Microchip PIC12F675 8-pin packages", "p12f675", ("GP4", 3), ("GP5", 2)),
+    ("Microchip PIC18F4520 40-PDIP", "p18f4520", ("RB1", 34), ("RD0", 19))])
+def test_sleep_stops_the_scans(micro, part, sleep, alive, tmp_path):
+    """Yalive toggles every scan until the first scan that sees Xsleep, then
+    never again: the MCU sleeps (its only wake-up source is the INT pin,
+    which gpsim does not model waking on; p16f877_sleep against LDmicro's
+    image in test_pic16_oracle.py)."""
+    program = _program(SLEEP_LD.format(micro=micro, sleep=sleep[1], alive=alive[1]))
+    compiler.build(program).write(tmp_path / "sleep.hex")
+    run = gpsim.run_pic(tmp_path / "sleep.hex", part, 4_000_000, inputs=[(0, sleep[0], 0), (55, sleep[0], 1)],
+                        watch=[alive[0]], until_ms=200, timeout=60)
+    edges = [t for t, _ in run.pin_edges(alive[0])]
+    assert len(edges) == 7 and all(abs(t - 10 * k) < 0.2 for k, t in enumerate(edges))  # the scans at 0 .. 60 ms
+
+
+PWM_STEPS_LD = """LDmicro0.2
+MICRO=Microchip PIC16F877 40-PDIP
+CYCLE=10000 us at Timer1
+CRYSTAL=4000000 Hz
+BAUD=2400 Hz
+
+IO LIST
+    Ppwm at 17 0 0
+END
+
+PROGRAM
+RUNG
+    ADD duty duty {step}
+END
+RUNG
+    SET_PWM duty {freq} Ppwm {resolution}
+END
+"""
+
+
+@pytest.mark.parametrize("freq, resolution, full, step", [(2000, "0-100%", 100, 1), (300, "0-1024", 1024, 9),
+                                                          (15000, "0-256", 256, 3), (4000, "0-512", 512, 5)])
+def test_pwm_duty_registers_for_every_duty(freq, resolution, full, step, tmp_path):
+    """A duty stepping every scan through 0..full and past it: CCPR1L and
+    CCP1CON<5:4> hold duty * 4 * period / full (truncated) each scan, the
+    module off at full and beyond."""
+    from lang.hardware import pwm_setting
+
+    program = _program(PWM_STEPS_LD.format(freq=freq, resolution=resolution, step=step))
+    build = compiler.build(program)
+    build.write(tmp_path / "pwm.hex")
+    period = pwm_setting(build.device, "CCP1", 4_000_000, freq).period
+    scans = full // step + 3
+    reads = [(10 * k + 5, register) for k in range(scans) for register in ("ccpr1l", "ccp1con")]
+    run = gpsim.run_pic(tmp_path / "pwm.hex", "p16f877", 4_000_000, reads=reads, until_ms=10 * scans + 6, timeout=120)
+    values = [value for _, _, value in run.reads]
+    for k in range(scans):
+        duty, low, control = step * (k + 1), values[2 * k], values[2 * k + 1]
+        if duty >= full:
+            assert control == 0, f"duty {duty}: the CCP off"
+            continue
+        tenths = duty * 4 * period // full
+        assert (low, control) == (tenths >> 2, (tenths & 3) << 4 | 0x0C), f"duty {duty} of {full}"
+
+
+def test_every_pwm_setting_has_an_exact_scale():
+    """The variable-duty pattern's multiply-and-shift gives the truncated
+    duty * 4 * period / full for every duty, period and resolution."""
+    from compiler.pic16.peripherals import pwm_scale
+    from lang.semantics.operands import PWM_FULL
+
+    for full in PWM_FULL.values():
+        for period in range(1, 257):
+            factor, shift = pwm_scale(4 * period, full)
+            assert factor * (full - 1) < 1 << 24
+            assert all(d * factor >> shift == d * 4 * period // full for d in range(1, full))

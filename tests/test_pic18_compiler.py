@@ -93,11 +93,13 @@ END
 """
 
 
-@pytest.mark.parametrize("freq,pin,bit", [(1000, 17, 2), (5000, 17, 2), (10000, 16, 1)])
-def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, tmp_path):
+@pytest.mark.parametrize("freq,pin,bit,duty", [(1000, 17, 2, "duty"), (5000, 17, 2, "duty"), (10000, 16, 1, "duty"),
+                                              (5000, 16, 1, "30")])
+def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, duty, tmp_path):
     """CCP1 (RC2, the enhanced module in single-output mode) and CCP2 (RC1),
-    sampled 400 times over 4 periods; the cycle moves to the other CCP."""
-    build = compiler.build(_program(PWM_LD.format(freq=freq).replace("Ppwm at 17", f"Ppwm at {pin}")))
+    sampled 400 times over 4 periods; the cycle moves to the other CCP; a
+    literal duty is worked out by the compiler."""
+    build = compiler.build(_program(PWM_LD.format(freq=freq, duty=duty).replace("Ppwm at 17", f"Ppwm at {pin}")))
     build.write(tmp_path / "pwm.hex")
     period_ms = 1000 / freq
     times = [20 + 4 * period_ms * i / 400 for i in range(400)]

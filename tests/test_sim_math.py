@@ -218,7 +218,11 @@ def test_bus_permutes_bits():
     assert sim.value("d") == 0b11000000
 
 
-def test_other_segment_displays_are_not_simulated():
-    with pytest.raises(SimulationError) as raised:
-        Simulator(program([el("14SEGMENTS", dest="d", src="v", common="C")]))
-    assert raised.value.diagnostics[0].code == "LD601"
+def test_nine_fourteen_and_sixteen_segments():
+    """LDmicro's fonts (display.cpp): 'A' on 14 segments lights a b c e f g1 g2;
+    '0' on 16 segments a1 a2 b c d1 d2 e f and the slash j m; anode inverts."""
+    sim = compute(el("14SEGMENTS", dest="c", src="v", common="C"), el("16SEGMENTS", dest="s", src="'0'", common="C"),
+                  el("9SEGMENTS", dest="a", src="w", common="A"),
+                  sizes={"c": 2, "s": 4, "a": 2}, values={"v": ord("A"), "w": 0xB0})
+    assert sim.value("c") == 0x4077 and sim.value("s") == 0x1833F
+    assert sim.value("a") == ~0x0063 and sim.value("w") == 128  # the degree sign; the source rewritten

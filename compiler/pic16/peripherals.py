@@ -201,6 +201,9 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e, part = cx.e, cx.part
     s = ints.Scratch(cx.layout.scratch)
     setting = pwm_setting(part.device, op.unit, cx.machine.crystal_hz, op.freq)
+    if isinstance(op.duty, ir.Const):
+        _constant_duty(cx, op, setting.period)
+        return
     off, on, done = e.new_label("pwm"), e.new_label("pwm"), e.new_label("pwm")
     width = max(2, ints.size(cx, op.duty))
     duty = s.C[:width]
@@ -215,19 +218,22 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
     e.ins("btfsc", e.status, 0)
     e.goto(on)
-    # A = duty * 4 * period, then / full: a 10-bit duty cycle
-    ints.copy_in(cx, ir.Const(0), s.A[:3])
-    for reg, src in zip(s.A, duty[:2]):
+    # duty * 4 * period / full, a 10-bit duty cycle, as duty * factor >> shift (no division)
+    factor, shift = pwm_scale(4 * setting.period, op.full)
+    for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
+        ints.put(e, ints.Byte("const", value), reg)
+    ints.copy_in(cx, ir.Const(0), s.B[2:3])
+    for reg, src in zip(s.B, duty[:2]):
         e.load(src)
         e.store(reg)
-    for reg, value in zip(s.B[:3], (4 * setting.period).to_bytes(3, "little")):
-        ints.put(e, ints.Byte("const", value), reg)
-    e.call(cx.routine("mul3"))
-    for src, dst in zip(s.C[:3], s.A[:3]):
-        ints.put(e, ints.Byte("mem", src), dst)
-    for reg, value in zip(s.B[:3], op.full.to_bytes(3, "little")):
-        ints.put(e, ints.Byte("const", value), reg)
-    e.call(cx.routine("udivmod3"))
+    e.call(cx.routine("mul3"))  # its passes: the duty's 10 bits at most
+    for _ in range(shift % 8):
+        e.ins("bcf", e.status, 0)
+        for reg in reversed(s.C[:3]):
+            e.ins("rrf", reg, F)
+    high = s.C[:3][shift // 8:][:2]
+    for src, dst in zip(high + [None], s.A[:2]):
+        ints.put(e, ints.Byte("mem", src) if src is not None else ints.Byte("const", 0), dst)
     unit = op.unit
     ccp = part.reg(f"{unit}CON")
     # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
@@ -250,6 +256,31 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     e.label(off)
     _disconnect(cx, unit, False)
     e.label(done)
+
+
+def pwm_scale(numerator: int, full: int) -> tuple[int, int]:
+    """(factor, shift) with duty * factor >> shift == duty * numerator // full
+    for every duty from 1 to full - 1 (checked here, one by one) and the
+    product within 24 bits: the largest shift that is exact. Every PWM
+    setting has one (numerator = 4 x a period of 1 to 256; full 100 to 1024)."""
+    for shift in range(23, -1, -1):
+        factor = -(-(numerator << shift) // full)
+        if factor * (full - 1) < 1 << 24 and all(
+                duty * factor >> shift == duty * numerator // full for duty in range(1, full)):
+            return factor, shift
+    raise AssertionError(f"no exact scale for {numerator}/{full}")
+
+
+def _constant_duty(cx, op: ir.SetPwm, period: int) -> None:
+    """A literal duty: its register values computed here, as the code
+    above would compute them every scan (the same truncating division)."""
+    duty = op.duty.value
+    if duty <= 0 or duty >= op.full:
+        _disconnect(cx, op.unit, duty > 0)
+        return
+    tenths = duty * 4 * period // op.full
+    _write(cx, f"{op.unit}CON", (tenths & 3) << 4 | PWM_MODE)
+    _write(cx, f"CCPR{op.unit[-1]}L", tenths >> 2)
 
 
 def pwm_setup(cx, code: ir.Code) -> None:

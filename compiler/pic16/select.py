@@ -62,6 +62,27 @@ def _halt(cx: Context, op: ir.Halt) -> None:
     cx.e.end_path()
 
 
+def _sleep(cx: Context, op: ir.Sleep) -> None:
+    """SLEEP as LDmicro's PIC code has it: the external interrupt pin (RB0/INT,
+    GP2/INT; INT0 on the PIC18) enabled as the wake-up source with the global
+    enable off, so an edge on it wakes the MCU without a jump to the interrupt
+    vector and the scan goes on after SLEEP; a watchdog time-out (TO cleared)
+    sends it back to sleep."""
+    e, part = cx.e, cx.part
+    intcon = part.bits("INTCON")
+    enable, flag = intcon.get("INTE", intcon.get("INT0IE")), intcon.get("INTF", intcon.get("INT0IF"))
+    status = "STATUS" if "NOT_TO" in part.bits("STATUS") else "RCON"
+    top = e.new_label("sleep")
+    e.label(top, loop=True, bound=LoopBound(None, "SLEEP until the INT pin wakes the MCU"))
+    e.ins("bcf", part.reg("INTCON"), intcon["GIE"])
+    e.ins("bcf", part.reg("INTCON"), flag)
+    e.ins("bsf", part.reg("INTCON"), enable)
+    e.ins("sleep")
+    e.ins("nop")  # the instruction fetched before the wake-up
+    e.ins("btfss", part.reg(status), part.bit(status, "NOT_TO"))
+    e.goto(top)
+
+
 def _delay(cx: Context, op: ir.Delay) -> None:
     peripherals.delay(cx, op)
 
@@ -100,7 +121,7 @@ PATTERNS = {
     ir.Delay: _delay,
     ir.ClearWatchdog: lambda cx, op: cx.e.ins("clrwdt"),
     ir.Halt: _halt,
-    ir.Sleep: lambda cx, op: cx.e.ins("sleep"),
+    ir.Sleep: _sleep,
 }
 
 

@@ -110,8 +110,7 @@ def _check_jumps(program: Program, elements: list[tuple[int, Element]]) -> None:
 
 
 def _unsupported(program: Program) -> list:
-    """Instructions without a simulation: those the table does not mark
-    `sim`, and 9/14/16SEGMENTS, whose fonts LDmicro never defined."""
+    """Instructions without a simulation: those the table does not mark `sim`."""
     problems = []
     for index, rung in enumerate(program.rungs):
         if rung.is_comment:

@@ -7,6 +7,7 @@ from __future__ import annotations
 from contextlib import ExitStack
 from typing import TYPE_CHECKING
 
+from lang.numbers import byte_needed
 from lang.storage import eeprom_refusal
 from lang.strings import parse_format
 
@@ -227,3 +228,69 @@ def _digit(b: Builder, fmt, index: int, value, conv, byte, quotient, lead) -> No
                 b.emit(ir.Move(byte, ir.Const(ord(" "))))
             with branch.otherwise():
                 b.emit(ir.SetBit(lead, False))
+
+
+# LDmicro's QUAD_ENCOD (intcode.cpp, QUAD_ALGO 2): the last two samples of A
+# and B index a table of counts, one count for two of the four edges of a
+# cycle; the direction decides its sign
+QUAD_STEPS = (0, 0, 1, 0, 0, 0, 0, -1, -1, 0, 0, 0, 0, 1, 0, 0)
+
+
+@lowers("QUAD_ENCOD")
+def quad_encoder(b: Builder, el, p: ir.Bit) -> None:
+    """While powered: a count (the output pulses for the scan), the direction
+    output set counting up and cleared counting down; the Z input's edge
+    (zkind) passes power and zeroes the counter, or with `counts` per
+    revolution rounds it to whole revolutions. LDmicro keeps the state per
+    counter name and the Z memory per Z input name: so do these names."""
+    counter = b.dest("counter")
+    state, step = ir.Var(f"$state_{counter.name}", 1), ir.Var(f"$dir_{counter.name}", 1)
+    b.vars[state.name] = b.vars[step.name] = 1
+    counts = int(el.args.get("counts") or 0)
+    ticks = ir.Var(f"$ticks_{counter.name}", byte_needed(counts))
+    revolutions = ir.Var(f"$revol_{counter.name}", counter.size)
+    direction = str(el.args.get("dir") or "")
+    with b.if_(IsSet(p)):
+        b.emit(ir.SetBit(p, False))
+        b.emit(ir.Shift("shl", state, state, ir.Const(2), 1))
+        b.emit(ir.Arith("and", state, state, ir.Const(0x0F)))
+        for bit, name in ((0, el.args["a"]), (1, el.args["b"])):
+            with b.if_(IsSet(b.bit(str(name)))):
+                b.emit(ir.ChangeBitOf(state, ir.Const(bit), True))
+        b.emit(ir.Table(step, QUAD_STEPS, state))
+        for rel, change, level in ((">", "add", True), ("<", "sub", False)):
+            with b.if_(Holds(step, rel, ir.Const(0))):
+                b.emit(ir.Arith(change, counter, counter, ir.Const(1)))
+                if counts > 0:
+                    b.vars[ticks.name] = ticks.size
+                    b.emit(ir.Arith(change, ticks, ticks, ir.Const(1)))
+                if direction:
+                    b.emit(ir.SetBit(b.bit(direction), level))
+                b.emit(ir.SetBit(p, True))
+        if el.args.get("z"):
+            _quad_index(b, el, p, counter, counts, ticks, revolutions)
+
+
+def _quad_index(b: Builder, el, p: ir.Bit, counter: ir.Var, counts: int, ticks: ir.Var, revolutions: ir.Var) -> None:
+    z = b.bit(str(el.args["z"]))
+    now, before, pulse = b.temp(), b.bit(f"$prev_{z.name}"), b.bit(f"$quad_{counter.name}")
+    kind = str(el.args.get("zkind") or "/")
+    b.emit(ir.CopyBit(now, z))
+    if kind in "/\\":
+        b.emit(ir.CopyBit(pulse, now, invert=kind == "\\"))
+        b.emit(ir.AndBit(pulse, before, invert=kind == "/"))
+    else:
+        b.emit(ir.CopyBit(pulse, z, invert=kind == "o"))
+    b.emit(ir.CopyBit(before, now))
+    with b.if_(IsSet(pulse)):
+        b.emit(ir.SetBit(p, True))
+        if counts == 0:
+            b.emit(ir.Move(counter, ir.Const(0)))
+        elif counts > 0:
+            b.vars[revolutions.name] = revolutions.size
+            # C's division: -counts / 2 is truncated toward zero as counts / 2 is
+            for rel, limit, change in ((">", counts // 2, "add"), ("<", -(counts // 2), "sub")):
+                with b.if_(Holds(ticks, rel, ir.Const(limit))):
+                    b.emit(ir.Arith(change, revolutions, revolutions, ir.Const(1)))
+                    b.emit(ir.Arith("mul", counter, revolutions, ir.Const(counts)))
+                    b.emit(ir.Move(ticks, ir.Const(0)))

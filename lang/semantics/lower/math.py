@@ -152,11 +152,13 @@ def piecewise_linear(b: Builder, el, p: ir.Bit) -> None:
                 b.emit(ir.Arith("add", d, d, ir.Const(y0)))
 
 
-@lowers("7SEGMENTS")
-def seven_segments(b: Builder, el, p: ir.Bit) -> None:
+@lowers("7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS")
+def segments(b: Builder, el, p: ir.Bit) -> None:
+    """The four decoders differ only in their font (LDmicro's intcode.cpp
+    compiles them alike)."""
     d = b.dest()
     anode = str(el.args.get("common", "C")) != "C"
-    font = tuple(~c if anode else c for c in numbers.CHAR7SEG)
+    font = tuple(~c if anode else c for c in numbers.SEGMENT_FONTS[el.kind.removesuffix("SEGMENTS")])
     src = str(el.args["src"])
     if is_literal(src):
         _when(b, p, ir.Move(d, ir.Const(font[numbers.seg7_index(b.literal(src))])))
@@ -170,7 +172,7 @@ def seven_segments(b: Builder, el, p: ir.Bit) -> None:
             with degree.otherwise():
                 b.emit(ir.Move(index, ir.Const(0x20)))
                 with b.if_(Holds(s, ">=", ir.Const(0))):
-                    with b.if_(Holds(s, "<", ir.Const(len(numbers.CHAR7SEG)))):
+                    with b.if_(Holds(s, "<", ir.Const(len(font)))):
                         b.emit(ir.Move(index, s))
         b.emit(ir.Move(s, index))
         b.emit(ir.Table(d, font, index))
