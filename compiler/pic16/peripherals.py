@@ -232,8 +232,8 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
         for reg in reversed(s.C[:3]):
             e.ins("rrf", reg, F)
     high = s.C[:3][shift // 8:][:2]
-    for src, dst in zip(high + [None], s.A[:2]):
-        ints.put(e, ints.Byte("mem", src) if src is not None else ints.Byte("const", 0), dst)
+    for byte, dst in zip(high + [None], s.A[:2]):
+        ints.put(e, ints.Byte("mem", byte) if byte is not None else ints.Byte("const", 0), dst)
     unit = op.unit
     ccp = part.reg(f"{unit}CON")
     # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
@@ -274,6 +274,7 @@ def pwm_scale(numerator: int, full: int) -> tuple[int, int]:
 def _constant_duty(cx, op: ir.SetPwm, period: int) -> None:
     """A literal duty: its register values computed here, as the code
     above would compute them every scan (the same truncating division)."""
+    assert isinstance(op.duty, ir.Const)  # the caller's choice: a literal duty
     duty = op.duty.value
     if duty <= 0 or duty >= op.full:
         _disconnect(cx, op.unit, duty > 0)

@@ -71,6 +71,7 @@ def _sleep(cx: Context, op: ir.Sleep) -> None:
     e, part = cx.e, cx.part
     intcon = part.bits("INTCON")
     enable, flag = intcon.get("INTE", intcon.get("INT0IE")), intcon.get("INTF", intcon.get("INT0IF"))
+    assert enable is not None and flag is not None  # SLEEP is offered only on parts with an INT pin
     status = "STATUS" if "NOT_TO" in part.bits("STATUS") else "RCON"
     top = e.new_label("sleep")
     e.label(top, loop=True, bound=LoopBound(None, "SLEEP until the INT pin wakes the MCU"))
