@@ -172,6 +172,18 @@ def test_properties_in_a_scenario_file(tmp_path, capsys):
     assert path.exists()
 
 
+def test_a_scenario_files_program_with_errors_is_refused_as_a_program_file_is(tmp_path, capsys):
+    """No proof about a program that would not be built: its checks' errors, whichever file
+    names the properties."""
+    broken = [[contact("Xfwd"), coil("Xstop")]]  # a coil on an input: LD102
+    path = _write(tmp_path, "broken", broken, ["never Xstop and Xfwd"])
+    scenario = tmp_path / "broken.scn"
+    scenario.write_text("program broken.ladder\nproperty never Xstop and Xfwd\n", encoding="utf-8")
+    for verified in (path, scenario):
+        status, lines, err = _verify(capsys, verified)
+        assert status == 1 and lines == [] and re.search(rf"{re.escape(str(path))}:\d+:\d+: error LD102 ", err), err
+
+
 @needs_z3
 def test_what_the_prover_does_not_model_is_a_located_error(tmp_path, capsys):
     loop = [[el("LABEL", label="again"), contact("Xgo"), coil("Yon")], [contact("Xloop"), el("GOTO", label="again")]]

@@ -73,9 +73,6 @@ def run(args) -> int:
 
 def _targets(args) -> tuple[list[Target] | None, int]:
     """What to prove, or None and the exit status after the problems are printed."""
-    from lang.checks import check_program
-    from lang.diagnostics import ERROR
-    from lang.loader import checkable, checked
     from lang.properties import PropertyError, parse_property, read_properties
     from lang.sim.scenario import ScenarioError, parse_scenarios
 
@@ -84,11 +81,7 @@ def _targets(args) -> tuple[list[Target] | None, int]:
         loaded = load(path, args.encoding)
         if loaded is None:
             return None, EXIT_USAGE
-        diagnostics = list(loaded.diagnostics)
-        if checkable(loaded.program, diagnostics):
-            diagnostics += checked(loaded.program, check_program(loaded.program))
-        if has_errors(diagnostics):
-            report(path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
+        if _refused(path, loaded):
             return None, EXIT_PROBLEMS
         properties = read_properties(loaded.program)[0]
         if not properties:
@@ -126,8 +119,23 @@ def _targets(args) -> tuple[list[Target] | None, int]:
     return list(targets.values()), EXIT_OK
 
 
-def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
+def _refused(path: str, loaded) -> bool:
+    """Whether the program has errors, reading or checks' (printed): as `ladder check`
+    and `ladder build`, no proof about a program that would not be built."""
+    from lang.checks import check_program
     from lang.diagnostics import ERROR
+    from lang.loader import checkable, checked
+
+    diagnostics = list(loaded.diagnostics)
+    if checkable(loaded.program, diagnostics):
+        diagnostics += checked(loaded.program, check_program(loaded.program))
+    if not has_errors(diagnostics):
+        return False
+    report(path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
+    return True
+
+
+def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     from lang.properties import name_span
     from lang.sim import SimulationError, Simulator
     from lang.verify import verdict, verify
@@ -136,9 +144,9 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     loaded = load(target.program_path, args.encoding)
     if loaded is None:
         return EXIT_USAGE
-    program, diagnostics = loaded.program, loaded.diagnostics
-    if has_errors(diagnostics):
-        report(target.program_path, [d for d in diagnostics if d.severity == ERROR], sys.stderr)
+    program = loaded.program
+    # a program file's errors were reported with its properties (_targets); a scenario's program's here
+    if target.source != target.program_path and _refused(target.program_path, loaded):
         return EXIT_PROBLEMS
     try:
         known = Simulator(program).variables()
