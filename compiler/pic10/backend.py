@@ -24,7 +24,7 @@ from lang.semantics import ir
 from ..errors import FLASH_FULL, RAM_FULL, fail
 from ..image import Image
 from ..pic16.asm import Goto, Ins, Label, ProgramTooLarge
-from ..pic16.backend import ram_in_use, symbols
+from ..pic16.backend import assembled_image, ram_in_use
 from ..pic16.emit import PCL, Emitter, W, compress_skips
 from ..pic16.memory import SCRATCH_BYTES, Layout, allocate
 from ..pic16.part import Part
@@ -142,12 +142,5 @@ class Pic10Backend:
             raise fail(RAM_FULL, f"the program calls {calls}: {len(chain)} return addresses at once; the "
                                  f"{part.title}'s hardware stack holds {part.facts['stack']}",
                        gosubs[0] if gosubs else None)
-        header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
-                  f"; reassemble: gpasm -p {part.processor} FILE\n")
-        listing = header.format(words=len(assembled.words)) + assembled.listing
-        return Image(
-            words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-            flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
-            labels=assembled.symbols,
-            segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-            listing_suffix=".asm", loops=dict(cx.e.bounds), scan_limit=scan_limit(part, clock_hz, machine.cycle_us))
+        return assembled_image(part, layout, assembled, config, cx,
+                               scan_limit=scan_limit(part, clock_hz, machine.cycle_us))

@@ -31,7 +31,7 @@ from ..pic16 import bits
 from ..pic16 import integers as ints
 from ..pic16.emit import C, F, W, Z
 from ..pic16.memory import FileBit
-from ..pic16.runtime import duty_pin, output_masks, pulled_up
+from ..pic16.runtime import output_masks, pulled_up, scan_loop
 from ..pic16.select import Context, select
 
 TRIS_GPIO = 6
@@ -130,11 +130,5 @@ def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
     e.store(cx.layout.clock)
     for offset, value in ((1, (ticks - 1) & 0xFF), (2, (ticks - 1) >> 8)):
         ints.put(e, ints.Byte("const", value), cx.layout.clock + offset)
-    duty = duty_pin(cx)
-    e.label("scan", loop=True, bank=0)
-    if duty:
-        bits.write(e, duty, True)
-    select(cx, code.scan)
-    if duty:
-        bits.write(e, duty, False)
+    scan_loop(cx, code)
     _wait(cx, ticks)

@@ -86,20 +86,25 @@ def image(code: ir.Code, machine, layout, assembler: a.Assembler, core: Core) ->
     _write_tables(cx)
     compress_skips(assembler.items)
     config = _config(part, machine.config_word)
-    header = (f"; {part.title}: {{words}} words of program memory, {layout.ram_used} bytes of RAM\n"
-              f"; reassemble: gpasm -p {part.processor} FILE\n")
     try:
         assembled = assembler.assemble(processor=part.processor, config=config)
     except a.ProgramTooLarge as error:
         raise fail(FLASH_FULL, f"the program needs {error.words} words of program memory; the "
                                f"{part.title} has {assembler.flash_words}") from None
-    listing = header.format(words=len(assembled.words)) + assembled.listing
+    return assembled_image(part, layout, assembled, config, cx)
+
+
+def assembled_image(part: Part, layout, assembled, config: dict[int, int], cx: Context, **more) -> Image:
+    """The Image of a PIC program assembled (this family's, the PIC10's), its
+    listing headed by its size and how to reassemble it."""
+    header = (f"; {part.title}: {len(assembled.words)} words of program memory, {layout.ram_used} bytes of RAM\n"
+              f"; reassemble: gpasm -p {part.processor} FILE\n")
     return Image(
-        words=assembled.words, listing=listing, ram_bytes=layout.ram_used, ram_size=layout.ram_size,
-        flash_size=part.flash_words, flash_unit="words", warnings=[], symbols=symbols(layout),
-        labels=assembled.symbols,
+        words=assembled.words, listing=header + assembled.listing, ram_bytes=layout.ram_used,
+        ram_size=layout.ram_size, flash_size=part.flash_words, flash_unit="words", warnings=[],
+        symbols=symbols(layout), labels=assembled.symbols,
         segments={2 * address: value.to_bytes(2, "little") for address, value in config.items()},
-        listing_suffix=".asm", loops=dict(cx.e.bounds))
+        listing_suffix=".asm", loops=dict(cx.e.bounds), **more)
 
 
 def _config(part: Part, setting: int | None) -> dict[int, int]:

@@ -152,7 +152,9 @@ def _cycle_module(cx: Context, code: ir.Code) -> str | None:
     return next((unit for unit in ("CCP1", "CCP2") if unit not in pwm and cx.part.has(f"{unit}CON")), None)
 
 
-def _scan(cx: Context, code: ir.Code) -> None:
+def scan_loop(cx: Context, code: ir.Code) -> None:
+    """The scan: its label (the loop's head), the rungs, with the cycle-duty
+    pin high while they run."""
     e = cx.e
     duty = duty_pin(cx)
     e.label("scan", loop=True, bank=0)
@@ -172,7 +174,7 @@ def _ccp_cycle(cx: Context, code: ir.Code, unit: str) -> None:
     _write(cx, f"CCPR{unit[-1]}H", (counts - 1) >> 8)
     _write(cx, f"{unit}CON", CCP_SPECIAL_EVENT)
     _write(cx, "T1CON", prescaler << 4 | 1)  # TMR1ON
-    _scan(cx, code)
+    scan_loop(cx, code)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
     flags = "PIR1" if unit == "CCP1" else "PIR2"
@@ -202,7 +204,7 @@ def _free_cycle(cx: Context, code: ir.Code, clock: int) -> None:
     e.ins("clrf", part.reg("TMR1H"))
     bits.write(e, overflow, False)
     _write(cx, "T1CON", select_bits << 4 | 1)  # TMR1ON
-    _scan(cx, code)
+    scan_loop(cx, code)
     ints.add_constant(e, deadline, ticks)
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
     e.ins("clrwdt")
