@@ -18,7 +18,6 @@ LDmicro's (scans dominated by a hardware wait left out of the cycles).
 
 from __future__ import annotations
 
-import math
 import sys
 import tempfile
 from pathlib import Path
@@ -29,7 +28,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from intelhex import IntelHex
-from pic16_size import HARDWARE_WAITS, scan_cycles
+from pic16_size import compared, scan_cycles, summary
 from test_compiler_harness import load
 from test_pic16e_ldmicro import PROGRAMS, ldmicro_image, moved
 
@@ -65,23 +64,9 @@ def main() -> int:
                 ours_words, theirs_words = len(build.image.words), words(theirs)
                 (mean, worst), (their_mean, their_worst) = (scan_cycles(h, program, build.device)
                                                             for h in (ours, theirs))
-                word_ratios.append(ours_words / theirs_words)
-                if path not in HARDWARE_WAITS:
-                    cycle_ratios.append(mean / their_mean)
-                rows.append(f"| {path} | {build.device.title} | {ours_words} | {theirs_words} | "
-                            f"{ours_words / theirs_words:.2f} | {mean:.0f} | {their_mean:.0f} | {mean / their_mean:.2f} "
-                            f"| {worst} | {their_worst} |" + (f" {HARDWARE_WAITS[path]}" if path in HARDWARE_WAITS else ""))
-    print("| program | part | words | LDmicro | ratio | cycles/scan | LDmicro | ratio | worst | LDmicro |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
-    print("\n".join(rows))
-
-    def geomean(values):
-        return math.exp(sum(map(math.log, values)) / len(values))
-
-    words_mean, cycles_mean = geomean(word_ratios), geomean(cycle_ratios)
-    print(f"\ngeometric means: words {words_mean:.2f} (target {WORDS_TARGET}), scan cycles {cycles_mean:.2f} "
-          f"(target {CYCLES_TARGET}; scans dominated by a hardware wait left out)")
-    return 0 if words_mean <= WORDS_TARGET and cycles_mean <= CYCLES_TARGET else 1
+                compared(rows, word_ratios, cycle_ratios, path, build.device.title, (ours_words, theirs_words),
+                         (mean, worst), (their_mean, their_worst))
+    return summary(rows, word_ratios, cycle_ratios, WORDS_TARGET, CYCLES_TARGET)
 
 
 if __name__ == "__main__":
