@@ -378,7 +378,7 @@ CORPUS_LAGS = {
     "misc-ops.ld": {"reg0"}, "reg_tests_misc-ops.ld": {"reg0"},
     "test-i2c-2.ld": {"digit0", "digit1"}, "Tests_test-i2c-2.ld": {"digit0", "digit1"},
     "var-timer.ld": {"Rdel_input", "t_max"}, "sample_var-timer.ld": {"Rdel_input", "t_max"},
-    "catalog.ld": {"var"},  # LDmicro's element catalogue: every element on default names
+    "catalog.ld": {"var", "counter"},  # LDmicro's element catalogue: every element on default names
 }
 
 
