@@ -26,6 +26,7 @@ EEPROM_FULL = code("LD705")
 MOVED_PIN = code("LD711")
 SCAN_OVERRUN = code("LD712")
 BAD_OPERAND = code("LD710")
+INTERNAL_CLOCK = code("LD716")
 
 # the code of each kind of problem the lowering meets, when no check names it
 LOWERING_CODES = {lowering.OPERAND: BAD_OPERAND, lowering.TIMER: BAD_OPERAND, lowering.JUMP: BAD_OPERAND,

@@ -249,3 +249,21 @@ def register_address(device: Device, name: str) -> int | None:
     except ValueError:
         return None
     return address if address in _data_addresses(device) else None
+
+
+def internal_clock_refusal(device: Device, crystal_hz: int, config_word: int | None) -> str | None:
+    """Why the part's internal oscillator cannot run the program's clock, when
+    the configuration word (the program's, else the part's default) selects
+    it; None when it can, or when a crystal or an external clock runs the part.
+    The oscillator makes a few clocks only, each an OSCCON value (LDmicro's)."""
+    facts = device.data.get(device.family, {})
+    intosc = facts.get("features", {}).get("intosc")
+    fosc = facts.get("config", {}).get("fields", {}).get("FOSC")
+    if intosc is None or fosc is None:
+        return None
+    word = facts["config"]["words"][0]["value"] if config_word is None else config_word & 0x3FFF
+    if word & fosc["mask"] != fosc["value"] or str(crystal_hz) in intosc["settings"]:
+        return None
+    clocks = ", ".join(f"{int(hz) / 1e6:g}" for hz in sorted(intosc["settings"], key=int, reverse=True))
+    return (f"the {device.title}'s internal oscillator runs at {clocks} MHz, not at {crystal_hz / 1e6:g} MHz: "
+            "choose one of them, or a configuration word with a crystal")

@@ -94,7 +94,7 @@ def test_a_clock_the_internal_oscillator_cannot_make_is_refused():
     with pytest.raises(CompileError) as raised:
         compiler.build(prog)
     (found,) = raised.value.diagnostics
-    assert found.code == "LD702" and "32, 16, 8, 4" in found.message and "20 MHz" in found.message
+    assert found.code == "LD716" and "32, 16, 8, 4" in found.message and "20 MHz" in found.message
 
 
 def test_running_a_part_gpsim_has_no_model_of_says_so():

@@ -18,10 +18,10 @@ cycle before its first scan).
 
 from __future__ import annotations
 
-from lang.hardware import cycle_runs_free, cycle_setting
+from lang.hardware import cycle_runs_free, cycle_setting, internal_clock_refusal
 from lang.semantics import ir
 
-from ..errors import NOT_COMPILED, fail
+from ..errors import INTERNAL_CLOCK, fail
 from ..image import LoopBound
 from . import bits
 from . import integers as ints
@@ -95,7 +95,7 @@ def _clear(cx: Context, addresses: list[int]) -> None:
 def _oscillator(cx: Context) -> None:
     """OSCCON for the program's clock where the configuration word selects
     the internal oscillator (it starts at 500 kHz), with LDmicro's values;
-    a clock it cannot make is an error, as in LDmicro (docs/pic16.md)."""
+    a clock it cannot make is LD716, which the checks report too."""
     part, machine = cx.part, cx.machine
     intosc = part.feature("intosc")
     fosc = part.config_field("FOSC")
@@ -104,13 +104,10 @@ def _oscillator(cx: Context) -> None:
     word = part.config_words[0][1] if machine.config_word is None else machine.config_word & 0x3FFF
     if word & fosc.mask != fosc.value:
         return  # the program's configuration word chooses a crystal or an external clock
-    value = intosc["settings"].get(str(machine.crystal_hz))
-    if value is None:
-        clocks = ", ".join(f"{int(hz) / 1e6:g}" for hz in sorted(intosc["settings"], key=int, reverse=True))
-        raise fail(NOT_COMPILED, f"the {part.title}'s internal oscillator runs at {clocks} MHz, not at "
-                                 f"{machine.crystal_hz / 1e6:g} MHz: choose one of them, or a configuration word "
-                                 "with a crystal")
-    _write(cx, intosc["register"], value)
+    refusal = internal_clock_refusal(part.device, machine.crystal_hz, machine.config_word)
+    if refusal is not None:
+        raise fail(INTERNAL_CLOCK, refusal)  # the checks say it first, on the header (LD716)
+    _write(cx, intosc["register"], intosc["settings"][str(machine.crystal_hz)])
 
 
 def _start(cx: Context, code: ir.Code) -> None:

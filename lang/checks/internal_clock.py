@@ -1,0 +1,23 @@
+"""LD716: a clock the part's internal oscillator cannot make, with the
+configuration word selecting it (the enhanced mid-range PICs)."""
+
+from __future__ import annotations
+
+from ..codes import rule_code
+from ..diagnostics import Diagnostic, report
+from ..hardware import internal_clock_refusal
+from ..index import ProgramIndex
+from ..model import Program
+from ..targets import compiled
+
+CODE = rule_code(__name__)
+
+
+def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    device = index.device
+    if not index.pins_matter or not compiled(device):
+        return []
+    settings = program.settings
+    refusal = internal_clock_refusal(device, settings.crystal_hz, settings.config_word or None)
+    # the header names the part and the clock together
+    return [] if refusal is None else [report(CODE, refusal, settings.mcu_span)]
