@@ -51,12 +51,14 @@ import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile
 from pathlib import Path
 
 # never imported by the server, and of no use in a browser worker (a REPL, tests, debuggers and
-# profilers, process pools, GUIs, mail, HTTP and XML): left out of the standard library
+# profilers, process pools, GUIs, mail, HTTP, XML, archives, statistics and the pure-Python io):
+# left out of the standard library
 UNUSED_STDLIB = ["_pyrepl", "unittest", "doctest.py", "pdb.py", "bdb.py", "trace.py", "profile.py", "cProfile.py",
                  "pstats.py", "tabnanny.py", "pydoc.py", "pydoc_data", "multiprocessing", "ensurepip", "venv",
                  "idlelib", "tkinter", "turtle.py", "turtledemo", "lib2to3", "sqlite3", "curses", "dbm",
                  "wsgiref", "xmlrpc", "xml", "plistlib.py", "http", "socketserver.py", "imaplib.py", "smtplib.py",
-                 "poplib.py", "nntplib.py", "ftplib.py", "mailbox.py", "pickletools.py", "optparse.py"]
+                 "poplib.py", "nntplib.py", "ftplib.py", "mailbox.py", "pickletools.py", "optparse.py",
+                 "_pyio.py", "tarfile.py", "statistics.py"]
 
 
 # optional dependencies a browser does not have: z3, the prover's solver (a native library), so
