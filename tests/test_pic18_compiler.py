@@ -17,7 +17,7 @@ import test_pic16_compiler as pic16
 from builders import coil, contact, el, par, program
 from pic16_harness import differential, erase_eeprom
 from test_compiler_budget import TIGHT, _pic_inputs, _sound, measure_pic
-from test_compiler_harness import load
+from test_compiler_harness import Event, load
 from test_pic16_compiler import BLINK, CASES, ORACLES, SCANS_BEFORE_A_FAULT, _oracle_events, _program
 
 import compiler
@@ -109,6 +109,17 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, duty, tmp_path):
     rises = sum(1 for a, b in zip(levels, levels[1:]) if b > a)
     assert rises in (4, 5)
     assert abs(sum(levels) / len(levels) - 0.30) < 0.02
+
+
+@pytest.mark.parametrize("part,pin", [("pic18f4520", "RB0"), ("pic18f2520", "RB2")])
+def test_adc_channels_on_portb_follow_the_simulator(part, pin, tmp_path):
+    """AN12 (RB0) and AN8 (RB2), past LDmicro's AN0-AN7: ADCON1's PCFG group
+    that reaches them makes them analog (gpsim reads 0 on a pin left digital)."""
+    prog = program([el("READ_ADC", name="Ain")], [el("GEQ", op1="Ain", op2="500"), coil("Ya")],
+                   [el("GRT", op1="Ain", op2="900"), coil("Yb")], mcu=part,
+                   pins={"Ain": pin, "Ya": "RC0", "Yb": "RC1"}, crystal_hz=16_000_000)
+    events = [Event(0, "Ain", 100), Event(10, "Ain", 600), Event(20, "Ain", 1000), Event(30, "Ain", 0)]
+    assert differential(prog, events, 40, tmp_path) == []
 
 
 def test_persist_reads_the_eeprom_at_start_and_writes_it_back(tmp_path):

@@ -71,6 +71,26 @@ def test_registers_and_bits_are_the_headers(part):
 
 @needs_gputils
 @pytest.mark.parametrize("part", PARTS)
+def test_adc_channels_are_the_headers(part):
+    """Each ANn the header names among a port's bits (PORTB: AN12 on RB0,
+    AN10, AN8, AN9, AN11 on RB1-RB4) is that pin's channel, and nothing else
+    is; ADCON1's PCFG groups are the datasheet's: PCFG3:0 = p makes AN0 to
+    AN(14 - p) analog (0010 all thirteen), as far as the part has them."""
+    bits = header(facts(part)["processor"]).bits
+    expected = {f"R{port}{bits[f'PORT{port}'][name]}": int(name[2:])
+                for port in "ABCDE" for name in bits.get(f"PORT{port}", {}) if re.fullmatch(r"AN\d+", name)}
+    device = find_device(part)
+    assert device.adc == expected
+    assert all(f"AN{channel}" in device.pin(pin).functions for pin, channel in expected.items())
+    groups = {value: set(channels) for value, channels in facts(part)["features"]["adc"]["pcfg"]}
+    present = set(expected.values())
+    assert set(map(frozenset, groups.values())) == {frozenset(c for c in range(15 - p) if c in present)
+                                                    for p in range(2, 15)}
+    assert all(channels == {c for c in range(15 - value) if c in present} for value, channels in groups.items())
+
+
+@needs_gputils
+@pytest.mark.parametrize("part", PARTS)
 def test_memory_is_the_linker_scripts(part):
     pic18 = facts(part)
     script = linker_script(pic18["processor"])
@@ -181,7 +201,9 @@ def test_the_pic18f4520_pins_are_ldmicros():
         assert (pin.port, pin.bit, pin.label) == (port, int(bit), label.strip())
     assert len(device.io_pins()) == len(pins)
     channels = re.findall(r"\{\s*(\d+),\s*0x(\w+)\s*\}", _table("McuAdcPinInfo Pic18F4520AdcPinInfo[]"))
-    assert {device.pin(int(number)).name: int(channel, 16) for number, channel in channels} == device.adc
+    ldmicros = {device.pin(int(number)).name: int(channel, 16) for number, channel in channels}
+    # LDmicro's table stops at AN7; AN8-AN12 on RB0-RB4 are the header's (test_adc_channels_are_the_headers)
+    assert ldmicros == {pin: channel for pin, channel in device.adc.items() if channel < 8}
     assert '"Microchip PIC18F4520 40-PDIP"' in mcutable()
 
 
@@ -190,7 +212,8 @@ def test_the_pic18f2520_has_the_28_pin_footprint_of_the_pic16f876():
     PIC16F876's pins (LDmicro has no entry for it)."""
     ours, pic16 = find_device("pic18f2520"), find_device("pic16f876")
     assert {n: p.name for n, p in ours.pins.items()} == {n: p.name for n, p in pic16.pins.items()}
-    assert ours.adc == pic16.adc and ours.pwm == pic16.pwm and ours.uart == pic16.uart
+    assert ours.pwm == pic16.pwm and ours.uart == pic16.uart
+    assert {pin: channel for pin, channel in ours.adc.items() if channel < 8} == pic16.adc
     assert facts("pic18f2520")["registers"].keys() <= facts("pic18f4520")["registers"].keys()
     assert "PORTD" not in facts("pic18f2520")["registers"]
 
