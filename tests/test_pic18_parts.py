@@ -180,6 +180,38 @@ def test_the_programs_configuration_word_is_config1_as_ldmicro_takes_it(tmp_path
     assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
 
 
+@needs_gputils
+@pytest.mark.parametrize("part", PARTS)
+def test_a_clock_past_25_mhz_selects_the_pll_and_past_40_is_refused(part, tmp_path):
+    """HS runs a crystal up to 25 MHz; beyond it, up to 40 MHz, the PLL (the
+    header's _OSC_HSPLL_1H: 4 x the crystal) makes the clock the program
+    gives, and the rest of the bytes stay the part's; gpasm agrees. 48 MHz
+    is LD716."""
+    from builders import coil, contact, program
+    from intelhex import IntelHex
+
+    from compiler.errors import CompileError
+
+    pll = facts(part)["features"]["pll"]
+    osc = facts(part)["config"]["fields"]["OSC"]
+    assert pll["osc"]["value"] == header(facts(part)["processor"]).config_symbols[0][pll["osc"]["symbol"]] & osc["mask"]
+    for clock, expected in ((25_000_000, 0b0010), (26_000_000, 0b0110), (40_000_000, 0b0110)):
+        build = compiler.build(program([contact("Xa"), coil("Ya")], mcu=part, pins={"Xa": "RB0", "Ya": "RC0"},
+                                       crystal_hz=clock))
+        build.write(tmp_path / "p.hex")
+        ours = IntelHex(str(tmp_path / "p.hex"))
+        assert ours[0x300001] & osc["mask"] == expected
+        assert all(ours[a] == v for a, v in Part.of(build.device).config_bytes().items() if a != 0x300001)
+        subprocess.run(["gpasm", "-o", str(tmp_path / "g.hex"), str(tmp_path / "p.asm")], check=True,
+                       capture_output=True)
+        assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
+    fast = program([contact("Xa"), coil("Ya")], mcu=part, pins={"Xa": "RB0", "Ya": "RC0"}, crystal_hz=48_000_000)
+    with pytest.raises(CompileError) as raised:
+        compiler.build(fast)
+    (found,) = raised.value.diagnostics
+    assert found.code == "LD716" and "40 MHz at most" in found.message and "48 MHz" in found.message
+
+
 def test_a_pic16_configuration_word_does_not_carry_to_a_pic18():
     from builders import coil, contact, program
 

@@ -44,13 +44,21 @@ class Part(Pic16Part):
     def access_sfr(self) -> int:
         return self.facts["access_sfr"]
 
-    def config_bytes(self, setting: int | None = None) -> dict[int, int]:
+    def config_bytes(self, setting: int | None = None, clock_hz: int = 0) -> dict[int, int]:
         """Byte address -> value from CONFIG_START to CONFIG_END, as gpasm
         writes them (an address no configuration byte uses is 0xFF). The
         program's ConfigurationWord, when it sets one, is CONFIG1L:CONFIG1H
         (the oscillator), as LDmicro's HI-TECH C output for this part takes
-        it (`__PROG_CONFIG(1, word)`); the other bytes are the part's."""
+        it (`__PROG_CONFIG(1, word)`); the other bytes are the part's. A
+        clock beyond what the HS oscillator runs (25 MHz) selects HS with the
+        PLL instead: the crystal is a quarter of the clock."""
         given = dict(self.config_words)
+        pll = self.feature("pll")
         if setting is not None:
             given.update({CONFIG_START: setting & 0xFF, CONFIG_START + 1: setting >> 8 & 0xFF})
+        elif pll is not None and clock_hz > pll["above"]:
+            osc = self.config_field("OSC")
+            assert osc is not None  # every PIC18 part's CONFIG1H has one
+            address = self.config_words[osc.word][0]
+            given[address] = given[address] & ~osc.mask | pll["osc"]["value"]
         return {address: given.get(address, 0xFF) for address in range(CONFIG_START, CONFIG_END + 1)}
