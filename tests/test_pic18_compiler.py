@@ -175,6 +175,29 @@ def test_a_40_mhz_clock_through_the_pll_keeps_the_cycle(tmp_path):
     assert all(abs(t - rises[0] - k) < 0.01 for k, t in enumerate(rises))
 
 
+def test_the_watchdog_a_programmer_enables_is_cleared_every_scan(tmp_path):
+    """The configuration keeps the watchdog off, as LDmicro's HI-TECH C
+    output does (WDTDIS); enabled at its shortest period (CONFIG2H = WDTEN,
+    1:1 postscaler: 4 ms) under a 10 ms cycle, the wait loop's and the
+    DELAYs' CLRWDT keep it from resetting the part: Yboot pulses once and
+    the scans go on. (gpsim resets the part when a LOCK stops the scans; its
+    runner cannot follow a run through a reset.)"""
+    from intelhex import IntelHex
+
+    program_, _ = load_path(ORACLES / "p16f877_watchdog.ld")
+    build = compiler.build(program_, "pic18f4520")
+    assert not build.image.segments[0x300000][3] & 1  # CONFIG2H: WDTEN off
+    path = tmp_path / "wdt.hex"
+    build.write(path)
+    image = IntelHex(str(path))
+    image[0x300003] = 0x01
+    image.write_hex_file(str(path))
+    run = gpsim.run_pic(path, "p18f4520", 4_000_000, inputs=[(0, "RB0", 0), (0, "RB1", 0), (300, "RB1", 1),
+                                                             (400, "RB1", 0)], watch=["RD0", "RD1"], until_ms=480)
+    assert [(round(t, -1), v) for t, v in run.pin_edges("RD0")] == [(0, 1), (210, 0)]
+    assert len(run.pin_edges("RD1")) >= 45  # Yalive toggles every 10 ms scan
+
+
 # --- the scan-time budget --------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", sorted(TIGHT))
