@@ -313,8 +313,8 @@ def _disconnect(cx, unit: str, level: bool) -> None:
     """The CCP off: the pin shows its latch."""
     e, part = cx.e, cx.part
     e.ins("clrf", part.reg(f"{unit}CON"))
-    pin = _pwm_pin(cx, unit)
-    bits.write(e, FileBit(part.latch(pin.port), pin.bit, False), level)
+    port, bit = _pwm_pin(cx, unit).port_bit
+    bits.write(e, FileBit(part.latch(port), bit, False), level)
 
 
 def pwm_off(cx, op: ir.PwmOff) -> None:
