@@ -185,8 +185,8 @@ def test_the_programs_configuration_word_is_config1_as_ldmicro_takes_it(tmp_path
 def test_a_clock_past_25_mhz_selects_the_pll_and_past_40_is_refused(part, tmp_path):
     """HS runs a crystal up to 25 MHz; beyond it, up to 40 MHz, the PLL (the
     header's _OSC_HSPLL_1H: 4 x the crystal) makes the clock the program
-    gives, and the rest of the bytes stay the part's; gpasm agrees. 48 MHz
-    is LD716."""
+    gives, the listing names the crystal, and the rest of the bytes stay the
+    part's; gpasm agrees. 48 MHz is LD716."""
     from builders import coil, contact, program
     from intelhex import IntelHex
 
@@ -201,6 +201,7 @@ def test_a_clock_past_25_mhz_selects_the_pll_and_past_40_is_refused(part, tmp_pa
         build.write(tmp_path / "p.hex")
         ours = IntelHex(str(tmp_path / "p.hex"))
         assert ours[0x300001] & osc["mask"] == expected
+        assert ("a 10 MHz crystal" in build.image.listing) == (clock == 40_000_000)  # what to fit on the board
         assert all(ours[a] == v for a, v in Part.of(build.device).config_bytes().items() if a != 0x300001)
         subprocess.run(["gpasm", "-o", str(tmp_path / "g.hex"), str(tmp_path / "p.asm")], check=True,
                        capture_output=True)

@@ -80,6 +80,10 @@ class Pic18Backend:
         config = part.config_bytes(machine.config_word, machine.crystal_hz)
         header = (f"; {part.title}: {{bytes}} bytes of program memory, {layout.ram_used} bytes of RAM\n"
                   f"; reassemble: gpasm -p {part.processor} FILE\n")
+        crystal = part.pll_crystal(machine.crystal_hz) if machine.config_word is None else None
+        if crystal is not None:
+            header += (f"; clock {machine.crystal_hz / 1e6:g} MHz: HS oscillator with the PLL (x{part.feature('pll')['factor']}),"
+                       f" a {crystal / 1e6:g} MHz crystal\n")
         try:
             assembled = assembler.assemble(processor=part.processor, config=config)
         except ProgramTooLarge as error:
