@@ -24,7 +24,8 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         why = pwm_refusal(device, unit, freq)
         name = str(element.args.get("name"))
         if why is None and names.setdefault(unit, name) != name:
-            why = f"'{names[unit]}' and '{name}' are both outputs of {unit}, which drives one of its pins at a time"
+            why = (f"'{names[unit]}' and '{name}' are both outputs of {unit}, which drives one of its pins at a "
+                   "time: use one name, or a pin of another CCP")
         if why is not None:
             found.append(report(CODE, why, element.span))
             continue
