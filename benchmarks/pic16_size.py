@@ -121,9 +121,10 @@ def compared(rows: list[str], word_ratios: list[float], cycle_ratios: list[float
 
 
 def summary(rows: list[str], word_ratios: list[float], cycle_ratios: list[float], words_target: float,
-            cycles_target: float) -> int:
-    """The table and the geometric means; 0 when both meet their targets."""
-    print("| program | part | words | LDmicro | ratio | cycles/scan | LDmicro | ratio | worst | LDmicro |")
+            cycles_target: float, reference: str = "LDmicro") -> int:
+    """The table (against `reference`'s images) and the geometric means; 0
+    when both meet their targets."""
+    print(f"| program | part | words | {reference} | ratio | cycles/scan | {reference} | ratio | worst | {reference} |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     print("\n".join(rows))
 

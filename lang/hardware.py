@@ -212,6 +212,18 @@ def analog_group(device: Device, channels: set[int]) -> tuple[int, frozenset[int
     return min((group for group in groups if channels <= group[1]), key=lambda group: len(group[1]))
 
 
+def clock_refusal(device: Device, crystal_hz: int, config_word: int | None) -> str | None:
+    """Why the part cannot run at the program's clock: its internal
+    oscillator cannot make it (internal_clock_refusal), or it is beyond the
+    fastest crystal with the PLL (a PIC18: 4 x 10 MHz); None when it can."""
+    refusal = internal_clock_refusal(device, crystal_hz, config_word)
+    pll = device.data.get(device.family, {}).get("features", {}).get("pll")
+    if refusal is None and pll is not None and crystal_hz > pll["most"]:
+        refusal = (f"the {device.title} runs at {pll['most'] / 1e6:g} MHz at most ({pll['factor']} x a "
+                   f"{pll['most'] / pll['factor'] / 1e6:g} MHz crystal with the PLL), not at {crystal_hz / 1e6:g} MHz")
+    return refusal
+
+
 # `#PORTB`, `#PINB`, `#DDRB`, `#TRISB`: a port register by the name either family gives it
 _PORT_REGISTER = re.compile(r"#(PORT|PIN|DDR|TRIS)([A-Z])$", re.IGNORECASE)
 # what each family calls the others' port registers: an AVR has no TRIS (it is DDR); a PIC16

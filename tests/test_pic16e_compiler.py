@@ -64,9 +64,13 @@ def test_persist_keeps_its_variable_in_the_eeprom(part, tmp_path):
     assert differential(prog, events, 30, tmp_path) == []
 
 
-@pytest.mark.parametrize("part,pin,port,bit", [("pic12f1840", "RA2", "porta", 2), ("pic16f1824", "RC5", "portc", 5)])
+@pytest.mark.parametrize("part,pin,port,bit", [("pic12f1840", "RA2", "porta", 2), ("pic16f1824", "RC5", "portc", 5),
+                                               ("pic16f1824", "RC4", "portc", 4), ("pic16f1824", "RC3", "portc", 3),
+                                               ("pic16f1824", "RC2", "portc", 2)])
 def test_pwm_duty_and_frequency_on_the_ccp_pin(part, pin, port, bit, tmp_path):
-    """The pin as CCP1 drives it, sampled 400 times over 4 periods of 1 kHz."""
+    """The pin as CCP1 (or CCP2) drives it, sampled 400 times over 4 periods
+    of 1 kHz; on the PIC16F1824 the CCP's steering puts it on RC4 (P1B) or RC2
+    (P2B), LDmicro's other PWM pins, and the port's other pins stay still."""
     prog = program([move("duty", "30")], [el("SET_PWM", duty="duty", freq=1000, name="Ppwm")],
                    mcu=part, pins={"Ppwm": pin}, crystal_hz=16_000_000)
     build = compiler.build(prog)
@@ -77,6 +81,18 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(part, pin, port, bit, tmp_path):
     levels = [value >> bit & 1 for _, _, value in run.reads]
     assert sum(1 for a, b in zip(levels, levels[1:]) if b > a) in (4, 5)
     assert abs(sum(levels) / len(levels) - 0.30) < 0.02
+    assert len({value & ~(1 << bit) for _, _, value in run.reads}) == 1
+
+
+def test_two_pwm_names_on_the_pins_of_one_ccp_are_a_located_error():
+    second = el("SET_PWM", duty="70", freq=1000, name="Pb")
+    prog = program([el("SET_PWM", duty="30", freq=1000, name="Pa")], [second], mcu="pic16f1824",
+                   pins={"Pa": "RC5", "Pb": "RC4"}, crystal_hz=16_000_000)
+    with pytest.raises(CompileError) as raised:
+        compiler.build(prog)
+    (found,) = raised.value.diagnostics
+    assert found.code == "LD708" and "'Pa' and 'Pb' are both outputs of CCP1" in found.message
+    assert found.span == second.span
 
 
 @pytest.mark.parametrize("part", ["pic16f1512", "pic16f1516", "pic16f1527"])

@@ -121,3 +121,34 @@ def test_same_output_edges_and_text_as_ldmicros_hex(path, part, tmp_path):
     text, expected = mine.uart_bytes(), reference.uart_bytes()
     common = min(len(text), len(expected), BANNER if path == "sample/swatch1.ld" else len(text))
     assert text[:common] == expected[:common]
+
+
+@pytest.mark.parametrize("number,pin,bit,lands", [(6, "RC4", 4, 5), (8, "RC2", 2, 3)])
+def test_ldmicros_pwm_on_its_other_pins_of_the_pic16f1824_lands_on_the_ccps_first_pin(number, pin, bit, lands,
+                                                                                       tmp_path):
+    """LDmicro offers PWM on pins 6 (RC4) and 8 (RC2) but leaves the CCP's
+    steering at reset: its image drives RC5 (pin 5) and RC3 (pin 7) instead,
+    and the chosen pin stays low. Ours drives the chosen pin (PSTRxCON)."""
+    if not LDMICRO.exists():
+        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
+    from builders import el, move
+    from builders import program as build_program
+
+    device = find_device("pic16f1824")
+    prog = build_program([move("duty", "30")], [el("SET_PWM", duty="duty", freq=1000, name="Ppwm")],
+                         mcu="pic16f1824", pins={"Ppwm": pin}, crystal_hz=16_000_000)
+    # LDmicro wants the package pin number, and the cycle at Timer0 with PWM on these parts
+    prog = replace(prog, pins={"Ppwm": PinAssignment("Ppwm", number)},
+                   settings=replace(prog.settings, mcu=device.ldmicro_name, config_word=0, cycle_timer=0))
+    ours = tmp_path / "ours.hex"
+    compiler.build(prog).write(ours)
+    theirs, said = ldmicro_image(prog, tmp_path)
+    assert theirs is not None, said
+    times = [20 + 4 * i / 400 for i in range(400)]
+    duties = []
+    for image in (ours, theirs):
+        run = gpsim.run_pic(image, "p16f1825", 16_000_000, reads=[(t, "portc") for t in times], until_ms=times[-1] + 1)
+        duties.append([sum(value >> b & 1 for _, _, value in run.reads) / len(run.reads) for b in (bit, lands)])
+    (ours_chosen, ours_other), (theirs_chosen, theirs_other) = duties
+    assert abs(ours_chosen - 0.30) < 0.02 and ours_other == 0
+    assert theirs_chosen == 0 and abs(theirs_other - 0.30) < 0.02

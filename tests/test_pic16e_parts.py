@@ -92,6 +92,29 @@ def test_pins_are_ldmicros(part):
     assert (device.data["uart"]["rx"], device.data["uart"]["tx"]) == (device.pin(int(rx)).name, device.pin(int(tx)).name)
 
 
+@base.needs_gputils
+def test_the_pic16f1824_pwm_pins_are_ldmicros_with_the_steering_bits_of_the_header():
+    """LDmicro's PWM table offers pins 5 and 6 (RC5, RC4) on timer 1, its
+    CCP1 (pic16.cpp: CCPR1L, CCP1CON), and 7 and 8 (RC3, RC2) on CCP2; an
+    enhanced CCP in single-output mode drives P1A (RC5) or P1B (RC4), P2A
+    (RC3) or P2B (RC2), as the pins' labels say, by the STRxA/STRxB bits of
+    PSTRxCON (STRxA at reset)."""
+    device = find_device("pic16f1824")
+    rows = re.findall(r"\{\s*(\d+),\s*(\d+),", _table("Pic16F1824PwmPinInfo"))
+    assert {device.pin(int(number)).name: f"CCP{timer}" for number, timer in rows} == device.pwm
+    facts = Part.of(device).facts
+    h = base.header(facts["processor"])
+    for unit in ("CCP1", "CCP2"):
+        steering = facts["pwm"][unit]["steering"]
+        assert steering["register"] in h.registers
+        # the pin's label names its output (LDmicro's: "RC4 P1B/TX/CK")
+        outputs = {pin: re.search(rf"\bP{unit[-1]}([AB])\b", device.pin(pin).label)
+                   for pin, u in device.pwm.items() if u == unit}
+        assert steering["pins"] == {pin: h.bits[steering["register"]][f"STR{unit[-1]}{found.group(1)}"]
+                                    for pin, found in outputs.items()}
+        assert steering["reset"] == 1 << h.bits[steering["register"]][f"STR{unit[-1]}A"]
+
+
 @pytest.mark.parametrize("part", sorted(PARTS))
 def test_config_words_are_ldmicros(part):
     words = [value for _, value in Part.of(find_device(part)).config_words]

@@ -17,7 +17,7 @@ import test_pic16_compiler as pic16
 from builders import coil, contact, el, par, program
 from pic16_harness import differential, erase_eeprom
 from test_compiler_budget import TIGHT, _pic_inputs, _sound, measure_pic
-from test_compiler_harness import load
+from test_compiler_harness import Event, load
 from test_pic16_compiler import BLINK, CASES, ORACLES, SCANS_BEFORE_A_FAULT, _oracle_events, _program
 
 import compiler
@@ -111,6 +111,18 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(freq, pin, bit, duty, tmp_path):
     assert abs(sum(levels) / len(levels) - 0.30) < 0.02
 
 
+@pytest.mark.parametrize("part,pin,clock", [("pic18f4520", "RB0", 40_000_000), ("pic18f2520", "RB2", 16_000_000)])
+def test_adc_channels_on_portb_follow_the_simulator(part, pin, clock, tmp_path):
+    """AN12 (RB0) and AN8 (RB2), past LDmicro's AN0-AN7: ADCON1's PCFG group
+    that reaches them makes them analog (gpsim reads 0 on a pin left digital);
+    at 40 MHz the converter runs at Fosc/64 (1.6 us)."""
+    prog = program([el("READ_ADC", name="Ain")], [el("GEQ", op1="Ain", op2="500"), coil("Ya")],
+                   [el("GRT", op1="Ain", op2="900"), coil("Yb")], mcu=part,
+                   pins={"Ain": pin, "Ya": "RC0", "Yb": "RC1"}, crystal_hz=clock)
+    events = [Event(0, "Ain", 100), Event(10, "Ain", 600), Event(20, "Ain", 1000), Event(30, "Ain", 0)]
+    assert differential(prog, events, 40, tmp_path) == []
+
+
 def test_persist_reads_the_eeprom_at_start_and_writes_it_back(tmp_path):
     """A value in the data EEPROM (preloaded through the HEX at 0xF00000, as
     a previous run would have left it) is the variable's value from the first
@@ -144,6 +156,47 @@ def test_a_cycle_longer_than_timer1_counts_runs_it_free(tmp_path):
     rises = [t for t, v in run.pin_edges("RB2") if v]
     assert len(rises) == 6
     assert all(abs(t - rises[0] - 600 * k) < 0.5 for k, t in enumerate(rises))
+
+
+def test_a_40_mhz_clock_through_the_pll_keeps_the_cycle(tmp_path):
+    """At 40 MHz (a 10 MHz crystal and the PLL) the cycle-duty pin rises
+    every millisecond. gpsim 0.31 does not model the PLL: it runs the part at
+    the frequency it is given, the 40 MHz the PLL makes."""
+    prog = program([contact("Xa"), coil("Yb")], mcu="pic18f4520", cycle_us=1000, crystal_hz=40_000_000,
+                   pins={"Xa": "RA0", "Yb": "RB1", "YPlcCycleDuty": "RB2"}, cycle_duty=True)
+    build = compiler.build(prog)
+    build.write(tmp_path / "pll.hex")
+    assert build.image.segments[0x300000][1] & 0x0F == 0b0110  # CONFIG1H: HSPLL
+    run = gpsim.run_pic(tmp_path / "pll.hex", "p18f4520", 40_000_000, inputs=[(0, "RA0", 0)], watch=["RB2"],
+                        until_ms=20, timeout=60)
+    rises = [t for t, v in run.pin_edges("RB2") if v]
+    # within the wait loop's jitter of a few instruction cycles (0.1 us each), and gpsim's special event
+    # trigger, which restarts Timer1 one count early on the PIC16 and PIC18 models alike (999 of 1000)
+    assert len(rises) >= 19
+    assert all(abs(t - rises[0] - k) < 0.01 for k, t in enumerate(rises))
+
+
+def test_the_watchdog_a_programmer_enables_is_cleared_every_scan(tmp_path):
+    """The configuration keeps the watchdog off, as LDmicro's HI-TECH C
+    output does (WDTDIS); enabled at its shortest period (CONFIG2H = WDTEN,
+    1:1 postscaler: 4 ms) under a 10 ms cycle, the wait loop's and the
+    DELAYs' CLRWDT keep it from resetting the part: Yboot pulses once and
+    the scans go on. (gpsim resets the part when a LOCK stops the scans; its
+    runner cannot follow a run through a reset.)"""
+    from intelhex import IntelHex
+
+    program_, _ = load_path(ORACLES / "p16f877_watchdog.ld")
+    build = compiler.build(program_, "pic18f4520")
+    assert not build.image.segments[0x300000][3] & 1  # CONFIG2H: WDTEN off
+    path = tmp_path / "wdt.hex"
+    build.write(path)
+    image = IntelHex(str(path))
+    image[0x300003] = 0x01
+    image.write_hex_file(str(path))
+    run = gpsim.run_pic(path, "p18f4520", 4_000_000, inputs=[(0, "RB0", 0), (0, "RB1", 0), (300, "RB1", 1),
+                                                             (400, "RB1", 0)], watch=["RD0", "RD1"], until_ms=480)
+    assert [(round(t, -1), v) for t, v in run.pin_edges("RD0")] == [(0, 1), (210, 0)]
+    assert len(run.pin_edges("RD1")) >= 45  # Yalive toggles every 10 ms scan
 
 
 # --- the scan-time budget --------------------------------------------------------------------------

@@ -71,6 +71,26 @@ def test_registers_and_bits_are_the_headers(part):
 
 @needs_gputils
 @pytest.mark.parametrize("part", PARTS)
+def test_adc_channels_are_the_headers(part):
+    """Each ANn the header names among a port's bits (PORTB: AN12 on RB0,
+    AN10, AN8, AN9, AN11 on RB1-RB4) is that pin's channel, and nothing else
+    is; ADCON1's PCFG groups are the datasheet's: PCFG3:0 = p makes AN0 to
+    AN(14 - p) analog (0010 all thirteen), as far as the part has them."""
+    bits = header(facts(part)["processor"]).bits
+    expected = {f"R{port}{bits[f'PORT{port}'][name]}": int(name[2:])
+                for port in "ABCDE" for name in bits.get(f"PORT{port}", {}) if re.fullmatch(r"AN\d+", name)}
+    device = find_device(part)
+    assert device.adc == expected
+    assert all(f"AN{channel}" in device.pin(pin).functions for pin, channel in expected.items())
+    groups = {value: set(channels) for value, channels in facts(part)["features"]["adc"]["pcfg"]}
+    present = set(expected.values())
+    assert set(map(frozenset, groups.values())) == {frozenset(c for c in range(15 - p) if c in present)
+                                                    for p in range(2, 15)}
+    assert all(channels == {c for c in range(15 - value) if c in present} for value, channels in groups.items())
+
+
+@needs_gputils
+@pytest.mark.parametrize("part", PARTS)
 def test_memory_is_the_linker_scripts(part):
     pic18 = facts(part)
     script = linker_script(pic18["processor"])
@@ -160,6 +180,39 @@ def test_the_programs_configuration_word_is_config1_as_ldmicro_takes_it(tmp_path
     assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
 
 
+@needs_gputils
+@pytest.mark.parametrize("part", PARTS)
+def test_a_clock_past_25_mhz_selects_the_pll_and_past_40_is_refused(part, tmp_path):
+    """HS runs a crystal up to 25 MHz; beyond it, up to 40 MHz, the PLL (the
+    header's _OSC_HSPLL_1H: 4 x the crystal) makes the clock the program
+    gives, the listing names the crystal, and the rest of the bytes stay the
+    part's; gpasm agrees. 48 MHz is LD716."""
+    from builders import coil, contact, program
+    from intelhex import IntelHex
+
+    from compiler.errors import CompileError
+
+    pll = facts(part)["features"]["pll"]
+    osc = facts(part)["config"]["fields"]["OSC"]
+    assert pll["osc"]["value"] == header(facts(part)["processor"]).config_symbols[0][pll["osc"]["symbol"]] & osc["mask"]
+    for clock, expected in ((25_000_000, 0b0010), (26_000_000, 0b0110), (40_000_000, 0b0110)):
+        build = compiler.build(program([contact("Xa"), coil("Ya")], mcu=part, pins={"Xa": "RB0", "Ya": "RC0"},
+                                       crystal_hz=clock))
+        build.write(tmp_path / "p.hex")
+        ours = IntelHex(str(tmp_path / "p.hex"))
+        assert ours[0x300001] & osc["mask"] == expected
+        assert ("a 10 MHz crystal" in build.image.listing) == (clock == 40_000_000)  # what to fit on the board
+        assert all(ours[a] == v for a, v in Part.of(build.device).config_bytes().items() if a != 0x300001)
+        subprocess.run(["gpasm", "-o", str(tmp_path / "g.hex"), str(tmp_path / "p.asm")], check=True,
+                       capture_output=True)
+        assert IntelHex(str(tmp_path / "g.hex")).todict() == ours.todict()
+    fast = program([contact("Xa"), coil("Ya")], mcu=part, pins={"Xa": "RB0", "Ya": "RC0"}, crystal_hz=48_000_000)
+    with pytest.raises(CompileError) as raised:
+        compiler.build(fast)
+    (found,) = raised.value.diagnostics
+    assert found.code == "LD716" and "40 MHz at most" in found.message and "48 MHz" in found.message
+
+
 def test_a_pic16_configuration_word_does_not_carry_to_a_pic18():
     from builders import coil, contact, program
 
@@ -181,7 +234,9 @@ def test_the_pic18f4520_pins_are_ldmicros():
         assert (pin.port, pin.bit, pin.label) == (port, int(bit), label.strip())
     assert len(device.io_pins()) == len(pins)
     channels = re.findall(r"\{\s*(\d+),\s*0x(\w+)\s*\}", _table("McuAdcPinInfo Pic18F4520AdcPinInfo[]"))
-    assert {device.pin(int(number)).name: int(channel, 16) for number, channel in channels} == device.adc
+    ldmicros = {device.pin(int(number)).name: int(channel, 16) for number, channel in channels}
+    # LDmicro's table stops at AN7; AN8-AN12 on RB0-RB4 are the header's (test_adc_channels_are_the_headers)
+    assert ldmicros == {pin: channel for pin, channel in device.adc.items() if channel < 8}
     assert '"Microchip PIC18F4520 40-PDIP"' in mcutable()
 
 
@@ -190,7 +245,8 @@ def test_the_pic18f2520_has_the_28_pin_footprint_of_the_pic16f876():
     PIC16F876's pins (LDmicro has no entry for it)."""
     ours, pic16 = find_device("pic18f2520"), find_device("pic16f876")
     assert {n: p.name for n, p in ours.pins.items()} == {n: p.name for n, p in pic16.pins.items()}
-    assert ours.adc == pic16.adc and ours.pwm == pic16.pwm and ours.uart == pic16.uart
+    assert ours.pwm == pic16.pwm and ours.uart == pic16.uart
+    assert {pin: channel for pin, channel in ours.adc.items() if channel < 8} == pic16.adc
     assert facts("pic18f2520")["registers"].keys() <= facts("pic18f4520")["registers"].keys()
     assert "PORTD" not in facts("pic18f2520")["registers"]
 

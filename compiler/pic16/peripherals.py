@@ -9,6 +9,7 @@ the transmitter is busy is lost.
 
 from __future__ import annotations
 
+from lang.devices import Pin
 from lang.hardware import analog_group, baud_setting, pwm_setting
 from lang.semantics import ir
 
@@ -292,14 +293,28 @@ def pwm_setup(cx, code: ir.Code) -> None:
     setting = pwm_setting(cx.part.device, ops[0].unit, cx.machine.crystal_hz, ops[0].freq)
     _write(cx, "PR2", setting.period - 1)
     _write(cx, "T2CON", 1 << 2 | setting.select)  # TMR2ON, T2CKPS
+    for unit in sorted({op.unit for op in ops}):
+        # an enhanced CCP in single-output mode drives the pins its steering register selects
+        steering = cx.part.facts["pwm"][unit].get("steering")
+        if steering is not None:
+            value = 1 << steering["pins"][_pwm_pin(cx, unit).name]
+            if value != steering["reset"]:
+                _write(cx, steering["register"], value)
+
+
+def _pwm_pin(cx, unit: str) -> Pin:
+    """The pin of the program's PWM output (a P name) on `unit`: one pin a
+    unit where the part offers it on more than one (LD708)."""
+    pwm = cx.part.device.pwm
+    return next(pin for name, pin in sorted(cx.machine.pins.items()) if name[0] == "P" and pwm.get(pin.name) == unit)
 
 
 def _disconnect(cx, unit: str, level: bool) -> None:
     """The CCP off: the pin shows its latch."""
     e, part = cx.e, cx.part
     e.ins("clrf", part.reg(f"{unit}CON"))
-    pin = part.device.pin(next(p for p, u in part.device.pwm.items() if u == unit))
-    bits.write(e, FileBit(part.latch(pin.port), pin.bit, False), level)
+    port, bit = _pwm_pin(cx, unit).port_bit
+    bits.write(e, FileBit(part.latch(port), bit, False), level)
 
 
 def pwm_off(cx, op: ir.PwmOff) -> None:

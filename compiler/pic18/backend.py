@@ -14,9 +14,10 @@ map and the configuration bytes.
 
 from __future__ import annotations
 
+from lang.hardware import clock_refusal
 from lang.semantics import ir
 
-from ..errors import FLASH_FULL, fail
+from ..errors import FLASH_FULL, INTERNAL_CLOCK, fail
 from ..image import Image
 from ..pic16.asm import ProgramTooLarge
 from ..pic16.backend import ram_in_use, symbols
@@ -64,6 +65,9 @@ class Pic18Backend:
 
     def compile(self, code: ir.Code, machine) -> Image:
         part = Part.of(machine.device)
+        refusal = clock_refusal(part.device, machine.crystal_hz, machine.config_word)
+        if refusal is not None:
+            raise fail(INTERNAL_CLOCK, refusal)  # the checks say it first, on the header (LD716)
         layout = allocate(code, part, machine, free_running(code, part, machine))
         assembler = Assembler(part.flash_words, part.reg("STATUS"))
         cx = Context(Emitter(assembler, part, ram_in_use(layout), Pic18Core(part)), part, layout, machine,
@@ -73,9 +77,13 @@ class Pic18Backend:
         write_routines(cx.e, layout.scratch, cx.routines, hardware_multiply(part))
         _write_tables(cx)
         compress_skips(assembler.items)
-        config = part.config_bytes(machine.config_word)
+        config = part.config_bytes(machine.config_word, machine.crystal_hz)
         header = (f"; {part.title}: {{bytes}} bytes of program memory, {layout.ram_used} bytes of RAM\n"
                   f"; reassemble: gpasm -p {part.processor} FILE\n")
+        crystal = part.pll_crystal(machine.crystal_hz) if machine.config_word is None else None
+        if crystal is not None:
+            header += (f"; clock {machine.crystal_hz / 1e6:g} MHz: HS oscillator with the PLL (x{part.feature('pll')['factor']}),"
+                       f" a {crystal / 1e6:g} MHz crystal\n")
         try:
             assembled = assembler.assemble(processor=part.processor, config=config)
         except ProgramTooLarge as error:

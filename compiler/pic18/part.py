@@ -44,13 +44,26 @@ class Part(Pic16Part):
     def access_sfr(self) -> int:
         return self.facts["access_sfr"]
 
-    def config_bytes(self, setting: int | None = None) -> dict[int, int]:
+    def config_bytes(self, setting: int | None = None, clock_hz: int = 0) -> dict[int, int]:
         """Byte address -> value from CONFIG_START to CONFIG_END, as gpasm
         writes them (an address no configuration byte uses is 0xFF). The
         program's ConfigurationWord, when it sets one, is CONFIG1L:CONFIG1H
         (the oscillator), as LDmicro's HI-TECH C output for this part takes
-        it (`__PROG_CONFIG(1, word)`); the other bytes are the part's."""
+        it (`__PROG_CONFIG(1, word)`); the other bytes are the part's. A
+        clock beyond what the HS oscillator runs (25 MHz) selects HS with the
+        PLL instead: the crystal is a quarter of the clock."""
         given = dict(self.config_words)
         if setting is not None:
             given.update({CONFIG_START: setting & 0xFF, CONFIG_START + 1: setting >> 8 & 0xFF})
+        elif self.pll_crystal(clock_hz) is not None:
+            osc = self.config_field("OSC")
+            assert osc is not None  # every PIC18 part's CONFIG1H has one
+            address = self.config_words[osc.word][0]
+            given[address] = given[address] & ~osc.mask | self.feature("pll")["osc"]["value"]
         return {address: given.get(address, 0xFF) for address in range(CONFIG_START, CONFIG_END + 1)}
+
+    def pll_crystal(self, clock_hz: int) -> int | None:
+        """The crystal the PLL multiplies into the clock when the HS
+        oscillator alone cannot run it, else None."""
+        pll = self.feature("pll")
+        return clock_hz // pll["factor"] if pll is not None and clock_hz > pll["above"] else None

@@ -1,11 +1,12 @@
-"""LD716: a clock the part's internal oscillator cannot make, with the
-configuration word selecting it (the enhanced mid-range PICs)."""
+"""LD716: a clock the part cannot run at: one its internal oscillator
+cannot make, with the configuration word selecting it (the enhanced
+mid-range PICs), or one beyond its fastest crystal with the PLL (PIC18)."""
 
 from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
-from ..hardware import internal_clock_refusal
+from ..hardware import clock_refusal
 from ..index import ProgramIndex
 from ..model import Program
 from ..targets import compiled
@@ -18,6 +19,6 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     if not index.pins_matter or not compiled(device):
         return []
     settings = program.settings
-    refusal = internal_clock_refusal(device, settings.crystal_hz, settings.config_word or None)
+    refusal = clock_refusal(device, settings.crystal_hz, settings.config_word or None)
     # the header names the part and the clock together
     return [] if refusal is None else [report(CODE, refusal, settings.mcu_span)]

@@ -1,6 +1,7 @@
 """LD708: a SET PWM its part's timer cannot make: an output of a timer the
-back end does not drive, a frequency of 0 or less, or two outputs of one
-timer asking for different frequencies (they share its period)."""
+back end does not drive, a frequency of 0 or less, two outputs of one
+timer asking for different frequencies (they share its period), or two
+names on the pins of one CCP (the PIC16F1824's CCP1 on RC5 or RC4)."""
 
 from __future__ import annotations
 
@@ -18,8 +19,13 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
     found = []
     timers: dict[int, PwmSetting] = {}
+    names: dict[str, str] = {}
     for _, element, unit, freq in pwm_outputs(program, index):
         why = pwm_refusal(device, unit, freq)
+        name = str(element.args.get("name"))
+        if why is None and names.setdefault(unit, name) != name:
+            why = (f"'{names[unit]}' and '{name}' are both outputs of {unit}, which drives one of its pins at a "
+                   "time: use one name, or a pin of another CCP")
         if why is not None:
             found.append(report(CODE, why, element.span))
             continue
