@@ -250,7 +250,8 @@ function workbench(page) {
     page.evaluate(() => {
       const out = [];
       for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
-        if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) out.push(s.textContent);
+        const text = s.textContent.replace(/\u00a0/g, ' ');
+        if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && text.trim()) out.push(text);
       }
       return out;
     });

@@ -159,3 +159,24 @@ def require_feature(name: str) -> None:
 
 def which(name: str) -> str | None:
     return shutil.which(name)
+
+
+def require_extension_packages() -> None:
+    require(which("npm") is not None, "npm is not installed")
+    require((EXTENSION / "node_modules" / ".bin" / "vsce").exists(),
+            "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
+
+
+@functools.cache
+def package_vsix() -> Path:
+    """vscode-extension/textladder.vsix, packaged once a session (`npm run package`: the desktop
+    server in bundled/ and the browser entry in out/web/); the tests of both read it."""
+    require_extension_packages()
+    # `npm run bundle` and the browser build run python3 with pip: this Python comes first on PATH
+    path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    out = subprocess.run(["npm", "run", "package"], cwd=EXTENSION, capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "PATH": path, "PYTHON": sys.executable})
+    assert out.returncode == 0, out.stdout + out.stderr
+    vsix = EXTENSION / "textladder.vsix"
+    assert vsix.exists()
+    return vsix
