@@ -26,6 +26,8 @@ pytestmark = pytest.mark.slow
 OUT = env.OUT / "web-extension"
 # the only diagnostic is LD102 on the coil Xlamp; renaming it Ylamp everywhere (Replace All) fixes it
 LAMP_BAD = env.LAMP_BAD.replace("Xlamp                      | digital in ", "Xlamp                      | digital out")
+# formatting renumbers the rung and adds the VAR LIST section
+MESSY = env.lamp_fixed().replace("0001||", "0009||")
 WEB_FILES = ("worker.js", "site.zip", "pyodide/pyodide.asm.wasm", "pyodide/python_stdlib.zip",
              "pyodide/pyodide-lock.json")
 
@@ -61,11 +63,12 @@ def web_run(vsix, tmp_path_factory) -> dict:
     ws = tmp_path_factory.mktemp("vscode-web") / "workspace"
     ws.mkdir()
     (ws / "lamp.ladder").write_text(LAMP_BAD)
+    (ws / "messy.ladder").write_text(MESSY)
     shutil.copy(env.REPO / "examples" / "conveyor.ladder", ws / "conveyor.ladder")
     shutil.rmtree(OUT, ignore_errors=True)
     OUT.mkdir(parents=True)
     cmd = [env.which("node"), str(env.E2E / "vscode_web_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws),
-           "--bad", "lamp.ladder", "--sim", "conveyor.ladder", "--out", str(OUT)]
+           "--bad", "lamp.ladder", "--fmt", "messy.ladder", "--sim", "conveyor.ladder", "--out", str(OUT)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
     sys.stderr.write(proc.stderr)
     lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
@@ -94,6 +97,18 @@ def test_a_diagnostic_appears_and_goes_when_fixed(web_run):
 
 def test_hover(web_run):
     assert web_run["hover"].startswith("Xstop: a digital input pin")
+
+
+def test_completion_offers_the_other_inputs_on_a_contact(web_run):
+    """On the contact Xstop: the program's X names (VS Code keeps those that match the word typed)."""
+    assert any(row.startswith("Xstart") for row in web_run["completion"]), web_run["completion"]
+
+
+def test_format_document_gives_what_ladder_fmt_gives(web_run):
+    saved = (web_run["workspace"] / "messy.ladder").read_text()
+    native = subprocess.run([sys.executable, "-m", "ladder", "fmt", "-"], input=MESSY, capture_output=True, text=True,
+                            timeout=60)
+    assert saved != MESSY and saved == native.stdout
 
 
 def test_a_simulation_paints_the_coil_of_the_toggled_input(web_run):

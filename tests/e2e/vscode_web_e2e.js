@@ -4,17 +4,19 @@
 // and vscode.dev run it (the user setting "remote.extensionKind": web), so its language server is
 // the one on Pyodide in a Web Worker. In Chromium through playwright-core, as a person would:
 // a diagnostic in the Problems panel, the program fixed with Replace All and the diagnostic gone,
-// the hover of a name, a simulation started with an input toggled by its code lens and a scan run
-// (F10), the coil painted red; the program converted to .ld (written through the workspace's file
-// system); the "Ladder" output, which names the server started. Saves screenshots.
+// a program formatted (Format Document) and saved, the hover of a name, completion on a name, a
+// simulation started with an input toggled by its code lens and a scan run (F10), the coil
+// painted red; the program converted to .ld (written through the workspace's file system); the
+// "Ladder" output, which names the server started. Saves screenshots.
 //
-//   node vscode_web_e2e.js --vsix X.vsix --workspace DIR --bad NAME --sim NAME --out DIR
+//   node vscode_web_e2e.js --vsix X.vsix --workspace DIR --bad NAME --fmt NAME --sim NAME --out DIR
 //
 // --bad: a program whose only diagnostic is LD102 on Xlamp, fixed by renaming it Ylamp everywhere;
-// --sim: a program with the input Xstart. Prints one JSON object on its last line of stdout
-// ({"ok": true, ...}); exits 1 on failure.
+// --fmt: a program that formatting changes; --sim: a program with the inputs Xstart and Xstop.
+// Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
 
+const fs = require('fs');
 const path = require('path');
 const { stopwatch, waitFor, openCodeServer, workbench } = require('./code_server');
 
@@ -25,7 +27,7 @@ function parseArgs(argv) {
     if (!m || argv[i + 1] === undefined) throw new Error(`unexpected argument ${argv[i]}`);
     args[m[1]] = argv[i + 1];
   }
-  for (const k of ['vsix', 'workspace', 'bad', 'sim', 'out']) {
+  for (const k of ['vsix', 'workspace', 'bad', 'fmt', 'sim', 'out']) {
     if (!args[k]) throw new Error(`missing --${k}`);
   }
   return args;
@@ -73,6 +75,15 @@ async function main() {
       }, 30000);
     });
 
+    await timed('format a program and save it', async () => {
+      const file = path.join(args.workspace, args.fmt);
+      const before = fs.readFileSync(file, 'utf8');
+      await ui.openFile(args.fmt);
+      await ui.runCommand('Format Document');
+      await page.keyboard.press('Control+S');
+      await waitFor('the formatted program saved', () => fs.readFileSync(file, 'utf8') !== before, 15000);
+    });
+
     await timed('open the program to simulate', () => ui.openFile(args.sim));
     result.hover = await timed('hover a name', async () => {
       await ui.hoverName('Xstop');
@@ -80,6 +91,16 @@ async function main() {
     });
     await page.mouse.move(5, 5);
     await page.keyboard.press('Escape');
+    result.completion = await timed('completion on a name', async () => {
+      await page.locator('.monaco-editor .view-lines span span', { hasText: /^Xstop$/ }).first().click();
+      await page.keyboard.press('Control+Space');
+      const rows = await waitFor('the suggestions', async () => {
+        const texts = await page.locator('.suggest-widget .monaco-list-row').allInnerTexts();
+        return texts.length > 0 ? texts.map((t) => t.replace(/\s+/g, ' ').trim()) : false;
+      }, 15000);
+      await page.keyboard.press('Escape');
+      return rows;
+    });
 
     await timed('start the simulation (command palette)', async () => {
       await ui.runCommand('Ladder: Start Simulation');
