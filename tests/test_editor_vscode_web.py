@@ -95,6 +95,12 @@ def test_a_diagnostic_appears_and_goes_when_fixed(web_run):
     assert "No problems have been detected" in web_run["fixed"]
 
 
+def test_build_hex_writes_an_image_that_runs_in_simavr(web_run):
+    """Build HEX on the fixed program: the image, written beside it, lights Ylamp once Xstart is high."""
+    assert "wrote lamp.hex" in web_run["built"], web_run["built"]
+    assert env.lamp_in_simavr(web_run["workspace"] / "lamp.hex") == [0, 0, 1, 1, 1]
+
+
 def test_hover(web_run):
     assert web_run["hover"].startswith("Xstop: a digital input pin")
 

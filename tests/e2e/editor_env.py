@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from compiler.run.record import Event, record_pins
+
 REPO = Path(__file__).resolve().parents[2]
 E2E = REPO / "tests" / "e2e"
 EXTENSION = REPO / "vscode-extension"
@@ -63,6 +65,14 @@ def lamp_fixed(text: str = LAMP_BAD) -> str:
     """The same program with the coil on an output: no diagnostic."""
     return text.replace("Xlamp                      | digital in  ", "Ylamp                      | digital out ").replace(
         "Xlamp", "Ylamp")
+
+
+def lamp_in_simavr(hex_path: Path) -> list[int]:
+    """The fixed lamp program's HEX run in simavr: Ylamp after each of five scans, Xstart low for
+    two, then high."""
+    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
+    recording = record_pins(hex_path, "atmega328p", 16_000_000, 10_000, events, 5, {"Xstart": "PD2", "Ylamp": "PD3"})
+    return [row["Ylamp"] for row in recording.rows]
 
 
 def require(condition: bool, what: str) -> None:

@@ -4,10 +4,11 @@
 // and vscode.dev run it (the user setting "remote.extensionKind": web), so its language server is
 // the one on Pyodide in a Web Worker. In Chromium through playwright-core, as a person would:
 // a diagnostic in the Problems panel, the program fixed with Replace All and the diagnostic gone,
-// a program formatted (Format Document) and saved, the hover of a name, completion on a name, a
-// simulation started with an input toggled by its code lens and a scan run (F10), the coil
-// painted red; the program converted to .ld (written through the workspace's file system); the
-// "Ladder" output, which names the server started. Saves screenshots.
+// its HEX built (Build HEX), a program formatted (Format Document) and saved, the hover of a
+// name, completion on a name, a simulation started with an input toggled by its code lens and a
+// scan run (F10), the coil painted red; the program converted to .ld; the "Ladder" output, which
+// names the server started. The HEX and the .ld are written through the workspace's file system,
+// beside their programs. Saves screenshots.
 //
 //   node vscode_web_e2e.js --vsix X.vsix --workspace DIR --bad NAME --fmt NAME --sim NAME --out DIR
 //
@@ -75,6 +76,18 @@ async function main() {
       }, 30000);
     });
 
+    const toast = (pattern) =>
+      waitFor(`a notification matching ${pattern}`, async () => {
+        const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+        const hit = toasts.find((t) => pattern.test(t));
+        return hit ? hit.replace(/\s+/g, ' ').trim() : false;
+      }, 60000);
+
+    result.built = await timed('build the HEX of the fixed program', async () => {
+      await ui.runCommand('Ladder: Build HEX');
+      return toast(/Ladder: .*wrote/);
+    });
+
     await timed('format a program and save it', async () => {
       const file = path.join(args.workspace, args.fmt);
       const before = fs.readFileSync(file, 'utf8');
@@ -138,11 +151,7 @@ async function main() {
       const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: "LDmicro's own format" }).first();
       await row.waitFor({ state: 'visible', timeout: 15000 });
       await row.click();
-      return waitFor('the notification of the file written', async () => {
-        const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
-        const hit = toasts.find((t) => /Ladder: wrote/.test(t));
-        return hit ? hit.replace(/\s+/g, ' ').trim() : false;
-      }, 30000);
+      return toast(/Ladder: wrote conveyor/);
     });
 
     result.output = await timed('the "Ladder" output', async () => {

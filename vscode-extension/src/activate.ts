@@ -108,7 +108,7 @@ function onOpen(doc: vscode.TextDocument): void {
   }
 }
 
-export function languageByFirstLine(doc: vscode.TextDocument): string | undefined {
+function languageByFirstLine(doc: vscode.TextDocument): string | undefined {
   const ext = doc.uri.path.toLowerCase().replace(/^.*(\.[^./]*)$/, '$1');
   if ((ext !== '.txt' && ext !== '.ld') || doc.lineCount === 0) {
     return undefined;

@@ -7,7 +7,7 @@ import { PYTHON_DOWNLOAD } from './python';
 import { describe, executable, isNoServer, serverCommand } from './server';
 import { LADDER_LANGUAGES } from './state';
 
-export { deactivate, languageByFirstLine } from './activate';
+export { deactivate } from './activate';
 
 export function activate(context: vscode.ExtensionContext): Promise<void> {
   const host: Host = {

@@ -14,7 +14,7 @@ import { LanguageClient } from 'vscode-languageclient/browser';
 import { activateWith } from '../activate';
 import { LADDER_LANGUAGES } from '../state';
 
-export { deactivate, languageByFirstLine } from '../activate';
+export { deactivate } from '../activate';
 
 /** The files the worker needs, under out/web/ (scripts/web.mjs): what worker.js takes as textladderFiles. */
 const FILES = {
@@ -31,7 +31,13 @@ export function activate(context: vscode.ExtensionContext): Promise<void> {
     selector: LADDER_LANGUAGES.map((language) => ({ language })),
     serverWritesFiles: false,
     findServer: async () => {
-      const worker = new Worker(URL.createObjectURL(new Blob([await read(web, 'worker.js')], { type: 'text/javascript' })));
+      let script: ArrayBuffer;
+      try {
+        script = await read(web, 'worker.js');
+      } catch (err) {
+        return { message: `The browser's language server could not be read: ${err instanceof Error ? err.message : String(err)}` };
+      }
+      const worker = new Worker(URL.createObjectURL(new Blob([script], { type: 'text/javascript' })));
       void sendFiles(worker, web);
       return {
         name: 'textladder on Pyodide in a Web Worker',
