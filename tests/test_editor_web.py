@@ -38,7 +38,6 @@ import editor_env as env
 sys.path.insert(0, str(env.REPO / "benchmarks"))
 from lsp_bench import GENERATED, middle_name
 
-from compiler.run.record import Event, record_pins
 from ide.convert import render
 from lang.loader import TEXT_KIND, parse
 from lsp.worker import connect
@@ -91,13 +90,6 @@ def site(dist: Path):
     server.shutdown()
 
 
-def _runs_in_simavr(hex_path: Path) -> list[int]:
-    """Ylamp after each of five scans, Xstart low for two, then high."""
-    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
-    recording = record_pins(hex_path, "atmega328p", 16_000_000, 10_000, events, 5, {"Xstart": "PD2", "Ylamp": "PD3"})
-    return [row["Ylamp"] for row in recording.rows]
-
-
 def _node(script: Path, *args: str, timeout: int = 180) -> dict:
     node = env.which("node")
     env.require(node is not None, "node is not installed")
@@ -116,7 +108,7 @@ def test_the_worker_entry_point_on_pyodide_under_node(dist, tmp_path):
     result = _node(WEB / "test" / "node_worker.mjs", str(bad), str(fixed), "Xstart", "Ylamp")
     assert "in the browser no file is written" in result["buildMessage"]
     (tmp_path / "lamp.hex").write_text(result["hex"])
-    assert _runs_in_simavr(tmp_path / "lamp.hex") == [0, 0, 1, 1, 1]
+    assert env.lamp_in_simavr(tmp_path / "lamp.hex") == [0, 0, 1, 1, 1]
 
 
 def _fixes() -> list[tuple[int, int, int, str]]:
@@ -253,7 +245,7 @@ def test_the_playground_in_chromium(dist, site, tmp_path):
     assert any("LD102" in line for line in result["bad"]), result["bad"]
     assert result["before"] == "0"
     assert "( )" in result["energized"], result  # the coil, drawn energized
-    assert _runs_in_simavr(Path(result["hex"])) == [0, 0, 1, 1, 1]
+    assert env.lamp_in_simavr(Path(result["hex"])) == [0, 0, 1, 1, 1]
     # the .ld opened has no problem, and the .ladder downloaded is the program it was made from
     assert result["ldProblems"] == []
     assert Path(result["ladder"]).name == "lamp.ladder"

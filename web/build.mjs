@@ -1,203 +1,24 @@
 // Builds the playground into web/dist (static files, docs/browser.md):
 //   index.html, style.css, main.js (the page and CodeMirror), worker.js (the Web Worker),
 //   pyodide/ (Pyodide's core, its standard library precompiled), site.zip (textladder and the
-//   packages it needs, precompiled).
-// Python bytecode is compiled here, once, by Pyodide's own Python under Node: a browser cannot
-// keep the .pyc it would write, so without it every page load compiles every module it imports.
+//   packages it needs, precompiled): pyodide-files.mjs.
 //
 //   node build.mjs            (PYTHON: the Python that builds the wheel and runs pip; default python3)
-import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import * as esbuild from 'esbuild';
+import { pyodideFiles } from './pyodide-files.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
-const REPO = path.resolve(HERE, '..');
 const DIST = path.join(HERE, 'dist');
-const PYODIDE = path.join(HERE, 'node_modules', 'pyodide');
-const PYTHON = process.env.PYTHON || 'python3';
-// Pyodide's Python: the wheels pip may choose for it
-const PYTHON_VERSION = JSON.parse(fs.readFileSync(path.join(PYODIDE, 'pyodide-lock.json'), 'utf8'))
-  .info.python.split('.').slice(0, 2).join('.');
-// what a browser has no use for: the command line, the runners of native simulators
-const LEFT_OUT = ['ladder', 'compiler/run', 'bin'];
-
-function log(message) {
-  process.stderr.write(`build: ${message}\n`);
-}
-
-function run(command, args) {
-  execFileSync(command, args, { stdio: ['ignore', 'ignore', 'inherit'], cwd: REPO });
-}
-
-/** textladder's wheel, as users get it, and the wheels of its dependencies that any platform runs. */
-function wheels(dir) {
-  run(PYTHON, ['-m', 'pip', 'wheel', '-q', '--no-deps', '-w', dir, REPO]);
-  const own = fs.readdirSync(dir).find((f) => f.startsWith('textladder-'));
-  run(PYTHON, ['-m', 'pip', 'download', '-q', '--only-binary=:all:', '--platform', 'any',
-    '--python-version', PYTHON_VERSION, '--implementation', 'py', '-d', dir, path.join(dir, own)]);
-  return fs.readdirSync(dir).filter((f) => f.endsWith('.whl')).sort();
-}
-
-// Run by Pyodide's Python under Node. A module the server imports until it answers (every module
-// of textladder but the compiler, what they import, and what a session of every feature imports)
-// is shipped as bytecode only; the rest of the standard library and of the packages stays source,
-// smaller to download, compiled in the browser when first imported: the compiler (about 140 kB
-// less to download) on the first HEX or C file exported.
-const PACK = `
-import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile
-from pathlib import Path
-
-# never imported by the server, and of no use in a browser worker (a REPL, tests, debuggers and
-# profilers, process pools, GUIs, mail, HTTP, XML, archives, statistics and the pure-Python io):
-# left out of the standard library
-UNUSED_STDLIB = ["_pyrepl", "unittest", "doctest.py", "pdb.py", "bdb.py", "trace.py", "profile.py", "cProfile.py",
-                 "pstats.py", "tabnanny.py", "pydoc.py", "pydoc_data", "multiprocessing", "ensurepip", "venv",
-                 "idlelib", "tkinter", "turtle.py", "turtledemo", "lib2to3", "sqlite3", "curses", "dbm",
-                 "wsgiref", "xmlrpc", "xml", "plistlib.py", "http", "socketserver.py", "imaplib.py", "smtplib.py",
-                 "poplib.py", "nntplib.py", "ftplib.py", "mailbox.py", "pickletools.py", "optparse.py",
-                 "_pyio.py", "tarfile.py", "statistics.py"]
-
-
-# optional dependencies a browser does not have: z3, the prover's solver (a native library), so
-# ladder verify answers that it is not installed
-OPTIONAL = {"z3"}
-
-
-def trimmed(root, names):
-    root = Path(root)
-    for name in names:
-        path = root / name
-        if path.is_dir():
-            shutil.rmtree(path)
-        elif path.exists():
-            path.unlink()
-    for tests in [p for p in root.rglob("tests") if p.is_dir()]:
-        shutil.rmtree(tests)
-    for record in root.glob("*.dist-info/RECORD"):
-        record.unlink()
-
-
-async def exercise(program):
-    """Import every module of textladder but the compiler, then a session of every feature; returns
-    the modules imported before the files are exported (which imports the compiler)."""
-    for package in ("lang", "ide", "lsp"):
-        for info in pkgutil.walk_packages(importlib.import_module(package).__path__, package + "."):
-            if info.name.endswith(".__main__"):  # which would start the server on standard input
-                continue
-            try:
-                importlib.import_module(info.name)
-            except ModuleNotFoundError as missing:
-                if missing.name not in OPTIONAL:
-                    raise
-    from lsp.worker import connect
-    answers = {}
-    send = connect(lambda text: answers.setdefault(json.loads(text).get("id"), json.loads(text)))
-    def message(method, params, ident=None):
-        send(json.dumps({"jsonrpc": "2.0", "method": method, "params": params, **({"id": ident} if ident else {})}))
-    uri, position = "inmemory://build/program.ladder", {"line": 9, "character": 8}
-    document = {"uri": uri}
-    message("initialize", {"processId": None, "rootUri": None, "capabilities": {}}, 1)
-    message("initialized", {})
-    message("textDocument/didOpen", {"textDocument": {**document, "languageId": "ladder", "version": 1, "text": program}})
-    requests = [("textDocument/hover", {"textDocument": document, "position": position}),
-                ("textDocument/completion", {"textDocument": document, "position": position}),
-                ("textDocument/formatting", {"textDocument": document, "options": {"tabSize": 4, "insertSpaces": True}}),
-                ("textDocument/documentSymbol", {"textDocument": document}),
-                ("textDocument/semanticTokens/full", {"textDocument": document}),
-                ("textDocument/definition", {"textDocument": document, "position": position})]
-    commands = [("ladder.sim.start",), ("ladder.sim.toggle", "Xstart"), ("ladder.sim.step", 2), ("ladder.sim.stop",),
-                ("ladder.export", "ladder"), ("ladder.export", "ld")]
-    exports = [("ladder.export", "c"), ("ladder.export", "hex")]
-    requests += [("workspace/executeCommand", {"command": c[0], "arguments": [uri, *c[1:]]}) for c in commands + exports]
-    used = None
-    for ident, (method, params) in enumerate(requests, start=2):
-        if ident == len(requests) + 2 - len(exports):
-            used = imported()
-        message(method, params, ident)
-        await asyncio.sleep(0.05)
-    failed = [answers.get(i) for i in range(1, len(requests) + 2) if "result" not in answers.get(i, {})]
-    assert not failed, failed
-    import base64
-    ld = base64.b64decode(answers[len(requests) + 1 - len(exports)]["result"]["files"][0]["data"]).decode("cp1252")
-    message("textDocument/didOpen", {"textDocument": {"uri": "inmemory://build/program.ld", "languageId": "ldmicro",
-                                                      "version": 1, "text": ld}})
-    await asyncio.sleep(0.1)
-    return used | {m for m in imported() if not m.startswith("/site/compiler/")}
-
-
-def imported():
-    """The module files imported so far: paths under their root (a folder of sys.path, or a zip)."""
-    found = set()
-    for module in list(sys.modules.values()):
-        origin = getattr(getattr(module, "__spec__", None), "origin", None) or ""
-        if origin.endswith(".py"):
-            found.add(origin.split(".zip/", 1)[1] if ".zip/" in origin else origin)
-    return found
-
-
-def compiled(root, used, prefix=""):
-    """Each module of used as bytecode in its place (FILE.pyc, imported when FILE.py is gone),
-    without its docstrings and asserts (-OO: nothing the server runs reads a docstring)."""
-    root = Path(root)
-    for source in list(root.rglob("*.py")):
-        relative = source.relative_to(root).as_posix()
-        if prefix + relative in used:
-            assert compileall.compile_file(str(source), quiet=1, legacy=True, optimize=2), source
-            source.unlink()
-    for cache in [p for p in root.rglob("__pycache__")]:
-        shutil.rmtree(cache)
-
-
-def zipped(root, out):
-    root = Path(root)
-    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED, compresslevel=9) as z:
-        for path in sorted(root.rglob("*")):
-            if path.is_file():
-                z.write(path, path.relative_to(root).as_posix())
-`;
-
-async function pack(wheelDir, names) {
-  const { loadPyodide } = await import(path.join(PYODIDE, 'pyodide.mjs'));
-  const py = await loadPyodide({ indexURL: PYODIDE + path.sep });
-  for (const name of names) {
-    py.unpackArchive(new Uint8Array(fs.readFileSync(path.join(wheelDir, name))), 'wheel', { extractDir: '/site' });
-  }
-  py.FS.mkdir('/stdlib');
-  py.unpackArchive(new Uint8Array(fs.readFileSync(path.join(PYODIDE, 'python_stdlib.zip'))), 'zip', { extractDir: '/stdlib' });
-  py.runPython(PACK);
-  py.runPython(`trimmed("/site", ${JSON.stringify(LEFT_OUT)}); trimmed("/stdlib", UNUSED_STDLIB); sys.path.insert(0, "/site")`);
-  py.globals.set('program', fs.readFileSync(path.join(REPO, 'examples', 'conveyor.ladder'), 'utf8'));
-  await py.runPythonAsync('used = await exercise(program)');
-  py.runPython(`
-compiled("/site", used, "/site/")
-zipped("/site", "/site.zip")
-compiled("/stdlib", used)
-zipped("/stdlib", "/python_stdlib.zip")
-`);
-  fs.writeFileSync(path.join(DIST, 'site.zip'), py.FS.readFile('/site.zip'));
-  fs.writeFileSync(path.join(DIST, 'pyodide', 'python_stdlib.zip'), py.FS.readFile('/python_stdlib.zip'));
-}
 
 async function main() {
   fs.rmSync(DIST, { recursive: true, force: true });
-  fs.mkdirSync(path.join(DIST, 'pyodide'), { recursive: true });
-  for (const file of ['pyodide.mjs', 'pyodide.asm.mjs', 'pyodide.asm.wasm']) {
-    fs.copyFileSync(path.join(PYODIDE, file), path.join(DIST, 'pyodide', file));
-  }
-  // Pyodide reads its lock file as it starts; the page installs no package of Pyodide's
-  const lock = JSON.parse(fs.readFileSync(path.join(PYODIDE, 'pyodide-lock.json'), 'utf8'));
-  fs.writeFileSync(path.join(DIST, 'pyodide', 'pyodide-lock.json'), JSON.stringify({ ...lock, packages: {} }));
-  const wheelDir = fs.mkdtempSync(path.join(os.tmpdir(), 'textladder-wheels-'));
-  try {
-    const names = wheels(wheelDir);
-    log(`wheels: ${names.join(', ')}`);
-    await pack(wheelDir, names);
-  } finally {
-    fs.rmSync(wheelDir, { recursive: true, force: true });
-  }
+  await pyodideFiles({
+    pyodideDir: path.join(HERE, 'node_modules', 'pyodide'), out: DIST, python: process.env.PYTHON || 'python3',
+    core: ['pyodide.mjs', 'pyodide.asm.mjs', 'pyodide.asm.wasm'],
+  });
   await esbuild.build({
     entryPoints: { main: path.join(HERE, 'src', 'main.js'), worker: path.join(HERE, 'src', 'worker.js') },
     bundle: true, format: 'esm', minify: true, target: 'es2022', outdir: DIST, logLevel: 'warning',
@@ -206,8 +27,8 @@ async function main() {
   for (const file of ['index.html', 'style.css']) {
     fs.copyFileSync(path.join(HERE, 'src', file), path.join(DIST, file));
   }
-  log(`done: ${DIST}`);
-  process.exit(0); // the server exercised in pack() left its timers (the idle collector) running
+  process.stderr.write(`build: done: ${DIST}\n`);
+  process.exit(0); // the server exercised in pyodideFiles() left its timers running
 }
 
 main().catch((error) => {

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from compiler.run.record import Event, record_pins
+
 REPO = Path(__file__).resolve().parents[2]
 E2E = REPO / "tests" / "e2e"
 EXTENSION = REPO / "vscode-extension"
@@ -63,6 +65,14 @@ def lamp_fixed(text: str = LAMP_BAD) -> str:
     """The same program with the coil on an output: no diagnostic."""
     return text.replace("Xlamp                      | digital in  ", "Ylamp                      | digital out ").replace(
         "Xlamp", "Ylamp")
+
+
+def lamp_in_simavr(hex_path: Path) -> list[int]:
+    """The fixed lamp program's HEX run in simavr: Ylamp after each of five scans, Xstart low for
+    two, then high."""
+    events = [Event(0, "Xstart", 0), Event(2, "Xstart", 1)]
+    recording = record_pins(hex_path, "atmega328p", 16_000_000, 10_000, events, 5, {"Xstart": "PD2", "Ylamp": "PD3"})
+    return [row["Ylamp"] for row in recording.rows]
 
 
 def require(condition: bool, what: str) -> None:
@@ -159,3 +169,24 @@ def require_feature(name: str) -> None:
 
 def which(name: str) -> str | None:
     return shutil.which(name)
+
+
+def require_extension_packages() -> None:
+    require(which("npm") is not None, "npm is not installed")
+    require((EXTENSION / "node_modules" / ".bin" / "vsce").exists(),
+            "vscode-extension/node_modules is missing (npm ci in vscode-extension/)")
+
+
+@functools.cache
+def package_vsix() -> Path:
+    """vscode-extension/textladder.vsix, packaged once a session (`npm run package`: the desktop
+    server in bundled/ and the browser entry in out/web/); the tests of both read it."""
+    require_extension_packages()
+    # `npm run bundle` and the browser build run python3 with pip: this Python comes first on PATH
+    path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    out = subprocess.run(["npm", "run", "package"], cwd=EXTENSION, capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "PATH": path, "PYTHON": sys.executable})
+    assert out.returncode == 0, out.stdout + out.stderr
+    vsix = EXTENSION / "textladder.vsix"
+    assert vsix.exists()
+    return vsix

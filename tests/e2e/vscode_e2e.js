@@ -19,15 +19,8 @@
 // Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
 
-const { spawn, spawnSync } = require('child_process');
-const fs = require('fs');
-const http = require('http');
-const net = require('net');
-const os = require('os');
 const path = require('path');
-
-const HERE = __dirname;
-const CODE_SERVER = path.join(HERE, 'node_modules', '.bin', 'code-server');
+const { stopwatch, waitFor, openCodeServer, workbench } = require('./code_server');
 
 function parseArgs(argv) {
   const args = {};
@@ -46,206 +39,22 @@ function parseArgs(argv) {
   return args;
 }
 
-const t0 = Date.now();
-const timings = {};
-function log(msg) {
-  process.stderr.write(`[${((Date.now() - t0) / 1000).toFixed(1)}s] ${msg}\n`);
-}
-async function timed(name, fn) {
-  const start = Date.now();
-  log(`${name}…`);
-  try {
-    return await fn();
-  } finally {
-    timings[name] = +((Date.now() - start) / 1000).toFixed(2);
-  }
-}
-
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const srv = net.createServer();
-    srv.once('error', reject);
-    srv.listen(0, '127.0.0.1', () => {
-      const { port } = srv.address();
-      srv.close(() => resolve(port));
-    });
-  });
-}
-
-function get(url) {
-  return new Promise((resolve) => {
-    const req = http.get(url, (res) => {
-      res.resume();
-      resolve(res.statusCode);
-    });
-    req.on('error', () => resolve(0));
-    req.setTimeout(2000, () => {
-      req.destroy();
-      resolve(0);
-    });
-  });
-}
-
-async function waitFor(what, fn, timeoutMs = 30000, intervalMs = 250) {
-  const end = Date.now() + timeoutMs;
-  let last;
-  while (Date.now() < end) {
-    try {
-      last = await fn();
-      if (last) return last;
-    } catch (e) {
-      last = e;
-    }
-    await new Promise((r) => setTimeout(r, intervalMs));
-  }
-  throw new Error(`timed out waiting for ${what}${last instanceof Error ? `: ${last.message}` : ''}`);
-}
+const { log, timed, timings, total } = stopwatch();
 
 async function main() {
   const args = parseArgs(process.argv.slice(2));
-  fs.mkdirSync(args.out, { recursive: true });
-  const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'ladder-vscode-e2e-'));
-  const userDir = path.join(tmp, 'user');
-  const extDir = path.join(tmp, 'extensions');
-  fs.mkdirSync(path.join(userDir, 'User'), { recursive: true });
-  fs.writeFileSync(
-    path.join(userDir, 'User', 'settings.json'),
-    JSON.stringify(
-      {
-        'security.workspace.trust.enabled': false,
-        'workbench.startupEditor': 'none',
-        'workbench.tips.enabled': false,
-        'workbench.colorTheme': 'Default Dark Modern',
-        'workbench.enableExperiments': false,
-        'telemetry.telemetryLevel': 'off',
-        'update.mode': 'none',
-        'extensions.autoCheckUpdates': false,
-        'extensions.autoUpdate': false,
-        'extensions.ignoreRecommendations': true,
-        'git.enabled': false,
-        'editor.minimap.enabled': false,
-        'window.commandCenter': false,
-        'chat.commandCenter.enabled': false,
-        ...(args.python ? { 'ladder.server.pythonPath': args.python } : {}),
-        'ladder.compileOnSave': false,
-      },
-      null,
-      2,
-    ),
-  );
-
-  const env = { ...process.env, HOME: tmp, XDG_CONFIG_HOME: path.join(tmp, 'config'), XDG_DATA_HOME: path.join(tmp, 'data') };
-  delete env.VSCODE_IPC_HOOK_CLI;
-
-  await timed('install extension', async () => {
-    const r = spawnSync(CODE_SERVER, ['--install-extension', args.vsix, '--extensions-dir', extDir, '--user-data-dir', userDir], {
-      env,
-      encoding: 'utf8',
-      timeout: 120000,
-    });
-    if (r.status !== 0) throw new Error(`--install-extension failed (${r.status}): ${r.stdout}\n${r.stderr}`);
-    const installed = fs.readdirSync(extDir).filter((d) => d.startsWith('textladder.'));
-    if (installed.length === 0) throw new Error(`extension not installed in ${extDir}: ${r.stdout}`);
-    log(`installed ${installed.join(', ')}`);
-  });
-
-  const port = await freePort();
-  const serverLog = fs.openSync(path.join(args.out, 'code-server.log'), 'w');
-  const server = spawn(
-    CODE_SERVER,
-    [
-      '--auth', 'none',
-      '--bind-addr', `127.0.0.1:${port}`,
-      '--disable-telemetry',
-      '--disable-update-check',
-      '--disable-workspace-trust',
-      '--disable-getting-started-override',
-      '--extensions-dir', extDir,
-      '--user-data-dir', userDir,
-      args.workspace,
-    ],
-    { env, detached: true, stdio: ['ignore', serverLog, serverLog] },
-  );
-  const killServer = () => {
-    try {
-      process.kill(-server.pid, 'SIGTERM');
-    } catch {}
-  };
-  process.on('exit', () => {
-    try {
-      process.kill(-server.pid, 'SIGKILL');
-    } catch {}
-  });
-
-  let browser;
+  let session;
   let page;
   const result = { ok: false, timings };
   try {
-    await timed('start code-server', () =>
-      waitFor('code-server to answer', async () => (await get(`http://127.0.0.1:${port}/healthz`)) === 200, 60000),
-    );
-
-    const { chromium } = require(path.join(HERE, 'node_modules', 'playwright-core'));
-    browser = await timed('start chromium', () =>
-      chromium.launch({
-        executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-        headless: true,
-        args: [
-          '--headless',
-          '--no-sandbox',
-          '--disable-gpu',
-          '--disable-dev-shm-usage',
-          '--disable-background-networking',
-          '--disable-component-update',
-          '--no-first-run',
-        ],
-      }),
-    );
-    const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
-    page = await context.newPage();
-    page.on('pageerror', (e) => log(`page error: ${e.message}`));
-
-    await timed('load workbench', async () => {
-      await page.goto(`http://127.0.0.1:${port}/?folder=${encodeURIComponent(args.workspace)}`, { waitUntil: 'domcontentloaded' });
-      await page.waitForSelector('.monaco-workbench', { timeout: 60000 });
-      await page.waitForSelector('.explorer-folders-view, .explorer-viewlet', { timeout: 60000 });
+    session = await openCodeServer({
+      ...args,
+      settings: { ...(args.python ? { 'ladder.server.pythonPath': args.python } : {}), 'ladder.compileOnSave': false },
+      timed,
+      log,
     });
-
-    const openFile = async (name) => {
-      await page.locator('.monaco-workbench').click({ position: { x: 700, y: 400 } }).catch(() => undefined);
-      await page.keyboard.press('Control+P');
-      const input = page.locator('.quick-input-widget input');
-      await input.waitFor({ state: 'visible', timeout: 15000 });
-      await input.fill(name);
-      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: name }).first();
-      await row.waitFor({ state: 'visible', timeout: 15000 });
-      await row.click();
-      await page.locator(`.tab.active[aria-label^="${name}"], .tab.active:has-text("${name}")`).first().waitFor({ timeout: 15000 });
-      await page.locator('.monaco-editor .view-lines').first().waitFor({ timeout: 15000 });
-    };
-
-    const runCommand = async (title) => {
-      await page.keyboard.press('F1');
-      const input = page.locator('.quick-input-widget input');
-      await input.waitFor({ state: 'visible', timeout: 15000 });
-      await input.fill(`>${title}`);
-      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: title }).first();
-      await row.waitFor({ state: 'visible', timeout: 15000 });
-      await row.click();
-    };
-
-    const hoverName = async (word) => {
-      const name = page.locator('.monaco-editor .view-lines span span', { hasText: new RegExp(`^${word}$`) }).first();
-      await name.waitFor({ timeout: 5000 });
-      const box = await name.boundingBox();
-      await page.mouse.move(box.x + 2, box.y + box.height / 2);
-      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2, { steps: 5 });
-    };
-    const hoverText = () =>
-      waitFor('the hover', async () => {
-        const h = page.locator('.monaco-hover:not(.hidden) .monaco-hover-content').first();
-        return (await h.isVisible().catch(() => false)) ? (await h.innerText()).trim() : false;
-      }, 15000);
+    page = session.page;
+    const { openFile, runCommand, hoverName, hoverText, problems, energized } = workbench(page);
 
     // the rows of the watch view as drawn: label (its spaces kept), description, depth in the tree
     const watchRows = (pane) =>
@@ -312,18 +121,7 @@ async function main() {
       await page.screenshot({ path: shot });
       result.screenshot = shot;
     } else {
-      result.problems = await timed('diagnostic in the Problems panel', async () => {
-        await page.keyboard.press('Control+Shift+M');
-        return waitFor(
-          'the diagnostic in the Problems panel',
-          async () => {
-            const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
-            const hit = rows.find((r) => /LD102/.test(r));
-            return hit ? rows : false;
-          },
-          60000,
-        );
-      });
+      result.problems = await timed('diagnostic in the Problems panel', () => problems(/LD102/, 60000));
       log(`problems: ${JSON.stringify(result.problems)}`);
       await page.screenshot({ path: path.join(args.out, 'vscode-problems.png') });
 
@@ -386,15 +184,7 @@ async function main() {
 
         result.energized = await timed('energized elements painted red', () =>
           waitFor('red (energized) text in the editor', async () => {
-            const texts = await page.evaluate(() => {
-              const out = [];
-              const spans = document.querySelectorAll('.monaco-editor .view-lines .view-line span span');
-              for (const s of spans) {
-                // textladder.energizedForeground in a dark theme: #ff4040
-                if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) out.push(s.textContent);
-              }
-              return out;
-            });
+            const texts = await energized();
             return texts.length > 0 ? texts : false;
           }, 20000),
         );
@@ -461,16 +251,7 @@ async function main() {
         await timed('stop the simulation', async () => {
           await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
           await page.keyboard.press('Shift+F5');
-          await waitFor('the red elements to go', async () => {
-            const n = await page.evaluate(() => {
-              let k = 0;
-              for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
-                if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && s.textContent.trim()) k++;
-              }
-              return k;
-            });
-            return n === 0;
-          }, 15000);
+          await waitFor('the red elements to go', async () => (await energized()).length === 0, 15000);
         });
 
         if (args.uart) {
@@ -494,20 +275,9 @@ async function main() {
       result.screenshot = shot;
     }
   } finally {
-    if (browser) await browser.close().catch(() => undefined);
-    killServer();
-    await new Promise((r) => setTimeout(r, 500));
-    try {
-      process.kill(-server.pid, 'SIGKILL');
-    } catch {}
-    // the extension host logs are the first place to look when a step fails
-    try {
-      const logs = path.join(userDir, 'logs');
-      fs.cpSync(logs, path.join(args.out, 'code-server-logs'), { recursive: true });
-    } catch {}
-    fs.rmSync(tmp, { recursive: true, force: true });
+    if (session) await session.close();
   }
-  timings.total = +((Date.now() - t0) / 1000).toFixed(2);
+  timings.total = total();
   process.stdout.write(JSON.stringify(result) + '\n');
   process.exit(result.ok ? 0 : 1);
 }

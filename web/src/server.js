@@ -1,11 +1,13 @@
 // Starts textladder's language server on Pyodide (lsp/worker.py) and returns the function that
-// takes the client's messages. Shared by the Web Worker (worker.js) and the Node test
+// takes the client's messages. Shared by the Web Workers (serve.js) and the Node test
 // (tests/web_worker_node.mjs), so that both run the same start-up.
 //
 // site: the bytes of site.zip (textladder and its packages, precompiled by build.mjs).
 // post(text): receives each message of the server, as JSON text.
 // timings (optional): filled with the milliseconds of each stage (docs/browser.md, "Cold start").
-export async function startServer({ loadPyodide, indexURL, site, post, timings = {} }) {
+// pyodide (optional): more options of loadPyodide, which replace these (the web extension gives
+// Pyodide its files from memory: vscode-extension/src/web/worker.js).
+export async function startServer({ loadPyodide, indexURL, site, post, timings = {}, pyodide = {} }) {
   let last = performance.now();
   const stage = (name) => {
     const now = performance.now();
@@ -18,6 +20,7 @@ export async function startServer({ loadPyodide, indexURL, site, post, timings =
     stdLibURL: `${indexURL}python_stdlib.zip`,
     stdout: () => {},
     stderr: (line) => console.warn(line),
+    ...pyodide,
   });
   stage('loadPyodideMs');
   py.unpackArchive(await site, 'zip', { extractDir: '/site' });

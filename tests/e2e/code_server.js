@@ -1,0 +1,262 @@
+// A VS Code session in code-server (VS Code 1.100.3 on Node 20), driven by Debian's Chromium
+// through playwright-core: what the real-editor tests of the extension share (vscode_e2e.js, the
+// desktop extension; vscode_web_e2e.js, its browser entry in the web worker extension host).
+'use strict';
+
+const { spawn, spawnSync } = require('child_process');
+const fs = require('fs');
+const http = require('http');
+const net = require('net');
+const os = require('os');
+const path = require('path');
+
+const HERE = __dirname;
+const CODE_SERVER = path.join(HERE, 'node_modules', '.bin', 'code-server');
+
+/** log(msg) to stderr with the seconds since the start; timed(name, fn) also records fn's seconds in timings. */
+function stopwatch() {
+  const t0 = Date.now();
+  const timings = {};
+  const log = (msg) => process.stderr.write(`[${((Date.now() - t0) / 1000).toFixed(1)}s] ${msg}\n`);
+  const timed = async (name, fn) => {
+    const start = Date.now();
+    log(`${name}…`);
+    try {
+      return await fn();
+    } finally {
+      timings[name] = +((Date.now() - start) / 1000).toFixed(2);
+    }
+  };
+  const total = () => +((Date.now() - t0) / 1000).toFixed(2);
+  return { log, timed, timings, total };
+}
+
+function freePort() {
+  return new Promise((resolve, reject) => {
+    const srv = net.createServer();
+    srv.once('error', reject);
+    srv.listen(0, '127.0.0.1', () => {
+      const { port } = srv.address();
+      srv.close(() => resolve(port));
+    });
+  });
+}
+
+function get(url) {
+  return new Promise((resolve) => {
+    const req = http.get(url, (res) => {
+      res.resume();
+      resolve(res.statusCode);
+    });
+    req.on('error', () => resolve(0));
+    req.setTimeout(2000, () => {
+      req.destroy();
+      resolve(0);
+    });
+  });
+}
+
+async function waitFor(what, fn, timeoutMs = 30000, intervalMs = 250) {
+  const end = Date.now() + timeoutMs;
+  let last;
+  while (Date.now() < end) {
+    try {
+      last = await fn();
+      if (last) return last;
+    } catch (e) {
+      last = e;
+    }
+    await new Promise((r) => setTimeout(r, intervalMs));
+  }
+  throw new Error(`timed out waiting for ${what}${last instanceof Error ? `: ${last.message}` : ''}`);
+}
+
+/**
+ * Installs the .vsix into a fresh code-server with these user settings (added to the quiet ones
+ * below), starts it on `workspace` and opens the workbench in Chromium. Returns { page, userDir,
+ * close() }; close() ends Chromium and code-server's whole process group and copies code-server's
+ * logs to out/code-server-logs.
+ */
+async function openCodeServer({ vsix, workspace, out, settings, timed, log }) {
+  fs.mkdirSync(out, { recursive: true });
+  const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'ladder-vscode-e2e-'));
+  const userDir = path.join(tmp, 'user');
+  const extDir = path.join(tmp, 'extensions');
+  fs.mkdirSync(path.join(userDir, 'User'), { recursive: true });
+  fs.writeFileSync(
+    path.join(userDir, 'User', 'settings.json'),
+    JSON.stringify(
+      {
+        'security.workspace.trust.enabled': false,
+        'workbench.startupEditor': 'none',
+        'workbench.tips.enabled': false,
+        'workbench.colorTheme': 'Default Dark Modern',
+        'workbench.enableExperiments': false,
+        'telemetry.telemetryLevel': 'off',
+        'update.mode': 'none',
+        'extensions.autoCheckUpdates': false,
+        'extensions.autoUpdate': false,
+        'extensions.ignoreRecommendations': true,
+        'git.enabled': false,
+        'editor.minimap.enabled': false,
+        'window.commandCenter': false,
+        'chat.commandCenter.enabled': false,
+        ...settings,
+      },
+      null,
+      2,
+    ),
+  );
+
+  const env = { ...process.env, HOME: tmp, XDG_CONFIG_HOME: path.join(tmp, 'config'), XDG_DATA_HOME: path.join(tmp, 'data') };
+  delete env.VSCODE_IPC_HOOK_CLI;
+
+  await timed('install extension', async () => {
+    const r = spawnSync(CODE_SERVER, ['--install-extension', vsix, '--extensions-dir', extDir, '--user-data-dir', userDir], {
+      env,
+      encoding: 'utf8',
+      timeout: 120000,
+    });
+    if (r.status !== 0) throw new Error(`--install-extension failed (${r.status}): ${r.stdout}\n${r.stderr}`);
+    const installed = fs.readdirSync(extDir).filter((d) => d.startsWith('textladder.'));
+    if (installed.length === 0) throw new Error(`extension not installed in ${extDir}: ${r.stdout}`);
+    log(`installed ${installed.join(', ')}`);
+  });
+
+  const port = await freePort();
+  const serverLog = fs.openSync(path.join(out, 'code-server.log'), 'w');
+  const server = spawn(
+    CODE_SERVER,
+    [
+      '--auth', 'none',
+      '--bind-addr', `127.0.0.1:${port}`,
+      '--disable-telemetry',
+      '--disable-update-check',
+      '--disable-workspace-trust',
+      '--disable-getting-started-override',
+      '--extensions-dir', extDir,
+      '--user-data-dir', userDir,
+      workspace,
+    ],
+    { env, detached: true, stdio: ['ignore', serverLog, serverLog] },
+  );
+  process.on('exit', () => {
+    try {
+      process.kill(-server.pid, 'SIGKILL');
+    } catch {}
+  });
+
+  let browser;
+  const close = async () => {
+    if (browser) await browser.close().catch(() => undefined);
+    try {
+      process.kill(-server.pid, 'SIGTERM');
+    } catch {}
+    await new Promise((r) => setTimeout(r, 500));
+    try {
+      process.kill(-server.pid, 'SIGKILL');
+    } catch {}
+    // the extension host logs are the first place to look when a step fails
+    try {
+      fs.cpSync(path.join(userDir, 'logs'), path.join(out, 'code-server-logs'), { recursive: true });
+    } catch {}
+    fs.rmSync(tmp, { recursive: true, force: true });
+  };
+
+  try {
+    await timed('start code-server', () =>
+      waitFor('code-server to answer', async () => (await get(`http://127.0.0.1:${port}/healthz`)) === 200, 60000),
+    );
+    const { chromium } = require(path.join(HERE, 'node_modules', 'playwright-core'));
+    browser = await timed('start chromium', () =>
+      chromium.launch({
+        executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+        headless: true,
+        args: [
+          '--headless',
+          '--no-sandbox',
+          '--disable-gpu',
+          '--disable-dev-shm-usage',
+          '--disable-background-networking',
+          '--disable-component-update',
+          '--no-first-run',
+        ],
+      }),
+    );
+    const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
+    const page = await context.newPage();
+    page.on('pageerror', (e) => log(`page error: ${e.message}`));
+    await timed('load workbench', async () => {
+      await page.goto(`http://127.0.0.1:${port}/?folder=${encodeURIComponent(workspace)}`, { waitUntil: 'domcontentloaded' });
+      await page.waitForSelector('.monaco-workbench', { timeout: 60000 });
+      await page.waitForSelector('.explorer-folders-view, .explorer-viewlet', { timeout: 60000 });
+    });
+    return { page, userDir, close };
+  } catch (err) {
+    await close();
+    throw err;
+  }
+}
+
+/** What a person does in the workbench: open a file by Quick Open, run a command by its title, hover a word. */
+function workbench(page) {
+  const openFile = async (name) => {
+    await page.locator('.monaco-workbench').click({ position: { x: 700, y: 400 } }).catch(() => undefined);
+    await page.keyboard.press('Control+P');
+    const input = page.locator('.quick-input-widget input');
+    await input.waitFor({ state: 'visible', timeout: 15000 });
+    await input.fill(name);
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: name }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+    await page.locator(`.tab.active[aria-label^="${name}"], .tab.active:has-text("${name}")`).first().waitFor({ timeout: 15000 });
+    await page.locator('.monaco-editor .view-lines').first().waitFor({ timeout: 15000 });
+  };
+
+  const runCommand = async (title) => {
+    await page.keyboard.press('F1');
+    const input = page.locator('.quick-input-widget input');
+    await input.waitFor({ state: 'visible', timeout: 15000 });
+    await input.fill(`>${title}`);
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: title }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+  };
+
+  const hoverName = async (word) => {
+    const name = page.locator('.monaco-editor .view-lines span span', { hasText: new RegExp(`^${word}$`) }).first();
+    await name.waitFor({ timeout: 5000 });
+    const box = await name.boundingBox();
+    await page.mouse.move(box.x + 2, box.y + box.height / 2);
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2, { steps: 5 });
+  };
+  const hoverText = () =>
+    waitFor('the hover', async () => {
+      const h = page.locator('.monaco-hover:not(.hidden) .monaco-hover-content').first();
+      return (await h.isVisible().catch(() => false)) ? (await h.innerText()).trim() : false;
+    }, 15000);
+
+  // the Problems panel's rows once one of them matches
+  const problems = async (pattern, timeoutMs) => {
+    await page.keyboard.press('Control+Shift+M');
+    return waitFor('the diagnostic in the Problems panel', async () => {
+      const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
+      return rows.some((r) => pattern.test(r)) ? rows : false;
+    }, timeoutMs);
+  };
+
+  // the texts painted in textladder.energizedForeground (dark theme: #ff4040)
+  const energized = () =>
+    page.evaluate(() => {
+      const out = [];
+      for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
+        const text = s.textContent.replace(/\u00a0/g, ' ');
+        if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && text.trim()) out.push(text);
+      }
+      return out;
+    });
+
+  return { openFile, runCommand, hoverName, hoverText, problems, energized };
+}
+
+module.exports = { stopwatch, waitFor, openCodeServer, workbench };

@@ -1,0 +1,188 @@
+#!/usr/bin/env node
+// Real-editor test of the extension's browser entry: the .vsix installed into code-server (VS Code
+// 1.100.3), the extension forced into the web worker extension host, where VS Code for the Web
+// and vscode.dev run it (the user setting "remote.extensionKind": web), so its language server is
+// the one on Pyodide in a Web Worker. In Chromium through playwright-core, as a person would:
+// a diagnostic in the Problems panel, the program fixed with Replace All and the diagnostic gone,
+// its HEX built (Build HEX), a program formatted (Format Document) and saved, the hover of a
+// name, completion on a name, a simulation started with an input toggled by its code lens and a
+// scan run (F10), the coil painted red; the program converted to .ld; the "Ladder" output, which
+// names the server started. The HEX and the .ld are written through the workspace's file system,
+// beside their programs. Saves screenshots.
+//
+//   node vscode_web_e2e.js --vsix X.vsix --workspace DIR --bad NAME --fmt NAME --sim NAME --out DIR
+//
+// --bad: a program whose only diagnostic is LD102 on Xlamp, fixed by renaming it Ylamp everywhere;
+// --fmt: a program that formatting changes; --sim: a program with the inputs Xstart and Xstop.
+// Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
+'use strict';
+
+const fs = require('fs');
+const path = require('path');
+const { stopwatch, waitFor, openCodeServer, workbench } = require('./code_server');
+
+function parseArgs(argv) {
+  const args = {};
+  for (let i = 0; i < argv.length; i += 2) {
+    const m = /^--([a-z]+)$/.exec(argv[i]);
+    if (!m || argv[i + 1] === undefined) throw new Error(`unexpected argument ${argv[i]}`);
+    args[m[1]] = argv[i + 1];
+  }
+  for (const k of ['vsix', 'workspace', 'bad', 'fmt', 'sim', 'out']) {
+    if (!args[k]) throw new Error(`missing --${k}`);
+  }
+  return args;
+}
+
+async function main() {
+  const args = parseArgs(process.argv.slice(2));
+  const { log, timed, timings, total } = stopwatch();
+  const result = { ok: false, timings };
+  let session;
+  let page;
+  try {
+    session = await openCodeServer({
+      ...args,
+      settings: { 'remote.extensionKind': { 'textladder.textladder': ['web'] }, 'ladder.compileOnSave': false },
+      timed,
+      log,
+    });
+    page = session.page;
+    const ui = workbench(page);
+    const statusBar = () => page.locator('.statusbar').innerText();
+
+    await timed('open the program with an error', () => ui.openFile(args.bad));
+    result.languageId = await waitFor('the ladder language mode', async () => {
+      const text = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')) || '';
+      return /ladder/i.test(text) ? text.trim() : false;
+    }, 30000);
+    // Pyodide's cold start comes first
+    result.problems = await timed('the diagnostic in the Problems panel', () => ui.problems(/LD102/, 120000));
+    await page.screenshot({ path: path.join(args.out, 'vscode-web-problems.png') });
+
+    result.fixed = await timed('fix it (Replace All Xlamp by Ylamp): the diagnostic goes', async () => {
+      await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+      await page.keyboard.press('Control+H');
+      const find = page.locator('.find-widget .find-part textarea').first();
+      await find.waitFor({ state: 'visible', timeout: 15000 });
+      await find.fill('Xlamp');
+      await page.locator('.find-widget .replace-part textarea').first().fill('Ylamp');
+      await page.keyboard.press('Control+Alt+Enter');
+      await page.keyboard.press('Escape');
+      return waitFor('an empty Problems panel', async () => {
+        const text = await page.locator('.markers-panel').innerText().catch(() => '');
+        const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
+        return rows.length === 0 && /No problems/i.test(text) ? text.trim() : false;
+      }, 30000);
+    });
+
+    const toast = (pattern) =>
+      waitFor(`a notification matching ${pattern}`, async () => {
+        const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+        const hit = toasts.find((t) => pattern.test(t));
+        return hit ? hit.replace(/\s+/g, ' ').trim() : false;
+      }, 60000);
+
+    result.built = await timed('build the HEX of the fixed program', async () => {
+      await ui.runCommand('Ladder: Build HEX');
+      return toast(/Ladder: .*wrote/);
+    });
+
+    await timed('format a program and save it', async () => {
+      const file = path.join(args.workspace, args.fmt);
+      const before = fs.readFileSync(file, 'utf8');
+      await ui.openFile(args.fmt);
+      await ui.runCommand('Format Document');
+      await page.keyboard.press('Control+S');
+      await waitFor('the formatted program saved', () => fs.readFileSync(file, 'utf8') !== before, 15000);
+    });
+
+    await timed('open the program to simulate', () => ui.openFile(args.sim));
+    result.hover = await timed('hover a name', async () => {
+      await ui.hoverName('Xstop');
+      return ui.hoverText();
+    });
+    await page.mouse.move(5, 5);
+    await page.keyboard.press('Escape');
+    result.completion = await timed('completion on a name', async () => {
+      await page.locator('.monaco-editor .view-lines span span', { hasText: /^Xstop$/ }).first().click();
+      await page.keyboard.press('Control+Space');
+      const rows = await waitFor('the suggestions', async () => {
+        const texts = await page.locator('.suggest-widget .monaco-list-row').allInnerTexts();
+        return texts.length > 0 ? texts.map((t) => t.replace(/\s+/g, ' ').trim()) : false;
+      }, 15000);
+      await page.keyboard.press('Escape');
+      return rows;
+    });
+
+    await timed('start the simulation (command palette)', async () => {
+      await ui.runCommand('Ladder: Start Simulation');
+      await waitFor('the status bar to show the simulation', async () => /scan\s+\d+/.test(await statusBar()), 30000);
+    });
+    await timed('toggle Xstart with its code lens', async () => {
+      const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 0' }).first();
+      await lens.waitFor({ state: 'visible', timeout: 20000 });
+      await lens.click();
+      await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 1' }).first().waitFor({ timeout: 20000 });
+    });
+    result.statusBar = await timed('one scan with F10', async () => {
+      const scanBefore = Number((/scan\s+(\d+)/.exec(await statusBar()) || [])[1]);
+      await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+      await page.keyboard.press('F10');
+      return waitFor('the scan count to advance', async () => {
+        const m = /Sim[^\n]*scan\s+(\d+)/.exec(await statusBar());
+        return m && Number(m[1]) > scanBefore ? m[0] : false;
+      }, 20000);
+    });
+    result.energized = await timed('energized elements painted red', () =>
+      waitFor('red (energized) text in the editor', async () => {
+        const texts = await ui.energized();
+        return texts.some((t) => t.includes('(')) ? texts : false;
+      }, 20000),
+    );
+    await page.screenshot({ path: path.join(args.out, 'vscode-web-simulation.png') });
+    await timed('stop the simulation', async () => {
+      await page.keyboard.press('Shift+F5');
+      await waitFor('the red elements to go', async () => (await ui.energized()).length === 0, 15000);
+    });
+
+    result.converted = await timed('convert to .ld', async () => {
+      await ui.runCommand('Ladder: Convert');
+      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: "LDmicro's own format" }).first();
+      await row.waitFor({ state: 'visible', timeout: 15000 });
+      await row.click();
+      return toast(/Ladder: wrote conveyor/);
+    });
+
+    result.output = await timed('the "Ladder" output', async () => {
+      await ui.runCommand('Output: Show Output Channels');
+      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: /^Ladder$/ }).first();
+      await row.waitFor({ state: 'visible', timeout: 15000 });
+      await row.click();
+      return waitFor('the server named in the output', async () => {
+        const text = (await page.locator('.panel .monaco-editor .view-lines').first().innerText().catch(() => '')).replace(/\u00a0/g, ' ');
+        return /starting the language server/.test(text) ? text : false;
+      }, 15000);
+    });
+    result.ok = true;
+  } catch (err) {
+    result.error = String(err && err.stack ? err.stack : err);
+    log(`FAILED: ${result.error}`);
+    if (page) {
+      const shot = path.join(args.out, 'vscode-web-failure.png');
+      await page.screenshot({ path: shot }).catch(() => undefined);
+      result.screenshot = shot;
+    }
+  } finally {
+    if (session) await session.close();
+  }
+  timings.total = total();
+  process.stdout.write(JSON.stringify(result) + '\n');
+  process.exit(result.ok ? 0 : 1);
+}
+
+main().catch((err) => {
+  process.stderr.write(`${err && err.stack ? err.stack : err}\n`);
+  process.stdout.write(JSON.stringify({ ok: false, error: String(err) }) + '\n');
+  process.exit(1);
+});
