@@ -12,8 +12,12 @@ from pathlib import Path
 
 import pytest
 from builders import coil, contact, el, move, program
+from pic16_harness import differential as pic_differential
+from test_compiler_encoding import needs_avr_gcc, reassemble
 from test_compiler_harness import Event, differential, needs_simavr
+from test_pic10_compiler import needs_gpsim
 
+import compiler
 from lang.ldfile import write_ld
 from lang.semantics.acceleration import steps
 from lang.sim import Simulator
@@ -140,6 +144,34 @@ EVENTS = [Event(0, "Xgo", 0), Event(5, "Xgo", 1), Event(60, "Xgo", 0), Event(700
 def test_compiled_steps_follow_the_simulator(tmp_path):
     """The step counters (C<name>Dec, Inc, P) and outputs after every scan."""
     assert differential(_four_forms(), EVENTS, 1400, tmp_path) == []
+
+
+def _small(mcu: str, pins: dict[str, str]):
+    """A table form and the scaled form, for the 6-pin parts."""
+    return program([contact("Xgo"), el("STEPPER", name="sa", max="12", p="2", size=6, graph=1, coil="Ya")],
+                   [contact("Xgo"), el("STEPPER", name="sb", max="9", p="per", size=5, graph=4, coil="Yb")],
+                   [move("per", "3")],
+                   mcu=mcu, pins=pins, sizes={"per": 1}, crystal_hz=4_000_000)
+
+
+SMALL_EVENTS = [Event(0, "Xgo", 0), Event(2, "Xgo", 1), Event(20, "Xgo", 0), Event(150, "Xgo", 1)]
+
+
+@needs_avr_gcc
+def test_the_attiny10_image_reassembles(tmp_path):
+    """simavr has no ATtiny10 core: its image is checked by avr-gcc for that
+    core (no instruction the reduced core lacks, the same words)."""
+    build = compiler.build(_small("Atmel AVR ATtiny10 6-Pin packages", {"Xgo": "PB0", "Ya": "PB1", "Yb": "PB2"}))
+    assert reassemble(build.image.listing, "attiny10", tmp_path) == build.image.program_bytes()
+
+
+@needs_gpsim
+@pytest.mark.slow
+def test_the_pic10f202_steps_as_the_simulator(tmp_path):
+    """The PIC10F200's 16 bytes hold one STEPPER, not two (LD704, with the
+    numbers); the PIC10F202's 24 hold both."""
+    pins = {"Xgo": "GP3", "Ya": "GP1", "Yb": "GP2"}
+    assert pic_differential(_small("Microchip PIC10F202 6-SOT", pins), SMALL_EVENTS, 300, tmp_path) == []
 
 
 @needs_simavr
