@@ -161,17 +161,18 @@ SMALL_EVENTS = [Event(0, "Xgo", 0), Event(2, "Xgo", 1), Event(20, "Xgo", 0), Eve
 def test_the_attiny10_image_reassembles(tmp_path):
     """simavr has no ATtiny10 core: its image is checked by avr-gcc for that
     core (no instruction the reduced core lacks, the same words)."""
-    build = compiler.build(_small("Atmel AVR ATtiny10 6-Pin packages", {"Xgo": "PB0", "Ya": "PB1", "Yb": "PB2"}))
+    build = compiler.build(_small("attiny10", {"Xgo": "PB0", "Ya": "PB1", "Yb": "PB2"}))
     assert reassemble(build.image.listing, "attiny10", tmp_path) == build.image.program_bytes()
 
 
 @needs_gpsim
 @pytest.mark.slow
-def test_the_pic10f202_steps_as_the_simulator(tmp_path):
-    """The PIC10F200's 16 bytes hold one STEPPER, not two (LD704, with the
-    numbers); the PIC10F202's 24 hold both."""
-    pins = {"Xgo": "GP3", "Ya": "GP1", "Yb": "GP2"}
-    assert pic_differential(_small("Microchip PIC10F202 6-SOT", pins), SMALL_EVENTS, 300, tmp_path) == []
+@pytest.mark.parametrize("mcu, pins", [
+    ("pic10f202", {"Xgo": "GP3", "Ya": "GP1", "Yb": "GP2"}),  # the PIC10F200's 16 bytes hold one STEPPER (LD704)
+    ("pic12f1840", {"Xgo": "RA5", "Ya": "RA2", "Yb": "RA0"}),  # the enhanced mid-range core
+])
+def test_the_small_parts_step_as_the_simulator(mcu, pins, tmp_path):
+    assert pic_differential(_small(mcu, pins), SMALL_EVENTS, 300, tmp_path) == []
 
 
 @needs_simavr
