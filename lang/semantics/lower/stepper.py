@@ -9,6 +9,8 @@ C<name>Inc (steps made) and C<name>P (scans to the next step)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from lang.numbers import byte_needed
 from lang.values import is_literal
 
@@ -19,6 +21,35 @@ from .builder import Builder, Holds, IsSet, lowers
 # LDmicro's four forms: a step every scan, every p scans, along the table
 # with a literal p, along the table scaled by a variable p
 EVERY_SCAN, EVERY_P, TABLE, SCALED = 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class _Plan:
+    form: int
+    table: tuple[int, ...]
+    shift: int
+    counter_size: int  # C<name>Dec and C<name>Inc: max's
+    wait_size: int  # C<name>P: a table entry's or p's, the larger
+    entry_size: int  # a table entry's (LDmicro's sovElement), at least 1
+
+
+def _plan(b: Builder, el) -> _Plan:
+    period, count = str(el.args["p"]), str(el.args["max"])
+    graph = int(el.args["graph"])
+    literal = is_literal(period)
+    ramp = steps(int(el.args["size"]), graph, b.literal(period) if literal else 0) if graph in GRAPHS else None
+    table = ramp.table if ramp else ()
+    # LDmicro's choice (intcode.cpp's `speed`); a table of one step or none is
+    # no ramp (LDmicro reads before its empty table when the period is a
+    # variable: docs/semantics.md)
+    if len(table) >= 2:
+        form = TABLE if literal else SCALED
+    else:
+        form = EVERY_SCAN if literal and b.literal(period) == 1 else EVERY_P
+    entry_size = ramp.element_size if ramp else 0
+    p_size = byte_needed(b.literal(period)) if literal else b.size(period)
+    counter_size = byte_needed(b.literal(count)) if is_literal(count) else b.size(count)
+    return _Plan(form, table, ramp.shift if ramp else 0, counter_size, max(entry_size, p_size), max(entry_size, 1))
 
 
 def _named(b: Builder, name: str, size: int) -> ir.Var:
@@ -32,25 +63,19 @@ def _named(b: Builder, name: str, size: int) -> ir.Var:
 
 @lowers("STEPPER")
 def stepper(b: Builder, el, p: ir.Bit) -> None:
-    name, size, graph = str(el.args["name"]), int(el.args["size"]), int(el.args["graph"])
-    period, count = str(el.args["p"]), b.operand(el.args["max"])
-    ramp = steps(size, graph, b.literal(period) if is_literal(period) else 0) if graph in GRAPHS else None
-    table = ramp.table if ramp else ()
-    # LDmicro's choice (intcode.cpp's `speed`); a table of one step or none is
-    # no ramp (LDmicro reads before its empty table when the period is a
-    # variable: docs/semantics.md)
-    if len(table) >= 2:
-        form = TABLE if is_literal(period) else SCALED
-    else:
-        form = EVERY_SCAN if is_literal(period) and b.literal(period) == 1 else EVERY_P
-    p_operand = b.operand(period)
-    counter_size = count.size if isinstance(count, ir.Var) else byte_needed(count.value)
-    element_size = ramp.element_size if ramp else 0
-    p_size = p_operand.size if isinstance(p_operand, ir.Var) else byte_needed(p_operand.value)
+    name = str(el.args["name"])
+    plan = _plan(b, el)
+    form, table = plan.form, plan.table
+    # STEPPERs of one name share its counters (as in LDmicro): each counter
+    # takes the largest size any of them needs
+    shared = [_plan(b, other) for _, other in b.program.elements()
+              if other.kind == "STEPPER" and str(other.args["name"]) == name]
+    count, p_operand = b.operand(el.args["max"]), b.operand(el.args["p"])
+    counter_size = max(s.counter_size for s in shared)
     left = _named(b, f"C{name}Dec", counter_size)
     made = _named(b, f"C{name}Inc", counter_size)
-    wait = _named(b, f"C{name}P", max(element_size, p_size))
-    full_speed = b.memory_var("tmul", max(element_size, 1))
+    wait = _named(b, f"C{name}P", max(s.wait_size for s in shared))
+    full_speed = b.memory_var("tmul", plan.entry_size)
     coil = b.bit(str(el.args["coil"]))
     edge = b.memory_bit("edge")
 
@@ -104,5 +129,5 @@ def stepper(b: Builder, el, p: ir.Bit) -> None:
             dec(left)
             if form == SCALED:
                 b.emit(ir.Arith("mul", wait, wait, p_operand))
-                if ramp and ramp.shift:
-                    b.emit(ir.Shift("shr", wait, wait, ir.Const(ramp.shift), wait.size))
+                if plan.shift:
+                    b.emit(ir.Shift("shr", wait, wait, ir.Const(plan.shift), wait.size))
