@@ -612,7 +612,7 @@ define("STEPPER", "stepper motor",
        (token("name"), token("max"), token("p"), integer("size"), integer("graph"), bit("coil", "Y", "write")),
        box("[STEPPER ", "{name} {max}", "", " {coil}", "]->"), box("[", "{p}", "", " {size} {graph}", "]--"),
        "Drives a stepper motor output with an acceleration table.",
-       "target", cells=2, support=DRAWN_ONLY, example='STEPPER step stepMax P 100 1 Ystep')
+       "target", cells=2, example='STEPPER step stepMax P 100 1 Ystep')
 define("NPULSE", "N pulse generator",
        (Field("counter", "var", access="rw"), Field("freq", "int", access=""), bit("coil", "Y", "write")),
        box("[N PULSE ", "{counter}", "", "{coil}", "]->"), box("[", "", "{freq:hz}", "", "]--"),

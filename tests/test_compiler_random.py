@@ -292,6 +292,17 @@ def _pulser(board):
                      st.sampled_from(board.output_names + RELAYS))
 
 
+def _stepper(board):
+    """Two names (two elements may share one's counters, as in LDmicro); a
+    curve or none, a table of up to 12 steps, literal or variable counts
+    and periods."""
+    return st.builds(lambda name, n, p, size, graph, coil: _e("STEPPER", name=name, max=n, p=p, size=size, graph=graph,
+                                                               coil=coil),
+                     st.sampled_from(("sa", "sb")), st.one_of(st.sampled_from(INTS), st.integers(-1, 30).map(str)),
+                     st.one_of(st.sampled_from(INTS), st.integers(0, 4).map(str)), st.integers(0, 12),
+                     st.integers(0, 7), st.sampled_from(board.output_names))
+
+
 def _bus(board):
     return st.builds(lambda r, s, bits: _e("BUS", dest=r, src=s, **{f"b{i}": b for i, b in enumerate(bits)}),
                      st.sampled_from(INTS), st.sampled_from(INTS), st.lists(st.integers(0, 7), min_size=8,
@@ -381,7 +392,7 @@ FACTORIES = {
     **{k: _bit_op(k) for k in ("SET_BIT", "CLEAR_BIT", "IF_BIT_SET", "IF_BIT_CLEAR")},
     **{k: _convert(k) for k in ("BIN2BCD", "BCD2BIN", "SWAP", "OPPOSITE")},
     **{k: _segments(k) for k in ("7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS")}, "BUS": _bus,
-    "QUAD_ENCOD": _quad, "PULSER": _pulser, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
+    "QUAD_ENCOD": _quad, "PULSER": _pulser, "STEPPER": _stepper, "LOOK_UP_TABLE": _lut, "PIECEWISE_LINEAR": _pwl,
     "SHIFT_REGISTER": _shift_register, "RANDOM": _random, "SEED_RANDOM": _seed, "MOVE": _move, "RES": _reset,
     "PERSIST": _persist, "READ_ADC": _adc, "SET_PWM": _pwm, "UART_SEND": _uart_send,
     "UART_SEND_READY": _simple("UART_SEND_READY"), "UART_RECV_AVAIL": _simple("UART_RECV_AVAIL"),

@@ -50,7 +50,8 @@ PROGRAMS = Path(__file__).parent / "pic16_programs"
 LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 COMPARED = ["p16f877_contacts_coils", "p16f877_edges", "p16f877_timers", "p16f877_timer_vars", "p16f877_counters",
             "p16f877_compare", "p16f877_flow", "p16f877_persist", "p16f877_adc", "p16f877_pages",
-            "p16f877_cycle_timer0", "p16f877_cycle_softdiv", "p16f628_basic", "p16f88_basic", "p16f887_basic"]
+            "p16f877_cycle_timer0", "p16f877_cycle_softdiv", "p16f628_basic", "p16f88_basic", "p16f887_basic",
+            "p16f877_stepper"]
 
 
 @pytest.fixture(scope="module")
