@@ -119,7 +119,8 @@ def _start(cx: Context, code: ir.Code) -> None:
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
     analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
-    outputs = output_masks(cx)
+    # a port without outputs keeps its TRIS at reset (all inputs), and its latch drives nothing
+    outputs = {letter: mask for letter, mask in output_masks(cx).items() if mask}
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.latch(letter))
     for letter, mask in sorted(outputs.items()):
