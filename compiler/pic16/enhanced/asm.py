@@ -3,12 +3,14 @@ with its own instruction table, and a page selected by one MOVLP (PCLATH<6:0>
 at once) rather than a BCF/BSF per PCLATH bit. With an `Alias` the program
 begins by pointing FSR1 at a latch, and every instruction on that latch
 names INDF1 instead (no bank needed). Before the layout, `tighten` shortens
-jumps and shifts (peephole.py)."""
+jumps and shifts (peephole.py) and the MOVLBs of a bank already selected
+go (banks.py)."""
 
 from __future__ import annotations
 
 from .. import asm as midrange
 from . import isa
+from .banks import drop_known_selections
 from .latch import Alias
 from .peephole import tighten
 
@@ -36,6 +38,8 @@ class Assembler(midrange.Assembler):
 
     def assemble(self, processor: str, config: dict[int, int]) -> midrange.Assembled:
         tighten(self.items)
+        while drop_known_selections(self.items):
+            tighten(self.items)
         return super().assemble(processor, config)
 
     def _select(self, which: str) -> list[midrange._Word]:
