@@ -35,9 +35,10 @@ class Alias:
 def busiest_latch(code: ir.Code, layout: Layout, part: Part, machine) -> Alias | None:
     """The latch with the most output reads and writes in the scan (the
     cycle-duty pin's two writes too); None without outputs, or when the
-    program names FSR1 or INDF1 itself (`#FSR1L`...)."""
-    own = {part.reg(name) for name in ("INDF1", "FSR1L", "FSR1H")}
-    if any(not storage.ram and storage.addr in own for storage in layout.vars.values()):
+    program names FSR1 or INDF1 itself (`#0x06`, `#0x86`...)."""
+    # core registers are in every bank: #0x86 is FSR1L too
+    own = {part.reg(name) & 0x7F for name in ("INDF1", "FSR1L", "FSR1H")}
+    if any(not storage.ram and storage.addr & 0x7F in own for storage in layout.vars.values()):
         return None
     outputs = {name for name, kind in code.bits.items() if kind == ir.OUTPUT}
     uses: Counter[int] = Counter()
