@@ -27,12 +27,21 @@ def drop_known_selections(items: list[Item]) -> bool:
     if graph is None:
         return False
     state = graph.solve()
-    dead = {i for i in graph.real if isinstance(items[i], Ins) and items[i].op == "movlb"
-            and state.get(i) == items[i].args[0] and not graph.guarded(i)}
+    dead = {i for i in graph.real if _selects(items[i], state.get(i)) and not graph.guarded(i)}
     if not dead:
         return False
     items[:] = [item for i, item in enumerate(items) if i not in dead]
     return True
+
+
+def _selects(item: Item, bank: int | None) -> bool:
+    """The item is a MOVLB of the bank."""
+    return isinstance(item, Ins) and item.op == "movlb" and item.args[0] == bank
+
+
+def _calls(item: Item) -> str | None:
+    """The label a CALL goes to."""
+    return item.target if isinstance(item, Goto) and item.call else None
 
 
 def _writes(ins: Ins, register: int) -> bool:
@@ -80,8 +89,8 @@ class _Graph:
         return False
 
     def guarded(self, i: int) -> bool:
-        before = self._prev.get(i)
-        return before is not None and isinstance(self.items[before], Ins) and self.items[before].op in isa.SKIPS
+        before = self.items[self._prev[i]] if i in self._prev else None
+        return isinstance(before, Ins) and before.op in isa.SKIPS
 
     def _successors(self, i: int) -> list[int]:
         item = self.items[i]
@@ -117,7 +126,7 @@ class _Graph:
 
     def solve(self) -> dict[int, int]:
         """The bank selected before each instruction (UNKNOWN when the ways in differ)."""
-        callees = {self.items[i].target for i in self.real if isinstance(self.items[i], Goto) and self.items[i].call}
+        callees = {label for label in map(_calls, (self.items[i] for i in self.real)) if label is not None}
         keeps = {label: self._routine_keeps_bsr(label, set()) for label in callees}
         state: dict[int, int] = {}
         todo: list[tuple[int, int]] = [(self.real[0], UNKNOWN)] if self.real else []

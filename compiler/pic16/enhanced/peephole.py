@@ -69,7 +69,8 @@ def _pass(items: list[Item]) -> bool:
     def lands(i: int, target: str) -> bool:
         """Items from i on up to `target`'s label are labels and comments only."""
         while i < len(items) and isinstance(items[i], (Label, Comment)):
-            if isinstance(items[i], Label) and items[i].name == target:
+            item = items[i]
+            if isinstance(item, Label) and item.name == target:
                 return True
             i += 1
         return False
