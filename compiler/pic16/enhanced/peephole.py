@@ -35,13 +35,10 @@ _WRITE_Z = frozenset(("addwf", "andwf", "comf", "decf", "incf", "iorwf", "movf",
 
 
 def tighten(items: list[Item]) -> None:
-    """Apply the rewrites above until none applies."""
-    while _pass(items):
+    """Apply the rewrites above until none applies: each sweep is one pass
+    over the program (a rewrite looks a few items back for the next)."""
+    while _thread(items) | _sweep(items):
         pass
-
-
-def _references(items: list[Item]) -> Counter[str]:
-    return Counter(item.target for item in items if isinstance(item, (Goto, Address)))
 
 
 def _skip(item: Item | None) -> TypeGuard[Ins]:
@@ -52,8 +49,36 @@ def _jump(item: Item | None) -> TypeGuard[Goto]:
     return isinstance(item, Goto) and not item.call
 
 
-def _pass(items: list[Item]) -> bool:
-    refs = _references(items)
+def _thread(items: list[Item]) -> bool:
+    """Each GOTO to a GOTO goes to the latter's target (and so on, a cycle of GOTOs left as it is)."""
+    landing: dict[str, Item] = {}  # label -> the first item after it that is not a label or comment
+    pending: list[str] = []
+    for item in items:
+        if isinstance(item, Label):
+            pending.append(item.name)
+        elif not isinstance(item, Comment):
+            landing.update(dict.fromkeys(pending, item))
+            pending.clear()
+
+    def final(target: str) -> str:
+        seen = {target}
+        while True:
+            there = landing.get(target)
+            if not _jump(there) or there.target in seen:
+                return target
+            target = there.target
+            seen.add(target)
+
+    changed = False
+    for i, item in enumerate(items):
+        if _jump(item) and final(item.target) != item.target:
+            items[i] = Goto(final(item.target), False, item.comment)
+            changed = True
+    return changed
+
+
+def _sweep(items: list[Item]) -> bool:
+    refs = Counter(item.target for item in items if isinstance(item, (Goto, Address)))
 
     def idle(item: Item) -> bool:
         """A label nothing jumps to (and nothing reads), or a comment."""
@@ -81,59 +106,51 @@ def _pass(items: list[Item]) -> bool:
             i -= 1
         return items[i] if i >= 0 else None
 
-    def final(target: str) -> str:
-        """Where a jump to `target` ends up when the code there is a GOTO (and so on)."""
-        seen = {target}
-        while True:
-            at = next((n for n, it in enumerate(items) if isinstance(it, Label) and it.name == target), None)
-            landing = items[_past_labels(items, at)] if at is not None else None
-            if not _jump(landing) or landing.target in seen:
-                return target
-            target = landing.target
-            seen.add(target)
+    def remove(start: int, stop: int) -> None:
+        for gone in items[start:stop]:
+            if isinstance(gone, (Goto, Address)):
+                refs[gone.target] -= 1
+        del items[start:stop]
 
-    for i, item in enumerate(items):
-        if isinstance(item, Ins) and item.op in _INVERSE and not _skip(previous(i)):
+    def rewrite(i: int) -> bool:
+        item = items[i]
+        guarded = _skip(previous(i))
+        if isinstance(item, Ins) and item.op in _INVERSE and not guarded:
             j = next_real(i + 1)
             jump = items[j] if j < len(items) else None
             if _jump(jump):
                 k = next_real(j + 1)
                 body = items[k] if k < len(items) else None
                 if ((isinstance(body, Ins) and body.op not in isa.SKIPS) or _jump(body)) and lands(k + 1, jump.target):
-                    # the labels between the GOTO and the body are idle: they go
-                    items[i:k] = [Ins(_INVERSE[item.op], item.args, item.comment)]
+                    # the GOTO and the idle labels between it and the body go
+                    remove(i + 1, k)
+                    items[i] = Ins(_INVERSE[item.op], item.args, item.comment)
                     return True
-        if _jump(item) and not _skip(previous(i)):
-            if lands(i + 1, item.target):
-                del items[i]
-                return True
-        if _jump(item):
-            destination = final(item.target)
-            if destination != item.target:
-                items[i] = Goto(destination, False, item.comment)
-                return True
-        if (isinstance(item, Ins) and item.op in isa.ENDS or _jump(item)) and not _skip(previous(i)):
+        if _jump(item) and not guarded and lands(i + 1, item.target):
+            remove(i, i + 1)
+            return True
+        if (isinstance(item, Ins) and item.op in isa.ENDS or _jump(item)) and not guarded:
             j = i + 1
             while j < len(items) and (isinstance(items[j], (Ins, Goto, Address)) or idle(items[j])):
                 j += 1
             if any(isinstance(it, (Ins, Goto, Address)) for it in items[i + 1:j]):
-                del items[i + 1:j]
+                remove(i + 1, j)
                 return True
-        if (isinstance(item, Ins) and item.op == "bcf" and item.args == (STATUS, C) and not _skip(previous(i))
-                and i + 1 < len(items)):
+        if isinstance(item, Ins) and item.op == "bcf" and item.args == (STATUS, C) and not guarded and i + 1 < len(items):
             shift = items[i + 1]
             if isinstance(shift, Ins) and shift.op in _SHIFTS and _z_dead(items, i + 2):
                 items[i:i + 2] = [Ins(_SHIFTS[shift.op], shift.args, shift.comment)]
                 return True
-    return False
+        return False
 
-
-def _past_labels(items: list[Item], i: int) -> int:
-    """The index of the first item after the label at i that is not a label or comment."""
-    i += 1
-    while i < len(items) - 1 and isinstance(items[i], (Label, Comment)):
-        i += 1
-    return i
+    changed, i = False, 0
+    while i < len(items):
+        if rewrite(i):
+            changed = True
+            i = max(0, i - 3)  # a rewrite may complete a pattern that starts a few items back
+        else:
+            i += 1
+    return changed
 
 
 def _z_dead(items: list[Item], i: int) -> bool:
