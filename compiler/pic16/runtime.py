@@ -119,8 +119,7 @@ def _start(cx: Context, code: ir.Code) -> None:
         for register, value in sorted(part.feature(features, {}).items()):
             _write(cx, register, value)
     analog_setup(cx, {op.channel for op in code.scan if isinstance(op, ir.ReadAdc)})
-    # a port without outputs keeps its TRIS at reset (all inputs), and its latch drives nothing
-    outputs = {letter: mask for letter, mask in output_masks(cx).items() if mask}
+    outputs = output_masks(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.latch(letter))
     for letter, mask in sorted(outputs.items()):
