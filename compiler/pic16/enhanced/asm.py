@@ -14,8 +14,6 @@ from .banks import drop_known_selections
 from .latch import Alias
 from .peephole import tighten
 
-_FILE_PATTERNS = frozenset(("fd", "f", "fb"))  # the first operand is a file register
-
 
 class Assembler(midrange.Assembler):
     isa = isa
@@ -31,7 +29,7 @@ class Assembler(midrange.Assembler):
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
         alias = self._alias
-        if alias is not None and args and args[0] == alias.latch and isa.INSTRUCTIONS[op].pattern in _FILE_PATTERNS:
+        if alias is not None and args and args[0] == alias.latch and isa.INSTRUCTIONS[op].pattern in isa.FILE_PATTERNS:
             args = (alias.indf, *args[1:])
             comment = comment or f"0x{alias.latch:03X} through FSR1"
         super().emit(op, *args, comment=comment)

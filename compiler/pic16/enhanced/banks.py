@@ -16,7 +16,6 @@ from . import isa
 
 PCL, BSR = 0x02, 0x08
 UNKNOWN = -1
-_FILE_PATTERNS = frozenset(("fd", "f", "fb"))
 _READS = frozenset(("btfsc", "btfss"))
 _OPAQUE = frozenset(("bra", "brw", "callw"))
 
@@ -46,7 +45,7 @@ def _calls(item: Item) -> str | None:
 
 def _writes(ins: Ins, register: int) -> bool:
     """The instruction may write the file register (the first operand, by its low 7 bits)."""
-    if not ins.args or isa.INSTRUCTIONS[ins.op].pattern not in _FILE_PATTERNS or ins.op in _READS:
+    if not ins.args or isa.INSTRUCTIONS[ins.op].pattern not in isa.FILE_PATTERNS or ins.op in _READS:
         return False
     if isa.INSTRUCTIONS[ins.op].pattern == "fd" and ins.args[1] == 0:
         return False  # the result goes to W
