@@ -30,3 +30,7 @@ class EnhancedCore(BsrCore):
 
     def writes_bsr(self, op: str, args: tuple) -> bool:
         return bool(args) and args[0] & 0x7F == self._bsr  # BSR is in every bank
+
+    def pointer_high(self, high: int) -> list[tuple]:
+        # FSR0H is a core register: CLRF reaches it in one word
+        return [("clrf", (self._pointer_high,))] if high == 0 else super().pointer_high(high)
