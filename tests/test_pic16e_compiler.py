@@ -149,3 +149,18 @@ def test_pwm_on_the_only_ccp_leaves_the_cycle_to_a_free_running_timer1(hz, tmp_p
                    [el("SET_PWM", duty="30", freq=1000, name="Pp")], [contact("Xa"), el("ADD", dest="n", op1="n", op2="1")],
                    mcu="pic12f1840", pins={"Xa": "RA4", "Ya": "RA5", "Pp": "RA2"}, crystal_hz=hz)
     assert differential(prog, [Event(2, "Xa", 1), Event(30, "Xa", 0)], 40, tmp_path) == []
+
+
+@pytest.mark.parametrize("fsr1", [False, True])
+def test_outputs_on_two_ports_follow_the_simulator(fsr1, tmp_path):
+    """The latch the scan uses most is reached through FSR1/INDF1, the other one by its bank: set,
+    reset and read back (a contact on an output), on both ports; a program that writes FSR1L
+    itself (`#0x86`, its bank-1 address) keeps both latches banked."""
+    rungs = [[contact("Xa"), coil("Ya")], [contact("Ya"), coil("Yb", "S")], [contact("Xb"), coil("Yb", "R")],
+             [contact("Yb"), coil("Yc")], [contact("Xb", negated=1), contact("Yc"), coil("Yd")]]
+    if fsr1:
+        rungs.append([contact("Xa"), move("#0x86", "5")])
+    prog = program(*rungs, mcu="pic16f1824", pins={"Xa": "RA4", "Xb": "RC4", "Ya": "RA2", "Yb": "RC0", "Yc": "RC1",
+                                                     "Yd": "RA5"}, crystal_hz=16_000_000)
+    events = [Event(1, "Xa", 1), Event(4, "Xa", 0), Event(6, "Xb", 1), Event(9, "Xb", 0), Event(11, "Xa", 1)]
+    assert differential(prog, events, 16, tmp_path) == []

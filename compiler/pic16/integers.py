@@ -763,6 +763,9 @@ def table(cx, op: ir.Table) -> None:
     copy_in(cx, op.index, s.A[:2])
     for address, i in zip(target_bytes(cx, op.dst), range(n)):
         data = bytes((v >> 8 * i) & 0xFF for v in op.values)
+        if len(set(data)) == 1:  # every entry's byte the same (a sign extension...): no table
+            put(e, Byte("const", data[0]), address)
+            continue
         e.call(cx.table(data))
         e.store(address)
 

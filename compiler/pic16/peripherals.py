@@ -228,11 +228,23 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
         e.load(src)
         e.store(reg)
     e.call(cx.routine("mul3"))  # its passes: the duty's 10 bits at most
-    for _ in range(shift % 8):
-        e.ins("bcf", e.status, 0)
-        for reg in reversed(s.C[:3]):
-            e.ins("rrf", reg, F)
-    high = s.C[:3][shift // 8:][:2]
+    product = s.C[:3]
+    if shift % 8 > 4:
+        # >> 8q + 5, 6 or 7 as << 3, 2 or 1 into a fourth byte, and the bytes from q + 1: fewer passes
+        if shift >= 8:
+            product = s.C[:4]
+            e.ins("clrf", product[3])
+        for _ in range(8 - shift % 8):
+            e.ins("bcf", e.status, 0)
+            for reg in product:
+                e.ins("rlf", reg, F)
+        high = product[shift // 8 + 1:][:2]
+    else:
+        for _ in range(shift % 8):
+            e.ins("bcf", e.status, 0)
+            for reg in reversed(product):
+                e.ins("rrf", reg, F)
+        high = product[shift // 8:][:2]
     for byte, dst in zip(high + [None], s.A[:2]):
         ints.put(e, ints.Byte("mem", byte) if byte is not None else ints.Byte("const", 0), dst)
     unit = op.unit

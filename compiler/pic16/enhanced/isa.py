@@ -39,6 +39,7 @@ INSTRUCTIONS = {
 }
 
 SKIPS = midrange.SKIPS
+FILE_PATTERNS = frozenset(("fd", "f", "fb"))  # the instruction's first operand is a file register
 ENDS = midrange.ENDS | {"bra", "brw", "reset"}
 
 
