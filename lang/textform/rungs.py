@@ -5,7 +5,9 @@ vertical connectors, and the wires reduced to a series/parallel circuit."""
 from __future__ import annotations
 
 import re
+from bisect import bisect_right
 from dataclasses import dataclass, replace
+from functools import cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
@@ -176,12 +178,11 @@ class _RungReader:
         if row in cache:
             return cache[row]
         line = self.lines[row]
-        found: list[tuple[str, int, int, str]] = []
+        # every alternative is a named group: lastgroup is never None
+        found: list[tuple[str, int, int, str]] = [
+            (match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
+            for match in SYMBOL_TOKEN.finditer(line.text, line.start, line.end)]
         cache[row] = found
-        for match in SYMBOL_TOKEN.finditer(line.content):
-            kind = match.lastgroup
-            assert kind is not None  # every alternative is a named group
-            found.append((kind, line.start + match.start(), line.start + match.end(), match.group()))
         return found
 
     def _connect_verticals(self, tokens) -> None:
@@ -341,10 +342,7 @@ class _RungReader:
             drawn = dict(values)
         span = Span(line.number if top_span is None else self.lines[row - 1].number,
                     start if top_span is None else min(start, top_span[0]), line.number, end)
-        args = complete_args(key, drawn)
-        element = Element(key, args, span)
-        element.arg_spans = self._arg_spans(row, start, end, top_span, INSTRUCTIONS[key], drawn)
-        return element
+        return Element(key, complete_args(key, drawn), span, self._arg_spans(row, start, end, top_span, key, drawn))
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
         """The text on the name line above this glyph: every word of that line
@@ -383,13 +381,19 @@ class _RungReader:
             for col in connectors:
                 chars[col] = " "  # a connector, not part of a name
             text = "".join(chars)
+        # the glyphs lie left to right without overlapping: the ones a word
+        # overlaps follow the first that ends after the word's start
+        ends = [end for _, end in glyphs]
         for match in TOP_TOKEN.finditer(text, name_line.start):
             word = (match.start(), match.end())
             best, best_overlap = None, 0
-            for glyph in glyphs:
+            index = bisect_right(ends, word[0])
+            while index < len(glyphs) and glyphs[index][0] < word[1]:
+                glyph = glyphs[index]
                 overlap = min(word[1], glyph[1]) - max(word[0], glyph[0])
                 if overlap > best_overlap:
                     best, best_overlap = glyph, overlap
+                index += 1
             if best is None:
                 self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1,
                              word[0], word[1])
@@ -405,20 +409,20 @@ class _RungReader:
         finally:
             self.problems = saved
 
-    def _arg_spans(self, row, start, end, top_span, instruction, drawn) -> dict[str, Span]:
+    def _arg_spans(self, row, start, end, top_span, key, drawn) -> dict[str, Span]:
         spans = {}
         places = []
         if top_span is not None:
             places.append((self.lines[row - 1], top_span[0], top_span[1]))
         places.append((self.lines[row], start, end))
-        for f in instruction.fields:
-            value = drawn.get(f.name)
-            if not isinstance(value, str) or not value or f.kind in ("flag", "edge", "coil"):
+        for name in _placed_fields(key):
+            value = drawn.get(name)
+            if not isinstance(value, str) or not value:
                 continue
             for line, lo, hi in places:
                 found = _find_word(line.text, value, lo, hi)
                 if found >= 0:
-                    spans[f.name] = Span.at(line.number, found, found + len(value))
+                    spans[name] = Span(line.number, found, line.number, found + len(value))
                     break
         return spans
 
@@ -443,6 +447,13 @@ class _RungReader:
             code = codes.EMPTY_BRANCH if "bare wire" in str(failure) else codes.NOT_SERIES_PARALLEL
             self.problems.append(error(code, str(failure), failure.span))
             return None
+
+
+@cache
+def _placed_fields(key: str) -> tuple[str, ...]:
+    """The fields of an instruction whose drawn text gets a place (a name,
+    a value), not a flag, an edge or a coil's kind."""
+    return tuple(f.name for f in INSTRUCTIONS[key].fields if f.kind not in ("flag", "edge", "coil"))
 
 
 def _find_word(text: str, word: str, lo: int, hi: int) -> int:
