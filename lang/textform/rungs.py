@@ -12,7 +12,7 @@ from functools import cache
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Node, Rung, Series, Span, rung_circuit
+from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
 from .elements import GLYPH_RE, complete_args, recognise
@@ -84,7 +84,7 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung, list[Diagnost
     reader = _RungReader(lines, symbol_index)
     circuit = reader.read()
     if not reader.problems:
-        return Rung(rung_circuit(circuit), span), []
+        return Rung(_root(circuit), span), []
     moves = misplaced(lines, symbol_index)
     if not moves:
         return UnreadRung(reader.salvage(), span), reader.problems
@@ -99,7 +99,15 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung, list[Diagnost
     problems = [_move_error(move, lines) for move in moves] + again.problems
     if again.problems:
         return UnreadRung(again.salvage(), span), problems
-    return UnreadRung(rung_circuit(circuit), span), problems
+    return UnreadRung(_root(circuit), span), problems
+
+
+def _root(circuit: Node) -> Series:
+    """The rung's series. The reduction (lang/textform/circuit.py) makes
+    circuits in the model's normal form already (it flattens a series into
+    a series and a parallel into a parallel, and makes no block of one
+    child), so normalising them again would only copy them."""
+    return circuit if isinstance(circuit, Series) else Series([circuit], circuit.span)
 
 
 def _move_error(move: Move, lines: list[Line]) -> Diagnostic:
@@ -303,15 +311,15 @@ class _RungReader:
         index = 0
         while index < len(tokens):
             kind, start, end, text = tokens[index]
-            if kind == "plus" and not self._is_junction(row, start) and index + 2 < len(tokens):
-                middle, closing = tokens[index + 1], tokens[index + 2]
-                if (middle[0] in ("wire", "gap") and closing[0] == "plus"
-                        and not self._is_junction(row, closing[1])):
-                    shape = "short" if middle[0] == "wire" else "open"
-                    folded.append((shape, start, closing[2], text + middle[3] + closing[3]))
-                    index += 3
-                    continue
             if kind == "plus" and not self._is_junction(row, start):
+                if index + 2 < len(tokens):
+                    middle, closing = tokens[index + 1], tokens[index + 2]
+                    if (middle[0] in ("wire", "gap") and closing[0] == "plus"
+                            and not self._is_junction(row, closing[1])):
+                        shape = "short" if middle[0] == "wire" else "open"
+                        folded.append((shape, start, closing[2], text + middle[3] + closing[3]))
+                        index += 3
+                        continue
                 self.problem(codes.BAD_JUNCTION,
                              "this `+` has no connector above or below it", row, start)
             folded.append(tokens[index])
