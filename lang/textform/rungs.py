@@ -195,16 +195,16 @@ class _RungReader:
 
     def _connect_verticals(self, tokens) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
+        lines = self.lines
         for row in self.symbol_rows:
             for kind, start, _, _ in tokens[row]:
                 if kind != "plus":
                     continue
                 node = self._junction(row, start)
-                below = [row + 1, row + 2]
-                if all(r < len(self.lines) and self.lines[r].char(start) == "|" for r in below):
+                if row + 2 < len(lines) and lines[row + 1].char(start) == "|" and lines[row + 2].char(start) == "|":
                     target = row + 3
-                    if target < len(self.lines) and self.lines[target].char(start) == "+":
-                        self.claimed.update((r, start) for r in below)
+                    if target < len(lines) and lines[target].char(start) == "+":
+                        self.claimed.update(((row + 1, start), (row + 2, start)))
                         self.nodes.union(node, self._junction(target, start))
                     else:
                         where = min(target, len(self.lines) - 1)
@@ -392,21 +392,28 @@ class _RungReader:
         # the glyphs lie left to right without overlapping: the ones a word
         # overlaps follow the first that ends after the word's start
         ends = [end for _, end in glyphs]
+        count = len(glyphs)
         for match in TOP_TOKEN.finditer(text, name_line.start):
-            word = (match.start(), match.end())
+            word = match.span()
+            first, last = word
             best, best_overlap = None, 0
-            index = bisect_right(ends, word[0])
-            while index < len(glyphs) and glyphs[index][0] < word[1]:
+            index = bisect_right(ends, first)
+            while index < count:
                 glyph = glyphs[index]
-                overlap = min(word[1], glyph[1]) - max(word[0], glyph[0])
+                if glyph[0] >= last:
+                    break
+                overlap = (last if last < glyph[1] else glyph[1]) - (first if first > glyph[0] else glyph[0])
                 if overlap > best_overlap:
                     best, best_overlap = glyph, overlap
                 index += 1
             if best is None:
-                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1,
-                             word[0], word[1])
+                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1, first, last)
                 continue
-            owners.setdefault(best, []).append(word)
+            owned = owners.get(best)
+            if owned is None:
+                owners[best] = [word]
+            else:
+                owned.append(word)
         return owners
 
     def _fold_short_open_quiet(self, row: int):
