@@ -72,14 +72,15 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
     row = _row(edges)
     if row is not None:
         return row
-    ordered = sorted(edges, key=lambda edge: edge.order)
+    ordered = sorted(edges, key=lambda edge: edge.order) if len(edges) <= _MAX_PLANNED_EDGES else []
     shape = _shape(ordered)
-    plan = _PLANS.get(shape)
+    plan = _PLANS.get(shape) if ordered else None
     if plan is not None:
         return _build(plan, [edge.node for edge in ordered])
     left = _Reduction(edges).run()
     if len(left) == 1 and (left[0].start, left[0].end) == (LEFT, RIGHT):
-        _remember(shape, _plan(left[0].node, {id(edge.node): index for index, edge in enumerate(ordered)}))
+        if ordered:
+            _remember(shape, _plan(left[0].node, {id(edge.node): index for index, edge in enumerate(ordered)}))
         return left[0].node
     raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(left, nodes))
 
@@ -90,8 +91,12 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
 # A shape is the edges in source order, their nodes numbered in order of
 # first use (the rails keep 0 and 1): the reduction depends on nothing else,
 # as it merges by nodes and orders branches by source position.
+# Bounded, as the plans live as long as the process: a few shapes of a
+# program's size are what repeats (a tall rung of thousands of rows is
+# one of a kind and reduces in linear time).
 _PLANS: dict[tuple[int, ...], tuple[tuple[int, int], ...]] = {}
-_MAX_PLANS = 4096
+_MAX_PLANS = 1024
+_MAX_PLANNED_EDGES = 128
 _LEAF, _SERIES, _PARALLEL = 0, 1, 2
 
 
