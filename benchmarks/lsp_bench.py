@@ -58,9 +58,12 @@ under cProfile (benchmarks/bench_server.py), one profile per phase, and
 prints the project's functions that took the most time per event.
 
 Run on demand: `python benchmarks/lsp_bench.py [--shape NAME|all|corpus|corpus:GLOB]...
-[--rungs 2000] [--runs 3] [--edits 30] [--storm-seconds 30] [--delay-ms N] [--profile DIR]`:
+[--rungs 2000] [--runs 3] [--edits 30] [--storm-seconds 30] [--delay-ms N] [--profile DIR] [--cpu]`:
 a run of several corpus files does 10 edits and a 5 s storm a run for each
-unless --edits and --storm-seconds say otherwise."""
+unless --edits and --storm-seconds say otherwise. `--cpu` starts no server:
+it prints, for each shape, the CPU time the read and the check of each
+version take in process (robust on a loaded machine, where the times at the
+wire are not)."""
 
 from __future__ import annotations
 
@@ -679,6 +682,62 @@ def print_table(rows: list[Row], notes: list[str]) -> None:
         print(f"  {note}")
 
 
+def cpu_shape(shape: Shape, rungs: int, runs: int, edits: int) -> None:
+    """--cpu: the CPU time (`time.process_time`, which a loaded machine
+    inflates far less than wall time) of what the server does for each
+    measure, in this process, without the protocol: the read (with the
+    editor's line hints) and the check of each version, a fresh reader and
+    checker each run. The glyph tables are built first, as the server does
+    when it starts."""
+    from lang.textform.elements import prepare
+
+    prepare()
+    text = shape.text(rungs)
+    samples: dict[str, list[float]] = {"open": [], "edit": [], "line": [], "table": []}
+    for _ in range(runs):
+        for measure, taken in cpu_run(text, rungs, edits).items():
+            samples[measure] += taken
+    figures = "  ".join(f"{measure} {statistics.median(taken):7.1f}" if taken else f"{measure} {'-':>7}"
+                        for measure, taken in samples.items())
+    print(f"{shape.name[:60]:60}  {figures}", flush=True)
+
+
+def cpu_run(text: str, rungs: int, edits: int) -> dict[str, list[float]]:
+    """One run of --cpu: the open, then the edits of lsp_bench's measures."""
+    from ide.incremental import IncrementalReader
+    from lang.checks import Checker
+    from lsp.text import LineDocument
+
+    document = LineDocument("file:///bench.ladder", text)
+    reader, checker = IncrementalReader(TEXT_KIND), Checker()
+
+    def analysed() -> float:
+        start = time.process_time()
+        checker.check(reader.read(document.source, document.take_edited())[0], reader.moved)
+        return (time.process_time() - start) * 1000
+
+    def changed(line: int, col: int, end_line: int, end_col: int, new: str) -> float:
+        document.apply_change(types.TextDocumentContentChangePartial(range=types.Range(
+            start=types.Position(line=line, character=col),
+            end=types.Position(line=end_line, character=end_col)), text=new))
+        return analysed()
+
+    samples: dict[str, list[float]] = {"open": [analysed()], "edit": [], "line": [], "table": []}
+    lines = [line.rstrip("\n") for line in document.lines]
+    line, col = middle_name(lines, rungs)
+    typed = alternating(lines[line][col])
+    samples["edit"] = [changed(line, col, line, col + 1, typed(n)) for n in range(edits)]
+    blank = document.lines[line - 1]  # the blank wire line above the names, as the wire's measure adds
+    for _ in range((edits + 1) // 2):
+        samples["line"] += [changed(line, 0, line, 0, blank), changed(line, 0, line + 1, 0, "")]
+    table = table_row(lines)
+    if table is not None:
+        row, at = table
+        in_table = alternating(lines[row][at])
+        samples["table"] = [changed(row, at, row, at + 1, in_table(n)) for n in range(edits)]
+    return samples
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--shape", action="append",
@@ -703,9 +762,17 @@ def main() -> None:
     parser.add_argument("--max-chars", type=int, default=None, metavar="N",
                         help="set the server's size limit (lsp.documents.MAX_CHARS, over which it does not analyse a "
                              "document) to N in the server's process, to see how it would fare on a bigger one")
+    parser.add_argument("--cpu", action="store_true",
+                        help="no server: the CPU time of the read and the check of each version in this process, "
+                             "median ms of the open, the edit, the line added or removed and the I/O table edit")
     args = parser.parse_args()
     args.runs = args.runs or (1 if args.profile else 3)
     chosen, notes = selected(args.shape or ["chain-timers-parallels"], args.corpus)
+    if args.cpu:
+        print(f"CPU ms in process, median of {args.runs} runs (open) and their edits")
+        for shape in chosen:
+            cpu_shape(shape, shape.rungs or args.rungs, args.runs, args.edits or 10)
+        return
     many_corpus = sum(s.corpus for s in chosen) > 1
     if args.edits is not None and args.edits * args.runs < 20 and args.profile is None:
         parser.error("--edits times --runs must be at least 20 (but for a profile): a p90 of fewer is the worst")

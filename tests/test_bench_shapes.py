@@ -71,3 +71,12 @@ def test_a_corpus_file_repeated_reads_clean_and_adds_no_kind_of_error(shape):
     original, _ = load_path(corpus_root() / shape.name.split("/", 1)[1])
     errors = [{d.code for d in check_program(program) if d.severity == ERROR} for program in (repeated, original)]
     assert errors[0] <= errors[1]
+
+
+def test_the_cpu_mode_times_the_open_and_every_edit_of_a_shape():
+    from lsp_bench import cpu_run
+
+    shape = next(s for s in GENERATED if s.name == "io-table")
+    samples = cpu_run(shape.text(RUNGS), RUNGS, 4)
+    assert {measure: len(taken) for measure, taken in samples.items()} == {"open": 1, "edit": 4, "line": 4, "table": 4}
+    assert all(ms >= 0 for taken in samples.values() for ms in taken)

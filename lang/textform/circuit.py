@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-from ..model import Node, Parallel, Series, Span
+from ..model import Node, Parallel, Series, Span, children
 
 LEFT = 0
 RIGHT = 1
@@ -72,10 +72,85 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
     row = _row(edges)
     if row is not None:
         return row
+    ordered = sorted(edges, key=lambda edge: edge.order) if len(edges) <= _MAX_PLANNED_EDGES else []
+    shape = _shape(ordered)
+    plan = _PLANS.get(shape) if ordered else None
+    if plan is not None:
+        return _build(plan, [edge.node for edge in ordered])
     left = _Reduction(edges).run()
     if len(left) == 1 and (left[0].start, left[0].end) == (LEFT, RIGHT):
+        if ordered:
+            _remember(shape, _plan(left[0].node, {id(edge.node): index for index, edge in enumerate(ordered)}))
         return left[0].node
     raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(left, nodes))
+
+
+# The reduction of a shape, by shape: a program repeats a few shapes of rung
+# (a parallel of three contacts before a coil...) with other names, and
+# building a circuit from its plan costs a fraction of reducing it again.
+# A shape is the edges in source order, their nodes numbered in order of
+# first use (the rails keep 0 and 1): the reduction depends on nothing else,
+# as it merges by nodes and orders branches by source position.
+# Bounded, as the plans live as long as the process: a few shapes of a
+# program's size are what repeats (a tall rung of thousands of rows is
+# one of a kind and reduces in linear time).
+_PLANS: dict[tuple[int, ...], tuple[tuple[int, int], ...]] = {}
+_MAX_PLANS = 1024
+_MAX_PLANNED_EDGES = 128
+_LEAF, _SERIES, _PARALLEL = 0, 1, 2
+
+
+def _shape(ordered: list[Edge]) -> tuple[int, ...]:
+    numbers = {LEFT: LEFT, RIGHT: RIGHT}
+    shape: list[int] = []
+    for edge in ordered:
+        shape.append(numbers.setdefault(edge.start, len(numbers)))
+        shape.append(numbers.setdefault(edge.end, len(numbers)))
+    return tuple(shape)
+
+
+def _remember(shape: tuple[int, ...], plan: tuple[tuple[int, int], ...]) -> None:
+    if len(_PLANS) >= _MAX_PLANS:
+        _PLANS.pop(next(iter(_PLANS)), None)  # the oldest: enough for the shapes of one program
+    _PLANS[shape] = plan
+
+
+def _plan(root: Node, index: dict[int, int]) -> tuple[tuple[int, int], ...]:
+    """The circuit as steps in post-order: (_LEAF, the element's index among
+    the edges), (_SERIES or _PARALLEL, how many nodes built before it are its
+    children). A loop, not recursion: blocks may nest a thousand deep."""
+    steps: list[tuple[int, int]] = []
+    stack: list[tuple[Node, bool]] = [(root, False)]
+    while stack:
+        node, children_done = stack.pop()
+        if isinstance(node, Series | Parallel) and not children_done:
+            stack.append((node, True))
+            stack.extend((child, False) for child in reversed(children(node)))
+        elif isinstance(node, Series):
+            steps.append((_SERIES, len(node.items)))
+        elif isinstance(node, Parallel):
+            steps.append((_PARALLEL, len(node.branches)))
+        else:
+            steps.append((_LEAF, index[id(node)]))
+    return tuple(steps)
+
+
+def _build(plan: tuple[tuple[int, int], ...], leaves: list[Node]) -> Node:
+    """The circuit a plan describes over these elements: new blocks, each
+    spanning its children, as the reduction would have made them."""
+    built: list[Node] = []
+    for step, value in plan:
+        if step == _LEAF:
+            built.append(leaves[value])
+            continue
+        parts = built[-value:]
+        del built[-value:]
+        span = parts[0].span
+        assert span is not None  # the edges' nodes are placed elements
+        for part in parts[1:]:
+            span = span.union(part.span)
+        built.append(Series(parts, span) if step == _SERIES else Parallel(parts, span))
+    return built[0]
 
 
 def _row(edges: list[Edge]) -> Node | None:

@@ -133,11 +133,9 @@ def recognise(glyph: str, top: str) -> tuple[str, tuple] | None:
 def complete_args(key: str, drawn: dict) -> dict:
     """All fields of the instruction in table order: drawn values, and the
     defaults of what the drawing does not show."""
-    instruction = INSTRUCTIONS[key]
-    args = {}
-    for f in instruction.fields:
-        if f.name in drawn:
-            args[f.name] = drawn[f.name]
-        else:
-            args[f.name] = f.default
-    return args
+    return {name: drawn.get(name, default) for name, default in _defaults(key)}
+
+
+@cache
+def _defaults(key: str) -> tuple[tuple[str, object], ...]:
+    return tuple((f.name, f.default) for f in INSTRUCTIONS[key].fields)

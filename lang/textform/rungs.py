@@ -5,12 +5,14 @@ vertical connectors, and the wires reduced to a series/parallel circuit."""
 from __future__ import annotations
 
 import re
+from bisect import bisect_right
 from dataclasses import dataclass, replace
+from functools import cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Node, Rung, Series, Span, rung_circuit
+from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
 from .elements import GLYPH_RE, complete_args, recognise
@@ -82,7 +84,7 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung, list[Diagnost
     reader = _RungReader(lines, symbol_index)
     circuit = reader.read()
     if not reader.problems:
-        return Rung(rung_circuit(circuit), span), []
+        return Rung(_root(circuit), span), []
     moves = misplaced(lines, symbol_index)
     if not moves:
         return UnreadRung(reader.salvage(), span), reader.problems
@@ -97,7 +99,15 @@ def read_rung(lines: list[Line], symbol_index: int) -> tuple[Rung, list[Diagnost
     problems = [_move_error(move, lines) for move in moves] + again.problems
     if again.problems:
         return UnreadRung(again.salvage(), span), problems
-    return UnreadRung(rung_circuit(circuit), span), problems
+    return UnreadRung(_root(circuit), span), problems
+
+
+def _root(circuit: Node) -> Series:
+    """The rung's series. The reduction (lang/textform/circuit.py) makes
+    circuits in the model's normal form already (it flattens a series into
+    a series and a parallel into a parallel, and makes no block of one
+    child), so normalising them again would only copy them."""
+    return circuit if isinstance(circuit, Series) else Series([circuit], circuit.span)
 
 
 def _move_error(move: Move, lines: list[Line]) -> Diagnostic:
@@ -176,26 +186,25 @@ class _RungReader:
         if row in cache:
             return cache[row]
         line = self.lines[row]
-        found: list[tuple[str, int, int, str]] = []
+        # every alternative is a named group: lastgroup is never None
+        found: list[tuple[str, int, int, str]] = [
+            (match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
+            for match in SYMBOL_TOKEN.finditer(line.text, line.start, line.end)]
         cache[row] = found
-        for match in SYMBOL_TOKEN.finditer(line.content):
-            kind = match.lastgroup
-            assert kind is not None  # every alternative is a named group
-            found.append((kind, line.start + match.start(), line.start + match.end(), match.group()))
         return found
 
     def _connect_verticals(self, tokens) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
+        lines = self.lines
         for row in self.symbol_rows:
             for kind, start, _, _ in tokens[row]:
                 if kind != "plus":
                     continue
                 node = self._junction(row, start)
-                below = [row + 1, row + 2]
-                if all(r < len(self.lines) and self.lines[r].char(start) == "|" for r in below):
+                if row + 2 < len(lines) and lines[row + 1].char(start) == "|" and lines[row + 2].char(start) == "|":
                     target = row + 3
-                    if target < len(self.lines) and self.lines[target].char(start) == "+":
-                        self.claimed.update((r, start) for r in below)
+                    if target < len(lines) and lines[target].char(start) == "+":
+                        self.claimed.update(((row + 1, start), (row + 2, start)))
                         self.nodes.union(node, self._junction(target, start))
                     else:
                         where = min(target, len(self.lines) - 1)
@@ -302,15 +311,15 @@ class _RungReader:
         index = 0
         while index < len(tokens):
             kind, start, end, text = tokens[index]
-            if kind == "plus" and not self._is_junction(row, start) and index + 2 < len(tokens):
-                middle, closing = tokens[index + 1], tokens[index + 2]
-                if (middle[0] in ("wire", "gap") and closing[0] == "plus"
-                        and not self._is_junction(row, closing[1])):
-                    shape = "short" if middle[0] == "wire" else "open"
-                    folded.append((shape, start, closing[2], text + middle[3] + closing[3]))
-                    index += 3
-                    continue
             if kind == "plus" and not self._is_junction(row, start):
+                if index + 2 < len(tokens):
+                    middle, closing = tokens[index + 1], tokens[index + 2]
+                    if (middle[0] in ("wire", "gap") and closing[0] == "plus"
+                            and not self._is_junction(row, closing[1])):
+                        shape = "short" if middle[0] == "wire" else "open"
+                        folded.append((shape, start, closing[2], text + middle[3] + closing[3]))
+                        index += 3
+                        continue
                 self.problem(codes.BAD_JUNCTION,
                              "this `+` has no connector above or below it", row, start)
             folded.append(tokens[index])
@@ -341,10 +350,7 @@ class _RungReader:
             drawn = dict(values)
         span = Span(line.number if top_span is None else self.lines[row - 1].number,
                     start if top_span is None else min(start, top_span[0]), line.number, end)
-        args = complete_args(key, drawn)
-        element = Element(key, args, span)
-        element.arg_spans = self._arg_spans(row, start, end, top_span, INSTRUCTIONS[key], drawn)
-        return element
+        return Element(key, complete_args(key, drawn), span, self._arg_spans(row, start, end, top_span, key, drawn))
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
         """The text on the name line above this glyph: every word of that line
@@ -383,18 +389,31 @@ class _RungReader:
             for col in connectors:
                 chars[col] = " "  # a connector, not part of a name
             text = "".join(chars)
+        # the glyphs lie left to right without overlapping: the ones a word
+        # overlaps follow the first that ends after the word's start
+        ends = [end for _, end in glyphs]
+        count = len(glyphs)
         for match in TOP_TOKEN.finditer(text, name_line.start):
-            word = (match.start(), match.end())
+            word = match.span()
+            first, last = word
             best, best_overlap = None, 0
-            for glyph in glyphs:
-                overlap = min(word[1], glyph[1]) - max(word[0], glyph[0])
+            index = bisect_right(ends, first)
+            while index < count:
+                glyph = glyphs[index]
+                if glyph[0] >= last:
+                    break
+                overlap = (last if last < glyph[1] else glyph[1]) - (first if first > glyph[0] else glyph[0])
                 if overlap > best_overlap:
                     best, best_overlap = glyph, overlap
+                index += 1
             if best is None:
-                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1,
-                             word[0], word[1])
+                self.problem(codes.STRAY_TEXT, f"{match.group()!r} stands above no element", row - 1, first, last)
                 continue
-            owners.setdefault(best, []).append(word)
+            owned = owners.get(best)
+            if owned is None:
+                owners[best] = [word]
+            else:
+                owned.append(word)
         return owners
 
     def _fold_short_open_quiet(self, row: int):
@@ -405,20 +424,20 @@ class _RungReader:
         finally:
             self.problems = saved
 
-    def _arg_spans(self, row, start, end, top_span, instruction, drawn) -> dict[str, Span]:
+    def _arg_spans(self, row, start, end, top_span, key, drawn) -> dict[str, Span]:
         spans = {}
         places = []
         if top_span is not None:
             places.append((self.lines[row - 1], top_span[0], top_span[1]))
         places.append((self.lines[row], start, end))
-        for f in instruction.fields:
-            value = drawn.get(f.name)
-            if not isinstance(value, str) or not value or f.kind in ("flag", "edge", "coil"):
+        for name in _placed_fields(key):
+            value = drawn.get(name)
+            if not isinstance(value, str) or not value:
                 continue
             for line, lo, hi in places:
                 found = _find_word(line.text, value, lo, hi)
                 if found >= 0:
-                    spans[f.name] = Span.at(line.number, found, found + len(value))
+                    spans[name] = Span(line.number, found, line.number, found + len(value))
                     break
         return spans
 
@@ -443,6 +462,13 @@ class _RungReader:
             code = codes.EMPTY_BRANCH if "bare wire" in str(failure) else codes.NOT_SERIES_PARALLEL
             self.problems.append(error(code, str(failure), failure.span))
             return None
+
+
+@cache
+def _placed_fields(key: str) -> tuple[str, ...]:
+    """The fields of an instruction whose drawn text gets a place (a name,
+    a value), not a flag, an edge or a coil's kind."""
+    return tuple(f.name for f in INSTRUCTIONS[key].fields if f.kind not in ("flag", "edge", "coil"))
 
 
 def _find_word(text: str, word: str, lo: int, hi: int) -> int:

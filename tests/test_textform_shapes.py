@@ -1,0 +1,67 @@
+"""Rungs of one shape with other names, as a converted program repeats
+them: each reads to its own circuit, with its own names at its own places,
+however many rungs share the shape, and an edit of one leaves the others as
+they were (the reader builds a shape it has reduced before from a plan:
+lang/textform/circuit.py)."""
+
+from __future__ import annotations
+
+from ide.incremental import IncrementalReader
+from lang.model import Element, Parallel, Program, Rung, Series, Settings
+from lang.textform.elements import complete_args
+from lang.textform.reader import read_text
+from lang.textform.writer import render_program
+
+
+def element(kind: str, name: str) -> Element:
+    return Element(kind, complete_args(kind, {"name": name}))
+
+
+def branchy(n: int) -> Rung:
+    """Two contacts in series beside a third, in parallel, before two
+    branches of coils: a shape the row reader alone cannot take."""
+    contacts = Parallel([Series([element("CONTACTS", f"Xa{n}"), element("CONTACTS", f"Xb{n}")]),
+                         element("CONTACTS", f"Xc{n}")])
+    coils = Parallel([element("COIL", f"Ya{n}"), element("COIL", f"Yb{n}")])
+    return Rung(Series([contacts, coils]))
+
+
+def program_text(rungs: int) -> str:
+    return render_program(Program(Settings(mcu="Atmel AVR ATmega328 28-PDIP"), [branchy(n) for n in range(rungs)]))
+
+
+def names(rung: Rung) -> list[str]:
+    return [str(e.args["name"]) for e in rung.elements()]
+
+
+def test_every_rung_of_a_repeated_shape_reads_to_its_own_names_and_places():
+    text = program_text(40)
+    program, problems = read_text(text)
+    assert not problems
+    lines = text.splitlines()
+    for n, rung in enumerate(program.rungs):
+        assert names(rung) == [f"Xa{n}", f"Xb{n}", f"Xc{n}", f"Ya{n}", f"Yb{n}"]
+        for e in rung.elements():
+            at = e.arg_spans["name"]
+            assert lines[at.line][at.col:at.end_col] == e.args["name"]
+        first = rung.circuit.items[0]
+        assert isinstance(first, Parallel) and isinstance(first.branches[0], Series)
+        assert first.span is not None and rung.span is not None
+        assert rung.span.line <= first.span.line and first.span.end_line <= rung.span.end_line
+
+
+def test_an_edit_of_one_rung_of_a_shape_leaves_the_others_as_they_were():
+    text = program_text(12)
+    reader = IncrementalReader("ladder")
+    before, _ = reader.read(text)
+    kept = [names(rung) for rung in before.rungs]
+    # a block of one rung changed in place must not show in another
+    parallel = before.rungs[3].circuit.items[0]
+    assert isinstance(parallel, Parallel)
+    parallel.branches.reverse()
+    assert names(before.rungs[4]) == kept[4]
+    after, problems = reader.read(text.replace("Xb5 ", "Xq5 ", 1))
+    assert not problems
+    assert names(after.rungs[5]) == ["Xa5", "Xq5", "Xc5", "Ya5", "Yb5"]
+    assert [names(rung) for n, rung in enumerate(after.rungs) if n not in (3, 5)] == \
+        [kept[n] for n in range(12) if n not in (3, 5)]
