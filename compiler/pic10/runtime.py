@@ -126,8 +126,10 @@ def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
     prescaler_bits, ticks = setting
     _start(cx, code, prescaler_bits)
     assert cx.layout.clock is not None  # the layout always has the cycle's bytes here
-    e.load(cx.part.reg("TMR0"))
-    e.store(cx.layout.clock)
+    # a write to TMR0 clears the prescaler, which counted for the watchdog until OPTION gave it to
+    # Timer0 (gpsim holds Timer0 until its old count wraps, up to 2,048 cycles)
+    e.ins("clrf", cx.part.reg("TMR0"))
+    e.ins("clrf", cx.layout.clock)
     for offset, value in ((1, (ticks - 1) & 0xFF), (2, (ticks - 1) >> 8)):
         ints.put(e, ints.Byte("const", value), cx.layout.clock + offset)
     scan_loop(cx, code)
