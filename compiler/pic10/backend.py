@@ -23,7 +23,7 @@ from lang.semantics import ir
 
 from ..errors import FLASH_FULL, RAM_FULL, fail
 from ..image import Image
-from ..pic16.asm import Goto, Ins, Label, ProgramTooLarge
+from ..pic16.asm import Address, Goto, Ins, Label, ProgramTooLarge
 from ..pic16.backend import assembled_image, ram_in_use
 from ..pic16.emit import PCL, Emitter, W, compress_skips
 from ..pic16.memory import SCRATCH_BYTES, Layout, allocate
@@ -85,10 +85,20 @@ def _callee(label: str) -> str:
     return f"the subroutine at rung {rung.group(1)}" if rung else label
 
 
-def _routines_first(items: list, split: int) -> None:
+def _without_idle_labels(items: list, kept: set[str]) -> list:
+    """The items without the patterns' own labels (a leading '_') that nothing
+    jumps to, out of the way of compress_skips (`BTFSC; GOTO L; _ne: BCF; L:`
+    is `BTFSS; BCF`)."""
+    return [item for item in items if not (isinstance(item, Label) and item.name.startswith("_")
+                                           and item.name not in kept)]
+
+
+def _routines_first(items: list, split: int, kept: set[str]) -> None:
     """The tables and routines (items[split:]) at the start, behind a GOTO to
-    the runtime; each part's skips compressed on its own."""
-    runtime, routines = items[:split], items[split:]
+    the runtime; each part's skips compressed on its own. `kept`: the labels
+    that stay where nothing jumps to them (the budget's loop heads)."""
+    kept = kept | {item.target for item in items if isinstance(item, (Goto, Address))}
+    runtime, routines = _without_idle_labels(items[:split], kept), _without_idle_labels(items[split:], kept)
     compress_skips(runtime)
     compress_skips(routines)
     items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
@@ -118,7 +128,7 @@ class Pic10Backend:
         # tables first: every entry must lie in the first 256 words, of a routine only its entry
         _write_tables(cx)
         write_routines(cx.e, layout.scratch, cx.routines)
-        _routines_first(assembler.items, split)
+        _routines_first(assembler.items, split, set(cx.e.bounds))
         _place_scratch(assembler.items, layout, part)
         config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
                   for address, value in part.config_words}
