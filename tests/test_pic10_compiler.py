@@ -175,11 +175,27 @@ def _table_and_gosub(mcu: str):
         mcu=mcu, pins=PINS, sizes={"i": 1, "v": 1}, crystal_hz=4_000_000)
 
 
+def _comparisons(mcu: str):
+    """Signed comparisons of 8- and 16-bit variables with constants of either
+    sign (a SUBWF and a skip on the sign bit), and equality tests of one
+    variable against several constants in a row (W kept between them)."""
+    return program(
+        [contact("Xa"), contact("Xb"), el("OSR"), par([el("ADD", dest="b", op1="b", op2="29")],
+                                       [el("SUB", dest="s", op1="s", op2="301")])],
+        [el("GEQ", op1="b", op2="-3"), coil("Ya")],
+        [par([el("LES", op1="b", op2="50")], [el("GRT", op1="s", op2="-700")]), coil("Rx")],
+        # b takes 29 k mod 256 in turn: 58, -111 and 5 at the 2nd, 5th and 9th rising edge of Xb
+        [par([el("EQU", op1="b", op2="58")], [el("EQU", op1="b", op2="-111")], [el("EQU", op1="b", op2="5")]),
+         contact("Rx"), coil("Yb")],
+        mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2}, crystal_hz=4_000_000)
+
+
 def move_zero(name: str):
     return el("MOVE", dest=name, src="0")
 
 
-PROGRAMS = {"logic": _logic, "arithmetic": _arithmetic, "table and gosub": _table_and_gosub}
+PROGRAMS = {"logic": _logic, "arithmetic": _arithmetic, "table and gosub": _table_and_gosub,
+            "comparisons": _comparisons}
 # the arithmetic's division needs 9 scratch bytes beside its 10: more than the PIC10F200's 16
 CASES = [(name, part) for name in sorted(PROGRAMS) for part in PARTS if (name, part) != ("arithmetic", "pic10f200")]
 STIMULUS = [Event(0, "Xa", 1), *(Event(s, "Xb", s % 2) for s in range(1, 70)), Event(40, "Xa", 0),

@@ -23,7 +23,7 @@ from lang.semantics import ir
 
 from ..errors import FLASH_FULL, RAM_FULL, fail
 from ..image import Image
-from ..pic16.asm import Address, Goto, Ins, Label, ProgramTooLarge
+from ..pic16.asm import Goto, Ins, Label, ProgramTooLarge
 from ..pic16.backend import assembled_image, ram_in_use
 from ..pic16.emit import PCL, Emitter, W, compress_skips
 from ..pic16.memory import SCRATCH_BYTES, Layout, allocate
@@ -35,6 +35,7 @@ from . import flow as pic10_flow
 from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
+from .peephole import jump_targets, w_kept, without_idle_labels
 from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
@@ -85,22 +86,16 @@ def _callee(label: str) -> str:
     return f"the subroutine at rung {rung.group(1)}" if rung else label
 
 
-def _without_idle_labels(items: list, kept: set[str]) -> list:
-    """The items without the patterns' own labels (a leading '_') that nothing
-    jumps to, out of the way of compress_skips (`BTFSC; GOTO L; _ne: BCF; L:`
-    is `BTFSS; BCF`)."""
-    return [item for item in items if not (isinstance(item, Label) and item.name.startswith("_")
-                                           and item.name not in kept)]
-
-
 def _routines_first(items: list, split: int, kept: set[str]) -> None:
     """The tables and routines (items[split:]) at the start, behind a GOTO to
-    the runtime; each part's skips compressed on its own. `kept`: the labels
-    that stay where nothing jumps to them (the budget's loop heads)."""
-    kept = kept | {item.target for item in items if isinstance(item, (Goto, Address))}
-    runtime, routines = _without_idle_labels(items[:split], kept), _without_idle_labels(items[split:], kept)
-    compress_skips(runtime)
-    compress_skips(routines)
+    the runtime; each part's skips compressed on its own and rewritten
+    (peephole.py). `kept`: the labels that stay where nothing jumps to them
+    (the budget's loop heads)."""
+    parts = [without_idle_labels(part, kept | jump_targets(items)) for part in (items[:split], items[split:])]
+    for part in parts:
+        compress_skips(part)
+    targets = kept | jump_targets(parts[0] + parts[1])
+    runtime, routines = (w_kept(without_idle_labels(part, targets)) for part in parts)
     items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
 
 

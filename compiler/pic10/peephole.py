@@ -1,0 +1,93 @@
+"""Rewrites of the laid-out items (compiler/pic16/asm.py's) that the shared
+patterns cannot see from inside one pattern, each keeping every flag and
+register a later instruction reads:
+
+* The labels of the patterns ('_...') and of the intermediate code's
+  jumps ('L<n>') that nothing jumps to are dropped, so that
+  `compress_skips` (`BTFSC; GOTO L; _ne: BCF; L:` is `BTFSS; BCF`) and
+  the next rewrite see through them.
+* W kept: after `MOVF f,W` and XORLWs, W is f XOR k until a label, a write
+  of W or a write of f. A later `MOVF f,W; XORLW k2` (an equality test of f
+  against another constant) is `XORLW k^k2`: the same W and Z, one word and
+  one cycle less.
+"""
+
+from __future__ import annotations
+
+import re
+
+from ..pic16.asm import Address, Comment, Goto, Ins, Label
+from ..pic16.emit import INDF, W
+from . import isa
+
+IDLE = re.compile(r"_\w+|L\d+")
+
+
+def jump_targets(items: list) -> set[str]:
+    """The labels a GOTO or CALL goes to or a MOVLW loads the address of."""
+    return {item.target for item in items if isinstance(item, (Goto, Address))}
+
+
+def without_idle_labels(items: list, kept: set[str]) -> list:
+    """The items without the labels of the patterns ('_...') and of the
+    intermediate code's jumps ('L<n>') that `kept` does not name."""
+    return [item for item in items
+            if not (isinstance(item, Label) and IDLE.fullmatch(item.name) and item.name not in kept)]
+
+
+def _writes_w(ins: Ins) -> bool:
+    pattern = isa.INSTRUCTIONS[ins.op].pattern
+    return (pattern == "fd" and ins.args[1] == W) or pattern == "k8" or ins.op == "clrw"
+
+
+def _writes_file(ins: Ins) -> int | None:
+    """The file register an instruction writes, None for none."""
+    pattern = isa.INSTRUCTIONS[ins.op].pattern
+    if pattern == "fd" and ins.args[1] != W or pattern == "f" or ins.op in ("bcf", "bsf"):
+        return ins.args[0]
+    return None
+
+
+def _is_skip(item) -> bool:
+    return isinstance(item, Ins) and item.op in isa.SKIPS
+
+
+def w_kept(items: list) -> list:
+    """The items with each reload of W that W already holds (up to an XOR
+    with a constant) folded into the XORLW after it."""
+    out: list = []
+    held: tuple[int, int] | None = None  # W == file register ^ constant
+    at = 0
+    while at < len(items):
+        item = items[at]
+        at += 1
+        if isinstance(item, Comment):
+            out.append(item)
+            continue
+        if not isinstance(item, Ins):
+            held = None
+            out.append(item)
+            continue
+        guarded = _is_skip(next((x for x in reversed(out) if not isinstance(x, Comment)), None))
+        after = items[at] if at < len(items) else None
+        if (not guarded and held is not None and item.op == "movf" and item.args == (held[0], W)
+                and isinstance(after, Ins) and after.op == "xorlw"):
+            out.append(Ins("xorlw", (held[1] ^ after.args[0],), item.comment))
+            held = (held[0], after.args[0])
+            at += 1
+            continue
+        held = _held_after(item, held, guarded)
+        out.append(item)
+    return out
+
+
+def _held_after(ins: Ins, held: tuple[int, int] | None, guarded: bool) -> tuple[int, int] | None:
+    """What W holds after the instruction (`guarded`: a skip may pass over it)."""
+    written = _writes_file(ins)
+    if written is not None and held is not None and written in (held[0], INDF):
+        held = None
+    if ins.op == "movf" and ins.args[1] == W:
+        return None if guarded else (ins.args[0], 0)
+    if ins.op == "xorlw" and held is not None:
+        return None if guarded else (held[0], held[1] ^ ins.args[0])
+    return None if _writes_w(ins) else held
