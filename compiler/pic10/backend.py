@@ -35,7 +35,7 @@ from . import flow as pic10_flow
 from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
-from .peephole import jump_targets, w_kept, without_idle_labels
+from .peephole import jump_targets, start_up_trimmed, w_kept, without_idle_labels
 from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
@@ -96,6 +96,7 @@ def _routines_first(items: list, split: int, kept: set[str]) -> None:
         compress_skips(part)
     targets = kept | jump_targets(parts[0] + parts[1])
     runtime, routines = (w_kept(without_idle_labels(part, targets)) for part in parts)
+    runtime = start_up_trimmed(runtime, "scan")
     items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
 
 
@@ -117,16 +118,18 @@ class Pic10Backend:
         ram = _in_ram(ram_in_use(layout), part) | set(layout.scratch)
         cx = Context(Emitter(assembler, part, frozenset(ram), BaselineCore()), part, layout,
                      replace(machine, crystal_hz=clock_hz), self.delay_loop_cycles)
+        config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
+                  for address, value in part.config_words}
+        watchdog = part.config_field("WDTE")
+        assert watchdog is not None  # both parts have the field (gputils' _WDTE_ON/_WDTE_OFF)
         prepare(cx, code)
-        write_runtime(cx, code, clock_hz)
+        write_runtime(cx, code, clock_hz, watchdog=bool(next(iter(config.values())) & watchdog.mask))
         split = len(assembler.items)
         # tables first: every entry must lie in the first 256 words, of a routine only its entry
         _write_tables(cx)
         write_routines(cx.e, layout.scratch, cx.routines)
         _routines_first(assembler.items, split, set(cx.e.bounds))
         _place_scratch(assembler.items, layout, part)
-        config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
-                  for address, value in part.config_words}
         try:
             assembled = assembler.assemble(processor=part.processor, config=config)
         except ProgramTooLarge as error:

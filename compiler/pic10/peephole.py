@@ -91,3 +91,46 @@ def _held_after(ins: Ins, held: tuple[int, int] | None, guarded: bool) -> tuple[
     if ins.op == "xorlw" and held is not None:
         return None if guarded else (held[0], held[1] ^ ins.args[0])
     return None if _writes_w(ins) else held
+
+
+def _reads(ins: Ins, f: int) -> bool:
+    """Whether the instruction reads file register f (INDF reads any)."""
+    pattern = isa.INSTRUCTIONS[ins.op].pattern
+    return pattern in ("fd", "fb") and ins.args[0] in (f, INDF)
+
+
+def start_up_trimmed(items: list, scan: str) -> list:
+    """The straight-line start-up (from the last label before `scan`) without
+    a CLRF of a byte it already cleared, nor one of a byte it writes again
+    before reading it (a start value stored over the cleared RAM)."""
+    end = next(index for index, item in enumerate(items) if isinstance(item, Label) and item.name == scan)
+    begin = max((index + 1 for index, item in enumerate(items[:end]) if not isinstance(item, (Ins, Comment))),
+                default=0)
+    kept: list = []
+    zero: set[int] = set()
+    for item in items[begin:end]:
+        if isinstance(item, Ins) and item.op == "clrf" and item.args[0] in zero:
+            continue
+        written = _writes_file(item) if isinstance(item, Ins) else None
+        if written == INDF:
+            zero.clear()
+        elif written is not None:
+            zero.discard(written)
+            if item.op == "clrf":
+                zero.add(written)
+        kept.append(item)
+    trimmed = [item for index, item in enumerate(kept) if not (
+        isinstance(item, Ins) and item.op == "clrf" and _overwritten(kept[index + 1:], item.args[0]))]
+    return items[:begin] + trimmed + items[end:]
+
+
+def _overwritten(after: list, f: int) -> bool:
+    """Whether f is written by a MOVWF or CLRF in `after` before anything reads it."""
+    for item in after:
+        if not isinstance(item, Ins):
+            continue
+        if _reads(item, f):
+            return False
+        if item.op in ("movwf", "clrf") and item.args[0] == f:
+            return True
+    return False

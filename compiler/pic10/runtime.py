@@ -8,7 +8,8 @@
             when an input wants one, wake-up on change off; outputs low, TRIS;
             start values
     scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
-    wait:   clear the watchdog until the cycle's ticks have passed, scan
+    wait:   until the cycle's ticks have passed (clearing the watchdog when the
+            configuration word turns it on), scan
 
 The cycle timer is Timer0, 8 bits with no overflow flag and no interrupt:
 it runs free and the wait polls it. The ticks left in this cycle (less one)
@@ -88,13 +89,14 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     select(cx, code.init)
 
 
-def _wait(cx: Context, ticks: int) -> None:
+def _wait(cx: Context, ticks: int, watchdog: bool) -> None:
     e, part = cx.e, cx.part
     last = cx.layout.clock
     assert last is not None  # the baseline's cycle is always free-running: the layout gave it its bytes
     left = [last + 1, last + 2]
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
-    e.ins("clrwdt")
+    if watchdog:  # on only when the program's configuration word turns it on
+        e.ins("clrwdt")
     e.load(last)
     e.ins("subwf", part.reg("TMR0"), W)  # the ticks since the last read
     e.ins("addwf", last, F)
@@ -118,8 +120,8 @@ def scan_limit(part, crystal_hz: int, cycle_us: int) -> tuple[int, str]:
     return timer["counts"] * prescaler - WAIT_CYCLES, "one turn of Timer0"
 
 
-def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
-    """The runtime and the scan."""
+def write_runtime(cx: Context, code: ir.Code, crystal_hz: int, watchdog: bool) -> None:
+    """The runtime and the scan; `watchdog`: the configuration word turns the watchdog on."""
     e = cx.e
     setting = cycle_setting(cx.part.device, crystal_hz, cx.machine.cycle_us, free=True)
     assert setting is not None  # the back end refuses a cycle Timer0 cannot make first
@@ -133,4 +135,4 @@ def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
     for offset, value in ((1, (ticks - 1) & 0xFF), (2, (ticks - 1) >> 8)):
         ints.put(e, ints.Byte("const", value), cx.layout.clock + offset)
     scan_loop(cx, code)
-    _wait(cx, ticks)
+    _wait(cx, ticks, watchdog)
