@@ -52,8 +52,14 @@ def main() -> int:
             if theirs is None:
                 rows.append(f"| {path} | {build.device.title} | {len(build.image.words)} | LDmicro refuses: {said} |")
                 continue
-            calibration = build.device.memory["flash_words"] - 1
-            theirs_words = len([a for a in hex_words(theirs) if a < calibration])
+            flash = build.device.memory["flash_words"]
+            # LDmicro's configuration word goes at twice the part's words less one (0x1FF, 0x3FF)
+            code = [a for a in hex_words(theirs) if a != 2 * flash - 1]
+            if max(code) >= flash - 1:
+                rows.append(f"| {path} | {build.device.title} | {len(build.image.words)} | LDmicro's image runs "
+                            f"to word {max(code)}, past the {flash - 1} words of the part |")
+                continue
+            theirs_words = len(code)
             (mean, worst), (their_mean, their_worst) = (scan_cycles(h, program, build.device)
                                                         for h in (ours, theirs))
             compared(rows, word_ratios, cycle_ratios, path, build.device.title, (len(build.image.words), theirs_words),
