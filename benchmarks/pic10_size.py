@@ -19,6 +19,7 @@ calibration word (LDmicro's configuration word, which it puts at 0x1FF or
 
 from __future__ import annotations
 
+import re
 import sys
 import tempfile
 from pathlib import Path
@@ -50,7 +51,9 @@ def main() -> int:
             build.write(ours)
             theirs, said = ldmicro_image(program, folder)
             if theirs is None:
-                rows.append(f"| {path} | {build.device.title} | {len(build.image.words)} | LDmicro refuses: {said} |")
+                reason = re.search(r"Compile error \(.*?\): (.*?)\[", said)
+                rows.append(f"| {path} | {build.device.title} | {len(build.image.words)} | LDmicro refuses: "
+                            f"{reason.group(1) if reason else said} |")
                 continue
             flash = build.device.memory["flash_words"]
             # LDmicro's configuration word goes at twice the part's words less one (0x1FF, 0x3FF)
