@@ -177,8 +177,9 @@ def _table_and_gosub(mcu: str):
 
 def _comparisons(mcu: str):
     """Signed comparisons of 8- and 16-bit variables with constants of either
-    sign (a SUBWF and a skip on the sign bit), and equality tests of one
-    variable against several constants in a row (W kept between them)."""
+    sign (a SUBWF and a skip on the sign bit, or a chain of two skips), and
+    equality tests of one variable against several constants in a row (W
+    kept between them)."""
     return program(
         [contact("Xa"), contact("Xb"), el("OSR"), par([el("ADD", dest="b", op1="b", op2="29")],
                                        [el("SUB", dest="s", op1="s", op2="301")])],
@@ -187,7 +188,10 @@ def _comparisons(mcu: str):
         # b takes 29 k mod 256 in turn: 58, -111 and 5 at the 2nd, 5th and 9th rising edge of Xb
         [par([el("EQU", op1="b", op2="58")], [el("EQU", op1="b", op2="-111")], [el("EQU", op1="b", op2="5")]),
          contact("Rx"), coil("Yb")],
-        mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2}, crystal_hz=4_000_000)
+        # a comparison whose jump folds into a chain of two skips on C and the sign, for each sign of c
+        [el("GEQ", op1="b", op2="-3"), el("ADD", dest="n", op1="n", op2="7")],
+        [el("LES", op1="b", op2="5"), el("ADD", dest="m", op1="m", op2="3")],
+        mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2, "n": 1, "m": 1}, crystal_hz=4_000_000)
 
 
 def move_zero(name: str):

@@ -35,7 +35,7 @@ from . import flow as pic10_flow
 from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
-from .peephole import jump_targets, start_up_trimmed, w_kept, without_idle_labels
+from .peephole import jump_targets, sign_fixes_folded, start_up_trimmed, w_kept, without_idle_labels
 from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
@@ -95,7 +95,7 @@ def _routines_first(items: list, split: int, kept: set[str]) -> None:
     for part in parts:
         compress_skips(part)
     targets = kept | jump_targets(parts[0] + parts[1])
-    runtime, routines = (w_kept(without_idle_labels(part, targets)) for part in parts)
+    runtime, routines = (sign_fixes_folded(w_kept(without_idle_labels(part, targets))) for part in parts)
     runtime = start_up_trimmed(runtime, "scan")
     items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
 

@@ -6,6 +6,8 @@ register a later instruction reads:
   jumps ('L<n>') that nothing jumps to are dropped, so that
   `compress_skips` (`BTFSC; GOTO L; _ne: BCF; L:` is `BTFSS; BCF`) and
   the next rewrite see through them.
+* A signed comparison's fix-up of C followed by a skip on C is a chain
+  of two skips (`sign_fixes_folded`).
 * W kept: after `MOVF f,W` and XORLWs, W is f XOR k until a label, a write
   of W or a write of f. A later `MOVF f,W; XORLW k2` (an equality test of f
   against another constant) is `XORLW k^k2`: the same W and Z, one word and
@@ -17,10 +19,13 @@ from __future__ import annotations
 import re
 
 from ..pic16.asm import Address, Comment, Goto, Ins, Label
-from ..pic16.emit import INDF, W
+from ..pic16.emit import INDF, STATUS, C, W
 from . import isa
 
 IDLE = re.compile(r"_\w+|L\d+")
+SKIPS_ON_C = ("btfsc", "btfss")
+# (the sign test, the fix-up, the skip on C) that fold into a chain of two skips
+FOLDED = {("btfsc", "bcf", "btfss"), ("btfss", "bsf", "btfsc")}
 
 
 def jump_targets(items: list) -> set[str]:
@@ -134,3 +139,23 @@ def _overwritten(after: list, f: int) -> bool:
         if item.op in ("movwf", "clrf") and item.args[0] == f:
             return True
     return False
+
+
+def sign_fixes_folded(items: list) -> list:
+    """A signed comparison's fix-up of C on the sign bit (asm.py), `BTFSC f,7;
+    BCF C` or `BTFSS f,7; BSF C`, followed by the skip on C that runs the next
+    instruction when the fix-up did not decide (`BTFSS C` after BCF, `BTFSC C`
+    after BSF), is one skip chain: `BTFSC C; BTFSC f,7` (the next instruction
+    runs when C is clear or f negative) or `BTFSS C; BTFSS f,7` (C set or f
+    positive). One word less; C is left as the subtraction set it, which
+    nothing after the comparison's jump reads."""
+    out: list = []
+    for item in items:
+        if (isinstance(item, Ins) and item.op in SKIPS_ON_C and item.args == (STATUS, C) and len(out) >= 2):
+            test, fix = out[-2], out[-1]
+            if (isinstance(test, Ins) and isinstance(fix, Ins) and test.op in SKIPS_ON_C and test.args[1] == 7
+                    and fix.args == (STATUS, C) and (test.op, fix.op, item.op) in FOLDED):
+                out[-2:] = [Ins(test.op, (STATUS, C), test.comment), Ins(test.op, test.args)]
+                continue
+        out.append(item)
+    return out
