@@ -105,12 +105,12 @@ def _reads(ins: Ins, f: int) -> bool:
 
 
 def start_up_trimmed(items: list, scan: str) -> list:
-    """The straight-line start-up (from the last label before `scan`) without
+    """The straight-line start-up (from the last label before `scan`; it
+    ends in a GOTO or falls into `scan`) without
     a CLRF of a byte it already cleared, nor one of a byte it writes again
     before reading it (a start value stored over the cleared RAM)."""
     end = next(index for index, item in enumerate(items) if isinstance(item, Label) and item.name == scan)
-    begin = max((index + 1 for index, item in enumerate(items[:end]) if not isinstance(item, (Ins, Comment))),
-                default=0)
+    begin = max((index + 1 for index, item in enumerate(items[:end]) if isinstance(item, Label)), default=0)
     kept: list = []
     zero: set[int] = set()
     for item in items[begin:end]:
@@ -130,8 +130,10 @@ def start_up_trimmed(items: list, scan: str) -> list:
 
 
 def _overwritten(after: list, f: int) -> bool:
-    """Whether f is written by a MOVWF or CLRF in `after` before anything reads it."""
+    """Whether f is written by a MOVWF or CLRF in `after` before anything reads it (or a jump leaves)."""
     for item in after:
+        if isinstance(item, Goto):
+            return False
         if not isinstance(item, Ins):
             continue
         if _reads(item, f):

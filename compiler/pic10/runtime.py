@@ -76,7 +76,7 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     e.store(part.reg("OSCCAL"))
     # FOSC4 would put the clock on GP2: a calibration word erased to XORLW 0xFF leaves it set
     e.ins("bcf", part.reg("OSCCAL"), part.bit("OSCCAL", "FOSC4"))
-    # the scratch bytes are written before they are read, the cycle's bytes set below
+    # the scratch bytes are written before they are read, the cycle's bytes set in write_runtime
     clock = cx.layout.clock
     cycle = set(range(clock, clock + CYCLE_BYTES)) if clock is not None else set()
     _clear(cx, sorted(e.ram - set(cx.layout.scratch) - cycle))
@@ -129,10 +129,12 @@ def write_runtime(cx: Context, code: ir.Code, crystal_hz: int, watchdog: bool) -
     _start(cx, code, prescaler_bits)
     assert cx.layout.clock is not None  # the layout always has the cycle's bytes here
     # a write to TMR0 clears the prescaler, which counted for the watchdog until OPTION gave it to
-    # Timer0 (gpsim holds Timer0 until its old count wraps, up to 2,048 cycles)
+    # Timer0 (gpsim holds Timer0 until its old count wraps, up to 2,048 cycles). With TMR0 at the
+    # last read (0) and no ticks left, the wait ends at the first tick and sets the count to the
+    # cycle's: the first scan runs at once, the next a cycle later
     e.ins("clrf", cx.part.reg("TMR0"))
-    e.ins("clrf", cx.layout.clock)
-    for offset, value in ((1, (ticks - 1) & 0xFF), (2, (ticks - 1) >> 8)):
-        ints.put(e, ints.Byte("const", value), cx.layout.clock + offset)
+    for offset in range(CYCLE_BYTES):
+        e.ins("clrf", cx.layout.clock + offset)
+    e.goto("wait")
     scan_loop(cx, code)
     _wait(cx, ticks, watchdog)
