@@ -6,7 +6,7 @@
             Timer0 on the instruction clock (T0CS = 0, which frees GP2 for
             output), its prescaler, the weak pull-ups of GP0, GP1 and GP3 on
             when an input wants one, wake-up on change off; outputs low, TRIS;
-            start values
+            start values; TMR0 and the cycle's bytes cleared, to the wait
     scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
     wait:   until the cycle's ticks have passed (clearing the watchdog when the
             configuration word turns it on), scan
@@ -18,8 +18,9 @@ off it, and the scan starts again when it turns negative, the count then
 moving on by one cycle's ticks (no drift: a late scan shortens the next
 wait). A scan may last up to 256 ticks of Timer0 without losing a turn of
 it (the prescaler is the largest that makes the cycle exactly: 4.1 ms at
-10 ms, 4 MHz). The first scan runs at once after start-up and scan k starts
-k cycle times after it, as in the simulator.
+10 ms, 4 MHz). The start-up enters the wait with no ticks left, so the
+first scan runs at Timer0's first tick and scan k starts k cycle times
+after it, as in the simulator.
 """
 
 from __future__ import annotations
