@@ -8,10 +8,10 @@ register a later instruction reads:
   the next rewrite see through them.
 * A signed comparison's fix-up of C followed by a skip on C is a chain
   of two skips (`sign_fixes_folded`).
-* W kept: after `MOVF f,W` and XORLWs, W is f XOR k until a label, a write
-  of W or a write of f. A later `MOVF f,W; XORLW k2` (an equality test of f
-  against another constant) is `XORLW k^k2`: the same W and Z, one word and
-  one cycle less.
+* W kept: after `MOVF f,W` (f a byte of RAM) and XORLWs, W is f XOR k
+  until a label, a write of W or a write of f. A later `MOVF f,W; XORLW
+  k2` (an equality test of f against another constant) is `XORLW k^k2`:
+  the same W and Z, one word and one cycle less.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from ..pic16.emit import INDF, STATUS, C, W
 from . import isa
 
 IDLE = re.compile(r"_\w+|L\d+")
+FIRST_RAM = 0x08  # below: the core's registers and GPIO, which change on their own (TMR0, the pins)
 SKIPS_ON_C = ("btfsc", "btfss")
 # (the sign test, the fix-up, the skip on C) that fold into a chain of two skips
 FOLDED = {("btfsc", "bcf", "btfss"), ("btfss", "bsf", "btfsc")}
@@ -92,7 +93,7 @@ def _held_after(ins: Ins, held: tuple[int, int] | None, guarded: bool) -> tuple[
     if written is not None and held is not None and written in (held[0], INDF):
         held = None
     if ins.op == "movf" and ins.args[1] == W:
-        return None if guarded else (ins.args[0], 0)
+        return None if guarded or ins.args[0] < FIRST_RAM else (ins.args[0], 0)
     if ins.op == "xorlw" and held is not None:
         return None if guarded else (held[0], held[1] ^ ins.args[0])
     return None if _writes_w(ins) else held
