@@ -53,10 +53,11 @@ def lowered(op: str, args: tuple, temp: int) -> list[tuple[str, tuple]] | None:
 class Assembler(Pic16Assembler):
     isa = isa  # the baseline's 12-bit words
 
-    def __init__(self, flash_words: int, call_words: int, temp: int):
+    def __init__(self, flash_words: int, call_words: int, temp: int, never_negative: frozenset[int] = frozenset()):
         super().__init__(flash_words, page_words=flash_words)
         self.call_words = call_words  # the words a CALL or a write to PCL reaches
         self.temp = temp
+        self.never_negative = never_negative  # the file registers whose bit 7 no write sets (ranges.py)
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
         if self._signed_at_least(op, args) or self._added_to_loaded(op, args):
@@ -86,7 +87,7 @@ class Assembler(Pic16Assembler):
         flipped; Z: f == c) becomes `MOVLW c; SUBWF f,W` and the sign's fix-up, a
         skip on f's sign bit over BCF C (c >= 0: a negative f is less) or BSF C (c
         < 0: a positive f is more): the same C, Z and W, one word less and no byte
-        of RAM."""
+        of RAM. No fix-up for c >= 0 when no write makes f negative (ranges.py)."""
         last = self.items[-1] if self.items else None
         if op != "addlw" or not args[0] & 0xFF or not (isinstance(last, Ins) and last.op == "xorlw"
                                                       and last.args[0] == 0x80):
@@ -98,6 +99,8 @@ class Assembler(Pic16Assembler):
         del self.items[-2:]
         super().emit("movlw", c, comment=load.comment)
         super().emit("subwf", f, W)
+        if f in self.never_negative and not c & 0x80:
+            return True  # both at 0 or more: the unsigned order is the signed one
         super().emit("btfss" if c & 0x80 else "btfsc", f, 7)
         super().emit("bsf" if c & 0x80 else "bcf", STATUS, C)
         return True

@@ -36,6 +36,7 @@ from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
 from .peephole import jump_targets, sign_fixes_folded, start_up_trimmed, w_kept, without_idle_labels
+from .ranges import never_negative
 from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
@@ -114,7 +115,9 @@ class Pic10Backend:
         layout = allocate(code, part, machine, True, scratch_bytes=0, clock_bytes=CYCLE_BYTES)
         layout.scratch = tuple(range(UNPLACED, UNPLACED + SCRATCH_BYTES))
         # the last word keeps the oscillator calibration
-        assembler = Assembler(part.flash_words - 1, part.facts["call_words"], UNPLACED + SCRATCH_BYTES)
+        counts = frozenset(layout.vars[name].addr + layout.vars[name].size - 1 for name in never_negative(code)
+                           if name in layout.vars and layout.vars[name].ram)
+        assembler = Assembler(part.flash_words - 1, part.facts["call_words"], UNPLACED + SCRATCH_BYTES, counts)
         ram = _in_ram(ram_in_use(layout), part) | set(layout.scratch)
         cx = Context(Emitter(assembler, part, frozenset(ram), BaselineCore()), part, layout,
                      replace(machine, crystal_hz=clock_hz), self.delay_loop_cycles)
