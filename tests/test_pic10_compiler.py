@@ -191,10 +191,13 @@ def _comparisons(mcu: str):
         # a comparison whose jump folds into a chain of two skips on C and the sign, for each sign of c
         [el("GEQ", op1="b", op2="-3"), el("ADD", dest="n", op1="n", op2="7")],
         [el("LES", op1="b", op2="5"), el("ADD", dest="m", op1="m", op2="3")],
-        # counts only their elements write are compared unsigned; a count a MOVE makes negative is not
+        # counts only their elements write are compared unsigned; one a MOVE makes negative, or sets to
+        # 127 (a CTC then adds 1 before its test), is not
         [contact("Xb"), counter("CTC", "Cc", 3), timer("TON", "Tup", 30_000), coil("Rc")],
         [contact("Xb"), counter("CTC", "Cn", 4), coil("Rn")],
         [contact("Xa"), el("OSF"), el("MOVE", dest="Cn", src="-20")],
+        [contact("Xb"), counter("CTC", "Cw", 2), coil("Rw")],
+        [contact("Xa"), el("OSF"), el("MOVE", dest="Cw", src="127")],
         mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2, "n": 1, "m": 1}, crystal_hz=4_000_000)
 
 
