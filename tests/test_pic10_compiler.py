@@ -175,11 +175,38 @@ def _table_and_gosub(mcu: str):
         mcu=mcu, pins=PINS, sizes={"i": 1, "v": 1}, crystal_hz=4_000_000)
 
 
+def _comparisons(mcu: str):
+    """Signed comparisons of 8- and 16-bit variables with constants of either
+    sign (a SUBWF and a skip on the sign bit, or a chain of two skips), and
+    equality tests of one variable against several constants in a row (W
+    kept between them)."""
+    return program(
+        [contact("Xa"), contact("Xb"), el("OSR"), par([el("ADD", dest="b", op1="b", op2="29")],
+                                       [el("SUB", dest="s", op1="s", op2="301")])],
+        [el("GEQ", op1="b", op2="-3"), coil("Ya")],
+        [par([el("LES", op1="b", op2="50")], [el("GRT", op1="s", op2="-700")]), coil("Rx")],
+        # b takes 29 k mod 256 in turn: 58, -111 and 5 at the 2nd, 5th and 9th rising edge of Xb
+        [par([el("EQU", op1="b", op2="58")], [el("EQU", op1="b", op2="-111")], [el("EQU", op1="b", op2="5")]),
+         contact("Rx"), coil("Yb")],
+        # a comparison whose jump folds into a chain of two skips on C and the sign, for each sign of c
+        [el("GEQ", op1="b", op2="-3"), el("ADD", dest="n", op1="n", op2="7")],
+        [el("LES", op1="b", op2="5"), el("ADD", dest="m", op1="m", op2="3")],
+        # counts only their elements write are compared unsigned; one a MOVE makes negative, or sets to
+        # 127 (a CTC then adds 1 before its test), is not
+        [contact("Xb"), counter("CTC", "Cc", 3), timer("TON", "Tup", 30_000), coil("Rc")],
+        [contact("Xb"), counter("CTC", "Cn", 4), coil("Rn")],
+        [contact("Xa"), el("OSF"), el("MOVE", dest="Cn", src="-20")],
+        [contact("Xb"), counter("CTC", "Cw", 2), coil("Rw")],
+        [contact("Xa"), el("OSF"), el("MOVE", dest="Cw", src="127")],
+        mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2, "n": 1, "m": 1}, crystal_hz=4_000_000)
+
+
 def move_zero(name: str):
     return el("MOVE", dest=name, src="0")
 
 
-PROGRAMS = {"logic": _logic, "arithmetic": _arithmetic, "table and gosub": _table_and_gosub}
+PROGRAMS = {"logic": _logic, "arithmetic": _arithmetic, "table and gosub": _table_and_gosub,
+            "comparisons": _comparisons}
 # the arithmetic's division needs 9 scratch bytes beside its 10: more than the PIC10F200's 16
 CASES = [(name, part) for name in sorted(PROGRAMS) for part in PARTS if (name, part) != ("arithmetic", "pic10f200")]
 STIMULUS = [Event(0, "Xa", 1), *(Event(s, "Xb", s % 2) for s in range(1, 70)), Event(40, "Xa", 0),

@@ -55,7 +55,8 @@ def moved(program, part: str, input_only: bool = True):
     facts = Part.of(device)
     reserved = set(device.uart.values()) if _uses_uart(program) else set()
     free = [p for p in device.io_pins() if p.name not in reserved and (input_only or not p.input_only)]
-    clocks = sorted(int(hz) for hz in facts.feature("intosc")["settings"])
+    intosc = facts.feature("intosc")  # the baseline's one internal clock is a fact of its own
+    clocks = sorted(int(hz) for hz in intosc["settings"]) if intosc else [facts.facts["clock_hz"]]
     crystal = min(clocks, key=lambda hz: (abs(hz - program.settings.crystal_hz), -hz))
     pwm = {str(e.args["name"]) for _, e in program.elements() if e.kind == "SET_PWM"}  # a corpus test leaves it unpinned
     names = [n for n in dict.fromkeys([*program.pins, *sorted(pwm)]) if n != "YPlcCycleDuty"] + ["YPlcCycleDuty"]

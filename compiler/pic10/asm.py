@@ -53,13 +53,14 @@ def lowered(op: str, args: tuple, temp: int) -> list[tuple[str, tuple]] | None:
 class Assembler(Pic16Assembler):
     isa = isa  # the baseline's 12-bit words
 
-    def __init__(self, flash_words: int, call_words: int, temp: int):
+    def __init__(self, flash_words: int, call_words: int, temp: int, never_negative: frozenset[int] = frozenset()):
         super().__init__(flash_words, page_words=flash_words)
         self.call_words = call_words  # the words a CALL or a write to PCL reaches
         self.temp = temp
+        self.never_negative = never_negative  # the file registers whose bit 7 no write sets (ranges.py)
 
     def emit(self, op: str, *args: int, comment: str = "") -> None:
-        if self._added_to_loaded(op, args):
+        if self._signed_at_least(op, args) or self._added_to_loaded(op, args):
             return
         written = lowered(op, args, self.temp)
         if written is None:
@@ -70,14 +71,45 @@ class Assembler(Pic16Assembler):
         for index, (name, operands) in enumerate(written):
             super().emit(name, *operands, comment=comment if index == 0 else "")
 
+    def _loaded(self, back: int) -> Ins | None:
+        """The MOVF f,W `back` items from the end, when no skip guards it."""
+        if len(self.items) < back:
+            return None
+        load = self.items[-back]
+        before = self.items[-back - 1] if len(self.items) > back else None
+        if not (isinstance(load, Ins) and load.op == "movf" and load.args[1] == W) or (
+                isinstance(before, Ins) and before.op in isa.SKIPS):
+            return None
+        return load
+
+    def _signed_at_least(self, op: str, args: tuple) -> bool:
+        """`MOVF f,W; XORLW 0x80; ADDLW k` (C: f >= c signed, c = -k with its sign
+        flipped; Z: f == c) becomes `MOVLW c; SUBWF f,W` and the sign's fix-up, a
+        skip on f's sign bit over BCF C (c >= 0: a negative f is less) or BSF C (c
+        < 0: a positive f is more): the same C, Z and W, one word less and no byte
+        of RAM. No fix-up for c >= 0 when no write makes f negative (ranges.py)."""
+        last = self.items[-1] if self.items else None
+        if op != "addlw" or not args[0] & 0xFF or not (isinstance(last, Ins) and last.op == "xorlw"
+                                                      and last.args[0] == 0x80):
+            return False
+        load = self._loaded(2)
+        if load is None:
+            return False
+        f, c = load.args[0], (0x100 - args[0]) & 0xFF ^ 0x80
+        del self.items[-2:]
+        super().emit("movlw", c, comment=load.comment)
+        super().emit("subwf", f, W)
+        if f in self.never_negative and not c & 0x80:
+            return True  # both at 0 or more: the unsigned order is the signed one
+        super().emit("btfss" if c & 0x80 else "btfsc", f, 7)
+        super().emit("bsf" if c & 0x80 else "bcf", STATUS, C)
+        return True
+
     def _added_to_loaded(self, op: str, args: tuple) -> bool:
         """`MOVF f,W; ADDLW k` becomes `MOVLW k; ADDWF f,W` (the same sum and flags, no byte of
         RAM), when no skip guards the MOVF."""
-        if op != "addlw" or len(self.items) < 2:
-            return False
-        load, before = self.items[-1], self.items[-2]
-        if not (isinstance(load, Ins) and load.op == "movf" and load.args[1] == W) or (
-                isinstance(before, Ins) and before.op in isa.SKIPS):
+        load = self._loaded(1) if op == "addlw" else None
+        if load is None:
             return False
         self.items[-1] = Ins("movlw", (args[0] & 0xFF,), load.comment)
         super().emit("addwf", load.args[0], W)

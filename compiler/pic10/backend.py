@@ -35,6 +35,8 @@ from . import flow as pic10_flow
 from . import isa
 from .asm import Assembler, OutOfReach
 from .core import BaselineCore
+from .peephole import jump_targets, sign_fixes_folded, start_up_trimmed, w_kept, without_idle_labels
+from .ranges import never_negative
 from .runtime import CYCLE_BYTES, scan_limit, write_runtime
 from .stack import deepest
 
@@ -85,12 +87,17 @@ def _callee(label: str) -> str:
     return f"the subroutine at rung {rung.group(1)}" if rung else label
 
 
-def _routines_first(items: list, split: int) -> None:
+def _routines_first(items: list, split: int, kept: set[str]) -> None:
     """The tables and routines (items[split:]) at the start, behind a GOTO to
-    the runtime; each part's skips compressed on its own."""
-    runtime, routines = items[:split], items[split:]
-    compress_skips(runtime)
-    compress_skips(routines)
+    the runtime; each part's skips compressed on its own and rewritten
+    (peephole.py). `kept`: the labels that stay where nothing jumps to them
+    (the budget's loop heads)."""
+    parts = [without_idle_labels(part, kept | jump_targets(items)) for part in (items[:split], items[split:])]
+    for part in parts:
+        compress_skips(part)
+    targets = kept | jump_targets(parts[0] + parts[1])
+    runtime, routines = (sign_fixes_folded(w_kept(without_idle_labels(part, targets))) for part in parts)
+    runtime = start_up_trimmed(runtime, "scan")
     items[:] = [Goto("main"), *routines, Label("main"), *runtime] if routines else runtime
 
 
@@ -108,20 +115,24 @@ class Pic10Backend:
         layout = allocate(code, part, machine, True, scratch_bytes=0, clock_bytes=CYCLE_BYTES)
         layout.scratch = tuple(range(UNPLACED, UNPLACED + SCRATCH_BYTES))
         # the last word keeps the oscillator calibration
-        assembler = Assembler(part.flash_words - 1, part.facts["call_words"], UNPLACED + SCRATCH_BYTES)
+        counts = frozenset(layout.vars[name].addr + layout.vars[name].size - 1 for name in never_negative(code)
+                           if name in layout.vars and layout.vars[name].ram)
+        assembler = Assembler(part.flash_words - 1, part.facts["call_words"], UNPLACED + SCRATCH_BYTES, counts)
         ram = _in_ram(ram_in_use(layout), part) | set(layout.scratch)
         cx = Context(Emitter(assembler, part, frozenset(ram), BaselineCore()), part, layout,
                      replace(machine, crystal_hz=clock_hz), self.delay_loop_cycles)
+        config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
+                  for address, value in part.config_words}
+        watchdog = part.config_field("WDTE")
+        assert watchdog is not None  # both parts have the field (gputils' _WDTE_ON/_WDTE_OFF)
         prepare(cx, code)
-        write_runtime(cx, code, clock_hz)
+        write_runtime(cx, code, clock_hz, watchdog=bool(next(iter(config.values())) & watchdog.mask))
         split = len(assembler.items)
         # tables first: every entry must lie in the first 256 words, of a routine only its entry
         _write_tables(cx)
         write_routines(cx.e, layout.scratch, cx.routines)
-        _routines_first(assembler.items, split)
+        _routines_first(assembler.items, split, set(cx.e.bounds))
         _place_scratch(assembler.items, layout, part)
-        config = {address: (value if machine.config_word is None else machine.config_word & 0xFFF)
-                  for address, value in part.config_words}
         try:
             assembled = assembler.assemble(processor=part.processor, config=config)
         except ProgramTooLarge as error:

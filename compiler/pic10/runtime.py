@@ -6,9 +6,10 @@
             Timer0 on the instruction clock (T0CS = 0, which frees GP2 for
             output), its prescaler, the weak pull-ups of GP0, GP1 and GP3 on
             when an input wants one, wake-up on change off; outputs low, TRIS;
-            start values
+            start values; TMR0 and the cycle's bytes cleared, to the wait
     scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
-    wait:   clear the watchdog until the cycle's ticks have passed, scan
+    wait:   until the cycle's ticks have passed (clearing the watchdog when the
+            configuration word turns it on), scan
 
 The cycle timer is Timer0, 8 bits with no overflow flag and no interrupt:
 it runs free and the wait polls it. The ticks left in this cycle (less one)
@@ -17,8 +18,9 @@ off it, and the scan starts again when it turns negative, the count then
 moving on by one cycle's ticks (no drift: a late scan shortens the next
 wait). A scan may last up to 256 ticks of Timer0 without losing a turn of
 it (the prescaler is the largest that makes the cycle exactly: 4.1 ms at
-10 ms, 4 MHz). The first scan runs at once after start-up and scan k starts
-k cycle times after it, as in the simulator.
+10 ms, 4 MHz). The start-up enters the wait with no ticks left, so the
+first scan runs at Timer0's first tick and scan k starts k cycle times
+after it, as in the simulator.
 """
 
 from __future__ import annotations
@@ -75,7 +77,7 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     e.store(part.reg("OSCCAL"))
     # FOSC4 would put the clock on GP2: a calibration word erased to XORLW 0xFF leaves it set
     e.ins("bcf", part.reg("OSCCAL"), part.bit("OSCCAL", "FOSC4"))
-    # the scratch bytes are written before they are read, the cycle's bytes set below
+    # the scratch bytes are written before they are read, the cycle's bytes set in write_runtime
     clock = cx.layout.clock
     cycle = set(range(clock, clock + CYCLE_BYTES)) if clock is not None else set()
     _clear(cx, sorted(e.ram - set(cx.layout.scratch) - cycle))
@@ -88,13 +90,14 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     select(cx, code.init)
 
 
-def _wait(cx: Context, ticks: int) -> None:
+def _wait(cx: Context, ticks: int, watchdog: bool) -> None:
     e, part = cx.e, cx.part
     last = cx.layout.clock
     assert last is not None  # the baseline's cycle is always free-running: the layout gave it its bytes
     left = [last + 1, last + 2]
     e.label("wait", loop=True, bound=LoopBound(None, "waiting for the next cycle"), bank=0)
-    e.ins("clrwdt")
+    if watchdog:  # on only when the program's configuration word turns it on
+        e.ins("clrwdt")
     e.load(last)
     e.ins("subwf", part.reg("TMR0"), W)  # the ticks since the last read
     e.ins("addwf", last, F)
@@ -118,17 +121,21 @@ def scan_limit(part, crystal_hz: int, cycle_us: int) -> tuple[int, str]:
     return timer["counts"] * prescaler - WAIT_CYCLES, "one turn of Timer0"
 
 
-def write_runtime(cx: Context, code: ir.Code, crystal_hz: int) -> None:
-    """The runtime and the scan."""
+def write_runtime(cx: Context, code: ir.Code, crystal_hz: int, watchdog: bool) -> None:
+    """The runtime and the scan; `watchdog`: the configuration word turns the watchdog on."""
     e = cx.e
     setting = cycle_setting(cx.part.device, crystal_hz, cx.machine.cycle_us, free=True)
     assert setting is not None  # the back end refuses a cycle Timer0 cannot make first
     prescaler_bits, ticks = setting
     _start(cx, code, prescaler_bits)
     assert cx.layout.clock is not None  # the layout always has the cycle's bytes here
-    e.load(cx.part.reg("TMR0"))
-    e.store(cx.layout.clock)
-    for offset, value in ((1, (ticks - 1) & 0xFF), (2, (ticks - 1) >> 8)):
-        ints.put(e, ints.Byte("const", value), cx.layout.clock + offset)
+    # a write to TMR0 clears the prescaler, which counted for the watchdog until OPTION gave it to
+    # Timer0 (gpsim holds Timer0 until its old count wraps, up to 2,048 cycles). With TMR0 at the
+    # last read (0) and no ticks left, the wait ends at the first tick and sets the count to the
+    # cycle's: the first scan runs at once, the next a cycle later
+    e.ins("clrf", cx.part.reg("TMR0"))
+    for offset in range(CYCLE_BYTES):
+        e.ins("clrf", cx.layout.clock + offset)
+    e.goto("wait")
     scan_loop(cx, code)
-    _wait(cx, ticks)
+    _wait(cx, ticks, watchdog)
