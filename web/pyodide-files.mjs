@@ -38,7 +38,7 @@ function wheels(python, pythonVersion, dir) {
 // smaller to download, compiled in the browser when first imported: the compiler (about 140 kB
 // less to download) on the first HEX or C file exported.
 const PACK = `
-import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile
+import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile, zlib
 from pathlib import Path
 
 # never imported by the server, and of no use in a browser worker (a REPL, tests, debuggers and
@@ -129,17 +129,29 @@ def imported():
     return found
 
 
-def compiled(root, used, prefix=""):
+def compiled(root, used, prefix="", smaller=False):
     """Each module of used as bytecode in its place (FILE.pyc, imported when FILE.py is gone),
-    without its docstrings and asserts (-OO: nothing the server runs reads a docstring)."""
+    without its docstrings and asserts (-OO: nothing the server runs reads a docstring). With
+    smaller, any other module too where its bytecode is smaller to download than its source: the
+    standard library's code pages (encodings/), whose source spells out each character's name."""
     root = Path(root)
     for source in list(root.rglob("*.py")):
-        relative = source.relative_to(root).as_posix()
-        if prefix + relative in used:
-            assert compileall.compile_file(str(source), quiet=1, legacy=True, optimize=2), source
+        use = prefix + source.relative_to(root).as_posix() in used
+        if not (use or smaller):
+            continue
+        assert compileall.compile_file(str(source), quiet=2, legacy=True, optimize=2) or not use, source
+        bytecode = source.with_suffix(".pyc")
+        if use or (bytecode.exists() and packed(bytecode) < packed(source)):
             source.unlink()
+        elif bytecode.exists():
+            bytecode.unlink()
     for cache in [p for p in root.rglob("__pycache__")]:
         shutil.rmtree(cache)
+
+
+def packed(path):
+    """The bytes of path in a zip, compressed."""
+    return len(zlib.compress(path.read_bytes(), 9))
 
 
 def zipped(root, out):
@@ -165,7 +177,7 @@ async function pack(pyodideDir, wheelDir, names, out) {
   py.runPython(`
 compiled("/site", used, "/site/")
 zipped("/site", "/site.zip")
-compiled("/stdlib", used)
+compiled("/stdlib", used, smaller=True)
 zipped("/stdlib", "/python_stdlib.zip")
 `);
   fs.writeFileSync(path.join(out, 'site.zip'), py.FS.readFile('/site.zip'));
