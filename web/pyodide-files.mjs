@@ -42,14 +42,19 @@ import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile, zlib
 from pathlib import Path
 
 # never imported by the server, and of no use in a browser worker (a REPL, tests, debuggers and
-# profilers, process pools, GUIs, mail, HTTP, XML, archives, statistics and the pure-Python io):
+# profilers, process pools, GUIs, mail, HTTP, HTML, XML, archives, statistics, the pure-Python io and
+# ctypes, for native libraries a browser has none of):
 # left out of the standard library
 UNUSED_STDLIB = ["_pyrepl", "unittest", "doctest.py", "pdb.py", "bdb.py", "trace.py", "profile.py", "cProfile.py",
                  "pstats.py", "tabnanny.py", "pydoc.py", "pydoc_data", "multiprocessing", "ensurepip", "venv",
                  "idlelib", "tkinter", "turtle.py", "turtledemo", "lib2to3", "sqlite3", "curses", "dbm",
                  "wsgiref", "xmlrpc", "xml", "plistlib.py", "http", "socketserver.py", "imaplib.py", "smtplib.py",
                  "poplib.py", "nntplib.py", "ftplib.py", "mailbox.py", "pickletools.py", "optparse.py",
-                 "_pyio.py", "tarfile.py", "statistics.py"]
+                 "_pyio.py", "tarfile.py", "statistics.py", "email", "html", "ctypes"]
+
+
+# read by web/src/server.js
+START_CODE = "/site/lsp/start-code.marshal"
 
 
 # optional dependencies a browser does not have: z3, the prover's solver (a native library), so
@@ -73,7 +78,11 @@ def trimmed(root, names):
 
 async def exercise(program):
     """Import every module of textladder but the compiler, then a session of every feature; returns
-    the modules imported before the files are exported (which imports the compiler)."""
+    the modules imported before the files are exported (which imports the compiler). The code
+    compiled from source text until the first diagnostics (attrs' and cattrs' methods, as the server
+    starts) is kept in START_CODE for the browser's worker (lsp/worker_compile.py)."""
+    from lsp import worker_compile
+    start_code = worker_compile.record()
     for package in ("lang", "ide", "lsp"):
         for info in pkgutil.walk_packages(importlib.import_module(package).__path__, package + "."):
             if info.name.endswith(".__main__"):  # which would start the server on standard input
@@ -93,6 +102,9 @@ async def exercise(program):
     message("initialize", {"processId": None, "rootUri": None, "capabilities": {}}, 1)
     message("initialized", {})
     message("textDocument/didOpen", {"textDocument": {**document, "languageId": "ladder", "version": 1, "text": program}})
+    await asyncio.sleep(0.05)
+    worker_compile.stop()
+    worker_compile.save(start_code, START_CODE)
     requests = [("textDocument/hover", {"textDocument": document, "position": position}),
                 ("textDocument/completion", {"textDocument": document, "position": position}),
                 ("textDocument/formatting", {"textDocument": document, "options": {"tabSize": 4, "insertSpaces": True}}),
