@@ -12,8 +12,8 @@ same source, file name, mode and flags, so the server runs the same code.
 Source that was not recorded is compiled as before."""
 
 from __future__ import annotations
-
 import __future__
+
 import builtins
 import marshal
 import sys
