@@ -9,8 +9,12 @@ web/dist is missing).
   127.0.0.1: a program typed with an error, its diagnostic, the fix typed, a simulation, an input
   clicked and the output energized, the HEX downloaded (run in simavr), an .ld file opened
   and downloaded as a .ladder file; then the cold start
-  and edit figures of docs/browser.md, the edits timed beside the native server's on the same
-  document, and the download's size gzipped.
+  and edit figures of docs/browser.md, and the download's size gzipped. An edit is timed as a
+  person typing sees it: from the keystroke's event in the page to its diagnostics put into the
+  page (CodeMirror's underlines and the Problems list), beside the native `ladder lsp`'s wire
+  time on the same edits (from the change written to its standard input to the diagnostics read
+  from its output). The part of the page's time from the change posted to the worker to the
+  diagnostics received is reported too.
 
 Slow: runs in the editor step of .ci/run. Figures and screenshots go to build/editor-e2e/
 (LADDER_E2E_OUT).
@@ -255,18 +259,21 @@ def test_the_playground_in_chromium(dist, site, tmp_path):
     native = _native_stdio_ms(big_text, edits)
     in_process = _native_in_process_ms(big_text, edits)
     raw_mb, gzipped_mb = _gzipped_mb(dist)
+    shown, sent = _median(timings["keyToShownMs"]), _median(timings["sentToReceivedMs"])
     figures = {
         "first diagnostics after page load (s)": round(timings["firstDiagnosticsMs"] / 1000, 2),
         "the worker's start-up (ms)": timings["workerStart"],
-        f"edit to diagnostics, {BIG_RUNGS} rungs, median (ms)": round(_median(timings["editsMs"]), 1),
+        f"keystroke to diagnostics shown, {BIG_RUNGS} rungs, median (ms)": round(shown, 1),
+        "of which change posted to diagnostics received, median (ms)": round(sent, 1),
         "native over stdio, same edits, median (ms)": round(_median(native), 1),
         "native in process, same edits, median (ms)": round(_median(in_process), 1),
-        "ratio to native over stdio": round(_median(timings["editsMs"]) / _median(native), 2),
+        "ratio to native over stdio": round(shown / _median(native), 2),
         "download raw (MB)": round(raw_mb, 2),
         "download gzipped (MB)": round(gzipped_mb, 2),
         "targets": {"first diagnostics (s)": FIRST_DIAGNOSTICS_TARGET_S, "ratio": EDIT_TARGET_FACTOR,
                     "download gzipped (MB)": DOWNLOAD_TARGET_MB},
-        "browser edits (ms)": timings["editsMs"],
+        "browser edits, keystroke to shown (ms)": timings["keyToShownMs"],
+        "browser edits, posted to received (ms)": timings["sentToReceivedMs"],
         "native edits over stdio (ms)": [round(ms, 1) for ms in native],
         "native edits in process (ms)": [round(ms, 1) for ms in in_process],
     }

@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import base64
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -148,3 +149,85 @@ def test_a_message_that_is_no_json_costs_that_message_only():
         return await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
 
     assert "capabilities" in asyncio.run(run())["result"]
+
+
+_START = """
+import asyncio, json, sys
+from lsp import worker_compile
+
+mode, path = sys.argv[1:]
+if mode == "record":
+    known = worker_compile.record()
+else:
+    compiled = []
+    inner = worker_compile._compile
+    worker_compile._compile = lambda *args: (isinstance(args[0], str) and compiled.append(args[1])) or inner(*args)
+    worker_compile.install(path)
+from lsp.worker import connect
+
+async def session():
+    out = []
+    send = connect(out.append)
+    for message in [{"id": 1, "method": "initialize", "params": {"processId": None, "rootUri": None, "capabilities": {}}},
+                    {"method": "initialized", "params": {}},
+                    {"method": "textDocument/didOpen", "params": {"textDocument": {
+                        "uri": "inmemory://a/lamp.ladder", "languageId": "ladder", "version": 1, "text": sys.stdin.read()}}}]:
+        send(json.dumps({"jsonrpc": "2.0", **message}))
+    await asyncio.sleep(0.2)
+    return out
+
+out = asyncio.run(session())
+if mode == "record":
+    worker_compile.stop()
+    worker_compile.save(known, path)
+    print(json.dumps({"out": out, "recorded": len(known)}))
+else:
+    print(json.dumps({"out": out, "compiled": compiled}))
+"""
+
+
+def test_the_start_runs_the_same_with_the_code_compiled_by_the_build(tmp_path):
+    """lsp/worker_compile.py, as web/pyodide-files.mjs and web/src/server.js use it: the code
+    recorded while one server starts answers every compile of the next start, which answers the
+    same messages. Both with one hash seed: attrs writes a hash of a string into the `__hash__` it
+    generates, so with another seed those (18, of attrs' own classes) are compiled again."""
+    def start(mode: str) -> dict:
+        done = subprocess.run([sys.executable, "-c", _START, mode, str(tmp_path / "start-code.marshal")],
+                              input=env.LAMP_BAD, capture_output=True, text=True, timeout=120, cwd=env.REPO,
+                              env={**os.environ, "PYTHONHASHSEED": "1"})
+        assert done.returncode == 0, done.stderr[-3000:]
+        return json.loads(done.stdout)
+
+    recorded, answered = start("record"), start("install")
+    assert recorded["recorded"] > 500  # lsprotocol's classes, each with its methods
+    assert answered["compiled"] == [], answered["compiled"]
+    assert answered["out"] == recorded["out"]
+    assert any("LD102" in text for text in answered["out"])
+
+
+def test_compiled_code_keeps_the_callers_future_flags(tmp_path):
+    """compile() takes `from __future__` flags over from its caller: code recorded for a caller with
+    `annotations` is not given to one without."""
+    from lsp import worker_compile
+
+    source = "def f(x: int) -> None: pass\n"
+    plain: dict = {}
+    later: dict = {}
+    known = worker_compile.record()
+    try:
+        exec(compile("from __future__ import annotations\ncode = compile(source, 'gen', 'exec')", "a", "exec",
+                     dont_inherit=True),
+             {"source": source}, later)
+    finally:
+        worker_compile.stop()
+    worker_compile.save(known, str(tmp_path / "code.marshal"))
+    worker_compile.install(str(tmp_path / "code.marshal"))
+    try:
+        exec(compile("code = compile(source, 'gen', 'exec')", "b", "exec", dont_inherit=True), {"source": source}, plain)
+    finally:
+        worker_compile.stop()
+    namespaces: list[dict] = [{}, {}]
+    exec(later["code"], namespaces[0])
+    exec(plain["code"], namespaces[1])
+    assert namespaces[0]["f"].__annotations__ == {"x": "int", "return": "None"}
+    assert namespaces[1]["f"].__annotations__ == {"x": int, "return": None}

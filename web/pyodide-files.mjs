@@ -38,18 +38,23 @@ function wheels(python, pythonVersion, dir) {
 // smaller to download, compiled in the browser when first imported: the compiler (about 140 kB
 // less to download) on the first HEX or C file exported.
 const PACK = `
-import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile
+import asyncio, compileall, importlib, json, pkgutil, shutil, sys, zipfile, zlib
 from pathlib import Path
 
 # never imported by the server, and of no use in a browser worker (a REPL, tests, debuggers and
-# profilers, process pools, GUIs, mail, HTTP, XML, archives, statistics and the pure-Python io):
+# profilers, process pools, GUIs, mail, HTTP, HTML, XML, archives, statistics, the pure-Python io and
+# ctypes, for native libraries a browser has none of):
 # left out of the standard library
 UNUSED_STDLIB = ["_pyrepl", "unittest", "doctest.py", "pdb.py", "bdb.py", "trace.py", "profile.py", "cProfile.py",
                  "pstats.py", "tabnanny.py", "pydoc.py", "pydoc_data", "multiprocessing", "ensurepip", "venv",
                  "idlelib", "tkinter", "turtle.py", "turtledemo", "lib2to3", "sqlite3", "curses", "dbm",
                  "wsgiref", "xmlrpc", "xml", "plistlib.py", "http", "socketserver.py", "imaplib.py", "smtplib.py",
                  "poplib.py", "nntplib.py", "ftplib.py", "mailbox.py", "pickletools.py", "optparse.py",
-                 "_pyio.py", "tarfile.py", "statistics.py"]
+                 "_pyio.py", "tarfile.py", "statistics.py", "email", "html", "ctypes"]
+
+
+# read by web/src/server.js
+START_CODE = "/site/lsp/start-code.marshal"
 
 
 # optional dependencies a browser does not have: z3, the prover's solver (a native library), so
@@ -73,7 +78,11 @@ def trimmed(root, names):
 
 async def exercise(program):
     """Import every module of textladder but the compiler, then a session of every feature; returns
-    the modules imported before the files are exported (which imports the compiler)."""
+    the modules imported before the files are exported (which imports the compiler). The code
+    compiled from source text until the first diagnostics (attrs' and cattrs' methods, as the server
+    starts) is kept in START_CODE for the browser's worker (lsp/worker_compile.py)."""
+    from lsp import worker_compile
+    start_code = worker_compile.record()
     for package in ("lang", "ide", "lsp"):
         for info in pkgutil.walk_packages(importlib.import_module(package).__path__, package + "."):
             if info.name.endswith(".__main__"):  # which would start the server on standard input
@@ -93,6 +102,9 @@ async def exercise(program):
     message("initialize", {"processId": None, "rootUri": None, "capabilities": {}}, 1)
     message("initialized", {})
     message("textDocument/didOpen", {"textDocument": {**document, "languageId": "ladder", "version": 1, "text": program}})
+    await asyncio.sleep(0.05)
+    worker_compile.stop()
+    worker_compile.save(start_code, START_CODE)
     requests = [("textDocument/hover", {"textDocument": document, "position": position}),
                 ("textDocument/completion", {"textDocument": document, "position": position}),
                 ("textDocument/formatting", {"textDocument": document, "options": {"tabSize": 4, "insertSpaces": True}}),
@@ -129,17 +141,29 @@ def imported():
     return found
 
 
-def compiled(root, used, prefix=""):
+def compiled(root, used, prefix="", smaller=False):
     """Each module of used as bytecode in its place (FILE.pyc, imported when FILE.py is gone),
-    without its docstrings and asserts (-OO: nothing the server runs reads a docstring)."""
+    without its docstrings and asserts (-OO: nothing the server runs reads a docstring). With
+    smaller, any other module too where its bytecode is smaller to download than its source: the
+    standard library's code pages (encodings/), whose source spells out each character's name."""
     root = Path(root)
     for source in list(root.rglob("*.py")):
-        relative = source.relative_to(root).as_posix()
-        if prefix + relative in used:
-            assert compileall.compile_file(str(source), quiet=1, legacy=True, optimize=2), source
+        use = prefix + source.relative_to(root).as_posix() in used
+        if not (use or smaller):
+            continue
+        assert compileall.compile_file(str(source), quiet=2, legacy=True, optimize=2) or not use, source
+        bytecode = source.with_suffix(".pyc")
+        if use or (bytecode.exists() and packed(bytecode) < packed(source)):
             source.unlink()
+        elif bytecode.exists():
+            bytecode.unlink()
     for cache in [p for p in root.rglob("__pycache__")]:
         shutil.rmtree(cache)
+
+
+def packed(path):
+    """The bytes of path in a zip, compressed."""
+    return len(zlib.compress(path.read_bytes(), 9))
 
 
 def zipped(root, out):
@@ -165,7 +189,7 @@ async function pack(pyodideDir, wheelDir, names, out) {
   py.runPython(`
 compiled("/site", used, "/site/")
 zipped("/site", "/site.zip")
-compiled("/stdlib", used)
+compiled("/stdlib", used, smaller=True)
 zipped("/stdlib", "/python_stdlib.zip")
 `);
   fs.writeFileSync(path.join(out, 'site.zip'), py.FS.readFile('/site.zip'));

@@ -2,16 +2,23 @@
 // notifications to handlers, the server's own requests answered (it asks for the settings and
 // refreshes nothing the page shows).
 export class Client {
+  // worker.early (optional): the messages it sent before this client listened (index.html)
   constructor(worker) {
     this.worker = worker;
     this.nextId = 1;
     this.pending = new Map();
     this.handlers = new Map();
     worker.onmessage = (event) => this.received(event.data);
+    this.early = worker.early || [];
   }
 
   on(method, handler) {
     this.handlers.set(method, handler);
+  }
+
+  // the messages that came before the handlers were set
+  listen() {
+    for (const event of this.early.splice(0)) this.received(event.data);
   }
 
   notify(method, params) {

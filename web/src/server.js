@@ -26,6 +26,10 @@ export async function startServer({ loadPyodide, indexURL, site, post, timings =
   py.unpackArchive(await site, 'zip', { extractDir: '/site' });
   stage('unpackMs');
   py.runPython('import sys; sys.path.insert(0, "/site")');
+  // the methods attrs and cattrs write as the server starts, compiled by the build (lsp/worker_compile.py)
+  const precompiled = py.pyimport('lsp.worker_compile');
+  precompiled.install('/site/lsp/start-code.marshal');
+  precompiled.destroy();
   const worker = py.pyimport('lsp.worker');
   stage('importMs');
   const receive = worker.connect((text) => post(text));

@@ -1,7 +1,8 @@
 // The playground in Debian's Chromium, headless, through playwright-core: what a person does and
 // sees. Types a program with an error and sees its diagnostic, fixes it by typing, starts a
 // simulation, clicks an input and sees the output energized in the drawing and 1 in the values;
-// downloads the HEX; opens an .ld file and downloads it as a .ladder file; then opens a bigger program and times one-character edits to their diagnostics.
+// downloads the HEX; opens an .ld file and downloads it as a .ladder file; then opens a bigger
+// program and times one-character edits: from the keystroke to its diagnostics in the page.
 //
 //   node playground_e2e.mjs --url URL --bad FILE --fixes JSON --input NAME --output NAME --ld FILE --big FILE
 //                           --edits JSON --out DIR
@@ -119,7 +120,10 @@ async function main() {
       await page.keyboard.type(typed[i % typed.length]);
       await page.waitForFunction((n) => window.ladder.timings.edits.length > n, count);
     }
-    timings.editsMs = (await page.evaluate(() => window.ladder.timings.edits)).map((ms) => +ms.toFixed(1));
+    const timed = await page.evaluate(() => window.ladder.timings.edits);
+    if (timed.some((edit) => edit.keyToShownMs === null)) throw new Error(`an edit not timed from its keystroke: ${JSON.stringify(timed)}`);
+    timings.keyToShownMs = timed.map((edit) => +edit.keyToShownMs.toFixed(1));
+    timings.sentToReceivedMs = timed.map((edit) => +edit.sentToReceivedMs.toFixed(1));
     console.log(JSON.stringify({ ok: errors.length === 0, errors, timings, bad, before, energized, hex, ldProblems, ladder }));
   } catch (error) {
     await page.screenshot({ path: path.join(args.out, 'playground-failure.png') }).catch(() => {});
