@@ -5,6 +5,7 @@ rung is unchanged (`Analysis.per_rung`)."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -96,9 +97,24 @@ def _encoded_rung(analysis: Analysis, index: int) -> EncodedRung | None:
     return first[0], first[1], last[0], last[1], ",".join(map(str, rest))
 
 
+def _encoded_run(analysis: Analysis, run: Sequence[int]) -> EncodedRung | None:
+    """The encoded tokens of consecutive rungs, as one rung's."""
+    parts = [part for part in map(functools.partial(encoded_rung, analysis), run) if part is not None]
+    if not parts:
+        return None
+    texts = [parts[0][4]]
+    for (_, _, last_line, last_col, _), (first_line, first_col, _, _, rest) in zip(parts, parts[1:]):
+        delta_line = first_line - last_line
+        texts.append(f"{delta_line},{first_col - last_col if delta_line == 0 else first_col},{rest}")
+    return parts[0][0], parts[0][1], parts[-1][2], parts[-1][3], ",".join(texts)
+
+
 def full_text(analysis: Analysis) -> str:
-    """The whole document's tokens as the JSON of SemanticTokens, from each
-    rung's encoded part (an edit encodes only the rungs it changed)."""
+    """The whole document's tokens as the JSON of SemanticTokens, from the
+    encoded parts of runs of rungs (`Analysis.per_run`): an edit encodes only
+    the rungs it changed and joins their runs again. The tokens outside the
+    rungs (section titles, the part, the I/O table's pins) lie outside the
+    diagram, never between two of its rungs."""
     extra = _client(analysis, other_tokens(analysis, 0, len(analysis.lines) - 1))
     parts: list[str] = []
     previous = (0, 0)
@@ -110,8 +126,8 @@ def full_text(analysis: Analysis) -> str:
             parts.append(",".join(map(str, encode(found, previous))))
             previous = (found[-1][0], found[-1][1])
 
-    for _, _, index in analysis.locator.rung_extents():
-        part = encoded_rung(analysis, index)
+    indexes = [index for _, _, index in analysis.locator.rung_extents()]
+    for part in analysis.per_run("semantic-run", indexes, lambda run: _encoded_run(analysis, run)):
         if part is None:
             continue
         first_line, first_col, last_line, last_col, rest = part
@@ -120,12 +136,10 @@ def full_text(analysis: Analysis) -> str:
             position += 1
         emit(extra[before:position])
         delta_line = first_line - previous[0]
-        head = f"{delta_line},{first_col - previous[1] if delta_line == 0 else first_col}"
-        parts.append(f"{head},{rest}" if rest else head)
+        parts.append(f"{delta_line},{first_col - previous[1] if delta_line == 0 else first_col},{rest}")
         previous = (last_line, last_col)
     emit(extra[position:])
     return '{"data":[' + ",".join(parts) + "]}"
-
 
 def _shift(found: list[Token], delta: int) -> list[Token]:
     return [Token(t.line + delta, t.col, t.length, t.type, t.writes) for t in found]
