@@ -32,11 +32,14 @@ RUN = 64
 @dataclass(frozen=True)
 class _Run:
     """A run of consecutive rungs' joined result, valid while the rungs at
-    those places are the same objects."""
+    those places are the same objects, and, shifted, while they hold the
+    same circuits moved by the same number of lines."""
 
     indexes: tuple[int, ...]
     ids: tuple[int, ...]
-    rungs: tuple[Rung, ...]  # kept alive, so that no other rung takes one of their ids
+    rungs: tuple[Rung, ...]  # kept alive, so that no other rung or circuit takes one of their ids
+    circuits: tuple[int, ...]
+    firsts: tuple[int, ...] | None  # the rungs' first lines, when the result can be shifted
     value: object
 
 
@@ -120,11 +123,15 @@ class Analysis:
         rung = self.program.rungs[index]
         return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
 
-    def per_run(self, feature: str, indexes: Sequence[int], compute: Callable[[Sequence[int]], T]) -> list[T]:
+    def per_run(self, feature: str, indexes: Sequence[int], compute: Callable[[Sequence[int]], T],
+                shift: Callable[[T, int], T] | None = None) -> list[T]:
         """The feature's results for the rungs `indexes` (in order) in runs of
         `RUN`, `compute(run)` each, kept while every rung of the run is the
         same object at the same index: the whole-document answers (outline,
-        folding, semantic tokens) join an unchanged run's part as it was."""
+        folding, semantic tokens) join an unchanged run's part as it was.
+        With `shift(result, lines)`, a run whose rungs the reader moved (new
+        rungs, same circuits) all by the same number of lines, by a line added
+        or removed above them, takes its result shifted."""
         rungs = self.program.rungs
         runs = self.memo.runs
         found = []
@@ -134,9 +141,24 @@ class Analysis:
             ids = tuple(map(id, members))
             kept = runs.get((feature, start))
             if kept is None or kept.ids != ids or kept.indexes != run:
-                kept = runs[feature, start] = _Run(run, ids, members, compute(run))
+                circuits = tuple([id(rung.circuit) for rung in members])
+                firsts = self._firsts(run) if shift is not None else None
+                delta = _common_delta(kept.firsts, firsts) \
+                    if kept is not None and kept.indexes == run and kept.circuits == circuits else None
+                value = compute(run) if delta is None or shift is None else shift(cast(T, kept.value), delta)
+                kept = runs[feature, start] = _Run(run, ids, members, circuits, firsts, value)
             found.append(cast(T, kept.value))
         return found
+
+    def _firsts(self, run: Sequence[int]) -> tuple[int, ...] | None:
+        """The first lines of the rungs (None: one is not drawn)."""
+        found = []
+        for index in run:
+            lines = self.locator.rung_lines(index)
+            if lines is None:
+                return None
+            found.append(lines[0])
+        return tuple(found)
 
     def once(self, feature: str, compute: Callable[[], T]) -> T:
         """A whole-document result, computed once per text."""
@@ -208,6 +230,14 @@ class Analysis:
     def line(self, number: int) -> str:
         lines = self.lines
         return lines[number] if 0 <= number < len(lines) else ""
+
+
+def _common_delta(before: tuple[int, ...] | None, now: tuple[int, ...] | None) -> int | None:
+    """The lines every rung moved by, None unless all moved by as many."""
+    if before is None or now is None or len(before) != len(now) or not now:
+        return None
+    delta = now[0] - before[0]
+    return delta if all(b - a == delta for a, b in zip(before, now)) else None
 
 
 def still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,

@@ -112,7 +112,8 @@ def _encoded_run(analysis: Analysis, run: Sequence[int]) -> EncodedRung | None:
 def full_text(analysis: Analysis) -> str:
     """The whole document's tokens as the JSON of SemanticTokens, from the
     encoded parts of runs of rungs (`Analysis.per_run`): an edit encodes only
-    the rungs it changed and joins their runs again. The tokens outside the
+    the rungs it changed and joins their runs again; a run a line added above
+    moved is the same numbers, but for its first and last tokens' lines. The tokens outside the
     rungs (section titles, the part, the I/O table's pins) lie outside the
     diagram, never between two of its rungs."""
     extra = _client(analysis, other_tokens(analysis, 0, len(analysis.lines) - 1))
@@ -127,7 +128,7 @@ def full_text(analysis: Analysis) -> str:
             previous = (found[-1][0], found[-1][1])
 
     indexes = [index for _, _, index in analysis.locator.rung_extents()]
-    for part in analysis.per_run("semantic-run", indexes, lambda run: _encoded_run(analysis, run)):
+    for part in analysis.per_run("semantic-run", indexes, lambda run: _encoded_run(analysis, run), _shift_encoded):
         if part is None:
             continue
         first_line, first_col, last_line, last_col, rest = part

@@ -10,6 +10,7 @@ more than the rest of the request."""
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -88,29 +89,50 @@ def _sections(analysis: Analysis) -> list[tuple[Symbol | None, list[int]]]:
             for section in sections]
 
 
-def _separated(texts: list[str]) -> list[str]:
-    """The texts with a comma between each two, to be joined once with the rest."""
-    return [piece for text in texts for piece in (",", text)][1:]
+# the line numbers of a symbol's or a folding range's JSON text ("line", "startLine", "endLine"; a
+# string's quotes are escaped, so none is in a name or a detail)
+_LINE_NUMBER = re.compile(r'(?<=ine":)(\d+)')
+
+
+# a run's JSON text, and that text split around its line numbers (at the odd places): moved by a
+# line added above, it is shifted, not encoded again
+Template = tuple[str, list[str]]
+
+
+def _template(text: str) -> Template:
+    return text, _LINE_NUMBER.split(text)
+
+
+def _shift_template(template: Template, delta: int) -> Template:
+    parts = template[1][:]
+    parts[1::2] = [str(int(number) + delta) for number in parts[1::2]]
+    return "".join(parts), parts
+
+
+def _joined(runs: list[Template]) -> list[str]:
+    """The runs' texts with a comma between each two that are not empty, to be joined once with the rest."""
+    return [piece for text, _ in runs if text for piece in (",", text)][1:]
 
 
 def document_symbols(analysis: Analysis) -> str:
     """The JSON text of the hierarchical DocumentSymbol objects: a text file's
     sections holding its rungs, a .ld file's rungs. The rungs' texts are
-    joined in runs kept while their rungs are unchanged (`Analysis.per_run`),
-    so an edit of one rung joins that rung's run again, not every rung; the
-    answer (13 MB for 18,000 rungs) is joined once, from its pieces."""
+    joined in runs kept while their rungs are unchanged, shifted when a line
+    added or removed above moved them (`Analysis.per_run`), so an edit of one
+    rung joins that rung's run again, not every rung; the answer (13 MB for
+    18,000 rungs) is joined once, from its pieces."""
     pieces: list[str] = []
     for section, indexes in _sections(analysis):
-        runs = [text for text in analysis.per_run(
+        runs = _joined(analysis.per_run(
             f"symbols {section.name if section else ''}", indexes,
-            lambda run: ",".join(_rung_text(analysis, index) for index in run)) if text]
+            lambda run: _template(",".join(_rung_text(analysis, index) for index in run)), _shift_template))
         if pieces:
             pieces.append(",")
         if section is None:
-            pieces.extend(_separated(runs))
+            pieces.extend(runs)
             continue
         text = _encoded(_json(analysis, section))
-        pieces.extend([text[:-1], ',"children":[', *_separated(runs), "]}"] if runs else [text])
+        pieces.extend([text[:-1], ',"children":[', *runs, "]}"] if runs else [text])
     return "".join(["[", *pieces, "]"])
 
 
@@ -149,12 +171,13 @@ def rung_fold(analysis: Analysis, index: int) -> Fold | None:
 
 def folding_ranges(analysis: Analysis) -> str:
     """The JSON text of the FoldingRange objects: each rung's, joined in runs
-    kept while their rungs are unchanged, and each section's."""
+    kept while their rungs are unchanged (shifted when moved), and each section's."""
     indexes = [index for _, _, index in analysis.locator.rung_extents()]
-    parts = analysis.per_run("folding", indexes, lambda run: ",".join(
-        _fold(fold) for fold in (rung_fold(analysis, index) for index in run) if fold is not None))
-    parts.extend(map(_fold, outline.section_folds(analysis)))
-    return "[" + ",".join(filter(None, parts)) + "]"
+    runs = analysis.per_run("folding", indexes, lambda run: _template(",".join(
+        _fold(fold) for fold in (rung_fold(analysis, index) for index in run) if fold is not None)), _shift_template)
+    runs.extend(_template(_fold(fold)) for fold in outline.section_folds(analysis))
+    return "".join(["[", *_joined(runs), "]"])
+
 
 def _shift_range(r: Json, delta: int) -> Json:
     return {"start": {"line": r["start"]["line"] + delta, "character": r["start"]["character"]},
