@@ -143,9 +143,11 @@ class Analysis:
             if kept is None or kept.ids != ids or kept.indexes != run:
                 circuits = tuple([id(rung.circuit) for rung in members])
                 firsts = self._firsts(run) if shift is not None else None
-                delta = _common_delta(kept.firsts, firsts) \
-                    if kept is not None and kept.indexes == run and kept.circuits == circuits else None
-                value = compute(run) if delta is None or shift is None else shift(cast(T, kept.value), delta)
+                delta = None
+                if kept is not None and kept.indexes == run and kept.circuits == circuits:
+                    delta = _common_delta(kept.firsts, firsts)
+                value = compute(run) if kept is None or delta is None or shift is None else \
+                    shift(cast(T, kept.value), delta)
                 kept = runs[feature, start] = _Run(run, ids, members, circuits, firsts, value)
             found.append(cast(T, kept.value))
         return found
