@@ -6,6 +6,7 @@ rung is unchanged (`Analysis.per_rung`)."""
 from __future__ import annotations
 
 import functools
+import itertools
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -153,17 +154,88 @@ def _shift_encoded(part: EncodedRung | None, delta: int) -> EncodedRung | None:
     return first_line + delta, first_col, last_line + delta, last_col, rest
 
 
+# the numbers of two answers compared this many characters at a time
+_CHUNK = 1 << 16
+
+
+def _common_prefix(a: str, b: str) -> int:
+    """The length of the longest common prefix (slices compared by C, a chunk at a time)."""
+    at = 0
+    limit = min(len(a), len(b))
+    while at < limit and a[at:at + _CHUNK] == b[at:at + _CHUNK]:
+        at += _CHUNK
+    at = min(at, limit)
+    end = min(at + _CHUNK, limit)
+    while at < end and a[at] == b[at]:
+        at += 1
+    return at
+
+
+def _numbers(text: str) -> int:
+    return text.count(",") + 1 if text else 0
+
+
+def delta_edit(before: str, after: str) -> tuple[int, int, str] | None:
+    """The one edit that turns the numbers `before` into `after` (each the
+    JSON text between the brackets of `data`): (index of the first number
+    replaced, how many are, the JSON text of those put instead), or None when
+    they are the same. An edit of one rung changes its tokens and the first
+    token's after it: one stretch of a big answer."""
+    if before == after:
+        return None
+    # the numbers both start with, whole: up to the last comma of their common start
+    start = before.rfind(",", 0, _common_prefix(before, after)) + 1
+    # and those both end with, from the first comma of their common end
+    tail = min(_common_prefix(before[::-1], after[::-1]), len(before) - start, len(after) - start)
+    comma = before.find(",", len(before) - tail)
+    kept = len(before) - comma if tail and comma >= 0 else 0
+    old, new = before[start:len(before) - kept], after[start:len(after) - kept]
+    return before.count(",", 0, start), _numbers(old), new
+
+
 def register(server: LadderServer) -> None:
     server.documents.shifters["semantic"] = _shift
     server.documents.shifters["semantic-encoded"] = _shift_encoded
+    # uri -> the result id and the numbers of the last full answer or delta sent
+    sent: dict[str, tuple[str, str]] = {}
+    counter = itertools.count(1)
+
+    def numbers(analysis: Analysis) -> str:
+        return analysis.once("semantic", lambda: full_text(analysis))[len('{"data":['):-len("]}")]
+
+    def remember(uri: str, data: str) -> str:
+        """A new result id for the numbers sent."""
+        result_id = str(next(counter))
+        sent[uri] = (result_id, data)
+        return result_id
+
+    def answer(uri: str, data: str) -> Encoded:
+        return Encoded(f'{{"resultId":"{remember(uri, data)}","data":[{data}]}}')
 
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
-               types.SemanticTokensRegistrationOptions(legend=LEGEND, full=True, range=True))
+               types.SemanticTokensRegistrationOptions(legend=LEGEND, full=types.SemanticTokensFullDelta(delta=True),
+                                                       range=True))
     def full(ls: LadderServer, params: types.SemanticTokensParams) -> Encoded | None:
         analysis = ls.documents.analysis(params.text_document.uri)
         if analysis is None:
             return None
-        return Encoded(analysis.once("semantic", lambda: full_text(analysis)))
+        return answer(analysis.uri, numbers(analysis))
+
+    @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL_DELTA)
+    def delta(ls: LadderServer, params: types.SemanticTokensDeltaParams) -> Encoded | None:
+        """The edit from the answer the client names to this version's: a
+        few numbers where the whole answer of 18,000 rungs is 1.8 MB; the
+        whole answer when the server no longer has the one named."""
+        analysis = ls.documents.analysis(params.text_document.uri)
+        if analysis is None:
+            return None
+        data = numbers(analysis)
+        result_id, before = sent.get(analysis.uri, ("", ""))
+        if result_id != params.previous_result_id:
+            return answer(analysis.uri, data)
+        edit = delta_edit(before, data)
+        edits = "" if edit is None else f'{{"start":{edit[0]},"deleteCount":{edit[1]},"data":[{edit[2]}]}}'
+        return Encoded(f'{{"resultId":"{remember(analysis.uri, data)}","edits":[{edits}]}}')
 
     @server.on(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE)
     def ranged(ls: LadderServer, params: types.SemanticTokensRangeParams) -> types.SemanticTokens | None:
@@ -173,3 +245,8 @@ def register(server: LadderServer) -> None:
         first = params.range.start.line
         last = params.range.end.line
         return types.SemanticTokens(data=encode(_client(analysis, tokens(analysis, first, last))))
+
+    def closed(ls: LadderServer, uri: str | None) -> None:
+        sent.pop(uri or "", None)
+
+    server.subscribe("closed", closed)

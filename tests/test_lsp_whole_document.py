@@ -35,7 +35,8 @@ class Server:
         self.workspace = LineWorkspace.like(Workspace(None))
         self.settings = Settings()
         self.documents = Documents(self)  # type: ignore[arg-type]
-        registrar = SimpleNamespace(documents=self.documents, on=lambda *args, **kwargs: (lambda fn: fn))
+        registrar = SimpleNamespace(documents=self.documents, on=lambda *args, **kwargs: (lambda fn: fn),
+                                    subscribe=lambda *args: None)
         symbols.register(registrar)  # type: ignore[arg-type]
         semantic.register(registrar)  # type: ignore[arg-type]
         self.version = 1
@@ -74,6 +75,8 @@ def same_as_fresh(server: Server) -> None:
     # the semantic tokens of every line, as the range request encodes them without the kept parts
     analysis = fresh.analysis()
     assert kept["tokens"] == semantic.encode(semantic._client(analysis, semantic.tokens(analysis)))
+    # a client without hierarchical symbols gets the same symbols, flat
+    assert symbols.flat_symbols(server.analysis()) == symbols._flat(kept["symbols"], URI)
 
 
 def test_an_edit_of_one_rung_of_18000_works_out_that_rung_alone(monkeypatch):
@@ -128,3 +131,36 @@ def test_answers_kept_along_a_longer_session_are_those_of_a_fresh_open():
         answers(server)
     same_as_fresh(server)
 
+
+
+def applied(data: list[int], edit: tuple[int, int, str] | None) -> list[int]:
+    if edit is None:
+        return data
+    start, deleted, put = edit
+    return data[:start] + json.loads(f"[{put}]") + data[start + deleted:]
+
+
+@given(before=st.lists(st.integers(0, 120), max_size=40), data=st.data())
+def test_the_semantic_tokens_delta_turns_the_answer_before_into_this_one(before, data):
+    after = list(before)
+    for _ in range(data.draw(st.integers(0, 3))):
+        at = data.draw(st.integers(0, len(after)))
+        after[at:at + data.draw(st.integers(0, 6))] = data.draw(st.lists(st.integers(0, 120), max_size=6))
+    edit = semantic.delta_edit(",".join(map(str, before)), ",".join(map(str, after)))
+    assert applied(before, edit) == after
+    assert (edit is None) == (before == after)
+
+
+def test_the_semantic_tokens_delta_of_an_edit_of_one_rung_is_that_rung_and_the_next_token():
+    text = big_text(160)
+    server = Server(text)
+    before = answers(server)["tokens"]
+    line = next(n for n, text_line in enumerate(server.lines) if "Xstart" in text_line and n > len(server.lines) // 2)
+    col = server.lines[line].index("Xstart") + 1
+    server.change(types.TextDocumentContentChangePartial(
+        range=types.Range(start=types.Position(line=line, character=col),
+                          end=types.Position(line=line, character=col)), text="q"))
+    after = answers(server)["tokens"]
+    edit = semantic.delta_edit(",".join(map(str, before)), ",".join(map(str, after)))
+    assert applied(before, edit) == after
+    assert edit is not None and edit[1] <= 5 * 40 and len(json.loads(f"[{edit[2]}]")) <= 5 * 40
