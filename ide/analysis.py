@@ -7,7 +7,7 @@ and positions in the client's encoding)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, TypeVar, cast
@@ -124,17 +124,17 @@ class Analysis:
         return self.memo.get(feature, rung, self.moved_from.get(id(rung)), lambda: compute(index))
 
     def per_run(self, feature: str, indexes: Sequence[int], compute: Callable[[Sequence[int]], T],
-                shift: Callable[[T, int], T] | None = None) -> list[T]:
+                shift: Callable[[T, int], T] | None = None) -> Iterator[T]:
         """The feature's results for the rungs `indexes` (in order) in runs of
-        `RUN`, `compute(run)` each, kept while every rung of the run is the
-        same object at the same index: the whole-document answers (outline,
-        folding, semantic tokens) join an unchanged run's part as it was.
-        With `shift(result, lines)`, a run whose rungs the reader moved (new
-        rungs, same circuits) all by the same number of lines, by a line added
-        or removed above them, takes its result shifted."""
+        `RUN`, `compute(run)` each, one run at a time (the warm-up works them
+        out between two looks at the input), kept while every rung of the run
+        is the same object at the same index: the whole-document answers
+        (outline, folding, semantic tokens) join an unchanged run's part as it
+        was. With `shift(result, lines)`, a run whose rungs the reader moved
+        (new rungs, same circuits) all by the same number of lines, by a line
+        added or removed above them, takes its result shifted."""
         rungs = self.program.rungs
         runs = self.memo.runs
-        found = []
         for start in range(0, len(indexes), RUN):
             run = tuple(indexes[start:start + RUN])
             members = tuple([rungs[i] for i in run])
@@ -149,8 +149,7 @@ class Analysis:
                 value = compute(run) if kept is None or delta is None or shift is None else \
                     shift(cast(T, kept.value), delta)
                 kept = runs[feature, start] = _Run(run, ids, members, circuits, firsts, value)
-            found.append(cast(T, kept.value))
-        return found
+            yield cast(T, kept.value)
 
     def _firsts(self, run: Sequence[int]) -> tuple[int, ...] | None:
         """The first lines of the rungs (None: one is not drawn)."""

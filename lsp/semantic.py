@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import functools
 import itertools
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
 from lsprotocol import types
@@ -110,6 +110,12 @@ def _encoded_run(analysis: Analysis, run: Sequence[int]) -> EncodedRung | None:
     return parts[0][0], parts[0][1], parts[-1][2], parts[-1][3], ",".join(texts)
 
 
+def runs(analysis: Analysis) -> Iterator[EncodedRung | None]:
+    """The encoded tokens of the runs of rungs, one run at a time."""
+    indexes = [index for _, _, index in analysis.locator.rung_extents()]
+    return analysis.per_run("semantic-run", indexes, lambda run: _encoded_run(analysis, run), _shift_encoded)
+
+
 def full_text(analysis: Analysis) -> str:
     """The whole document's tokens as the JSON of SemanticTokens, from the
     encoded parts of runs of rungs (`Analysis.per_run`): an edit encodes only
@@ -128,8 +134,7 @@ def full_text(analysis: Analysis) -> str:
             parts.append(",".join(map(str, encode(found, previous))))
             previous = (found[-1][0], found[-1][1])
 
-    indexes = [index for _, _, index in analysis.locator.rung_extents()]
-    for part in analysis.per_run("semantic-run", indexes, lambda run: _encoded_run(analysis, run), _shift_encoded):
+    for part in runs(analysis):
         if part is None:
             continue
         first_line, first_col, last_line, last_col, rest = part

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Iterator
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -114,6 +115,12 @@ def _joined(runs: list[Template]) -> list[str]:
     return [piece for text, _ in runs if text for piece in (",", text)][1:]
 
 
+def _symbol_runs(analysis: Analysis, section: Symbol | None, indexes: list[int]) -> Iterator[Template]:
+    return analysis.per_run(f"symbols {section.name if section else ''}", indexes,
+                             lambda run: _template(",".join(_rung_text(analysis, index) for index in run)),
+                             _shift_template)
+
+
 def document_symbols(analysis: Analysis) -> str:
     """The JSON text of the hierarchical DocumentSymbol objects: a text file's
     sections holding its rungs, a .ld file's rungs. The rungs' texts are
@@ -123,9 +130,7 @@ def document_symbols(analysis: Analysis) -> str:
     18,000 rungs) is joined once, from its pieces."""
     pieces: list[str] = []
     for section, indexes in _sections(analysis):
-        runs = _joined(analysis.per_run(
-            f"symbols {section.name if section else ''}", indexes,
-            lambda run: _template(",".join(_rung_text(analysis, index) for index in run)), _shift_template))
+        runs = _joined(list(_symbol_runs(analysis, section, indexes)))
         if pieces:
             pieces.append(",")
         if section is None:
@@ -169,12 +174,23 @@ def rung_fold(analysis: Analysis, index: int) -> Fold | None:
     return analysis.per_rung("fold", index, lambda i: outline.rung_fold(analysis, i))
 
 
+def _fold_runs(analysis: Analysis) -> Iterator[Template]:
+    indexes = [index for _, _, index in analysis.locator.rung_extents()]
+    return analysis.per_run("folding", indexes, lambda run: _template(",".join(
+        _fold(fold) for fold in (rung_fold(analysis, index) for index in run) if fold is not None)), _shift_template)
+
+
+def runs(analysis: Analysis) -> Iterator[object]:
+    """The runs of the outline and the folding worked out one at a time (lsp/warmup.py)."""
+    for section, indexes in _sections(analysis):
+        yield from _symbol_runs(analysis, section, indexes)
+    yield from _fold_runs(analysis)
+
+
 def folding_ranges(analysis: Analysis) -> str:
     """The JSON text of the FoldingRange objects: each rung's, joined in runs
     kept while their rungs are unchanged (shifted when moved), and each section's."""
-    indexes = [index for _, _, index in analysis.locator.rung_extents()]
-    runs = analysis.per_run("folding", indexes, lambda run: _template(",".join(
-        _fold(fold) for fold in (rung_fold(analysis, index) for index in run) if fold is not None)), _shift_template)
+    runs = list(_fold_runs(analysis))
     runs.extend(_template(_fold(fold)) for fold in outline.section_folds(analysis))
     return "".join(["[", *_joined(runs), "]"])
 
