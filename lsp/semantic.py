@@ -1,7 +1,9 @@
 """Semantic tokens (ide.tokens) in LSP's encoding: each token type by its
 index in the legend, columns in the client's units, positions relative to
 the token before. Each rung's tokens, and their encoding, are kept while the
-rung is unchanged (`Analysis.per_rung`)."""
+rung is unchanged (`Analysis.per_rung`), the encodings joined in runs of
+rungs (`Analysis.per_run`); after an edit a client that names the answer it
+has gets the change from it (`semanticTokens/full/delta`)."""
 
 from __future__ import annotations
 

@@ -10,6 +10,7 @@ import json
 import random
 from types import SimpleNamespace
 
+import pytest
 from builders import coil, contact, program
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -79,6 +80,7 @@ def same_as_fresh(server: Server) -> None:
     assert symbols.flat_symbols(server.analysis()) == symbols._flat(kept["symbols"], URI)
 
 
+@pytest.mark.slow  # about 10 s: the first answers of 18,000 rungs
 def test_an_edit_of_one_rung_of_18000_works_out_that_rung_alone(monkeypatch):
     rungs = [[contact(f"X{n}"), contact(f"R{n}", negated=1), coil(f"R{n + 1}")] for n in range(18_000)]
     server = Server(render_program(program(*rungs)))
@@ -106,7 +108,7 @@ def test_an_edit_of_one_rung_of_18000_works_out_that_rung_alone(monkeypatch):
     assert "RQ000" in diagram["children"][edited]["detail"]
 
 
-@settings(max_examples=40, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+@settings(max_examples=15, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
           deadline=None)
 @given(data=st.data())
 def test_answers_kept_after_random_edits_are_those_of_a_fresh_open(data):
