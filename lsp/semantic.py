@@ -122,9 +122,9 @@ def full_text(analysis: Analysis) -> str:
     """The whole document's tokens as the JSON of SemanticTokens, from the
     encoded parts of runs of rungs (`Analysis.per_run`): an edit encodes only
     the rungs it changed and joins their runs again; a run a line added above
-    moved is the same numbers, but for its first and last tokens' lines. The tokens outside the
-    rungs (section titles, the part, the I/O table's pins) lie outside the
-    diagram, never between two of its rungs."""
+    moved is the same numbers, but for its first and last tokens' lines. The
+    tokens outside the rungs (section titles, the part, the I/O table's pins)
+    lie outside the diagram, never between two of its rungs."""
     extra = _client(analysis, other_tokens(analysis, 0, len(analysis.lines) - 1))
     parts: list[str] = []
     previous = (0, 0)

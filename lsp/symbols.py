@@ -154,6 +154,7 @@ def flat_symbols(analysis: Analysis) -> list[Json]:
             found.append(dict(_json(analysis, section), children=rungs) if rungs else _json(analysis, section))
     return _flat(found, analysis.uri)
 
+
 def _flat(symbols: list[Json], uri: str, container: str | None = None) -> list[Json]:
     out = []
     for symbol in symbols:
