@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from itertools import compress, count
+from operator import is_not
 from typing import Any, TypeVar, cast
 
 from lang import codes
@@ -218,7 +220,7 @@ class Analysis:
             self._previous_locator = (before.locator, moved)
         elif before._previous_locator is not None:
             older, moved_before = before._previous_locator
-            self._previous_locator = (older, still_moved(moved_before, self.program, moved))
+            self._previous_locator = (older, still_moved(moved_before, self.program, moved, before.program))
 
     @cached_property
     def locator(self) -> Locator:
@@ -242,13 +244,22 @@ def _common_delta(before: tuple[int, ...] | None, now: tuple[int, ...] | None) -
 
 
 def still_moved(earlier: dict[int, tuple[Rung, int]], program: Program,
-                 moved: dict[int, tuple[Rung, int]]) -> dict[int, tuple[Rung, int]]:
+                 moved: dict[int, tuple[Rung, int]], previous: Program | None = None) -> dict[int, tuple[Rung, int]]:
     """Where each rung of `program` whose results have not followed it comes
     from: the rungs the reader just moved (from wherever their rung of the
-    version before came from), and those the version before had still to
-    follow and that stayed as they were."""
+    version before, `previous`, came from), and those the version before had
+    still to follow and that stayed as they were. The answers' runs shift
+    without their rungs' results following, so after a line added above
+    9,000 rungs `earlier` holds them all, version after version: when the
+    rungs are as many as before, the ones that changed are found without a
+    Python loop over all of them."""
     found = {}
-    if earlier:
+    if earlier and previous is not None and len(previous.rungs) == len(program.rungs):
+        found = dict(earlier)
+        old_rungs = previous.rungs
+        for index in compress(count(), map(is_not, program.rungs, old_rungs)):
+            found.pop(id(old_rungs[index]), None)
+    elif earlier:
         for rung in program.rungs:
             origin = earlier.get(id(rung))
             if origin is not None:
