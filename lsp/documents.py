@@ -198,10 +198,10 @@ class Documents:
         analysis.split = reader.split()
         analysis.memo = self._results.setdefault(uri, RungResults(self.shifters))
         if cached is not None:
-            analysis.moved_from = still_moved(cached.moved_from, program, reader.moved)
+            analysis.moved_from = still_moved(cached.moved_from, program, reader.moved, cached.program)
         analysis.memo.prune(program, analysis.moved_from)
-        if cached is not None and cached.kind == kind and "locator" in cached.__dict__:
-            analysis._previous_locator = (cached.locator, reader.moved)
+        if cached is not None and cached.kind == kind:
+            analysis.follow(cached, reader.moved)
         self._analyses[uri] = analysis
         return analysis
 

@@ -102,15 +102,20 @@ class LadderProtocol(LanguageServerProtocol):
             super()._send_data(data)
             return
         if isinstance(data, JsonRPCResponseMessage) and isinstance(result, Encoded):
-            body = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": {result.text}}}'
+            head, text = f'{{"id": {json.dumps(data.id)}, "jsonrpc": "2.0", "result": ', result.text
         elif isinstance(params, Encoded):  # a notification
-            body = f'{{"method": {json.dumps(data.method)}, "jsonrpc": "2.0", "params": {params.text}}}'
+            head, text = f'{{"method": {json.dumps(data.method)}, "jsonrpc": "2.0", "params": ', params.text
         else:
             super()._send_data(data)
             return
-        header = f"Content-Length: {len(body)}\r\nContent-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n" \
-            if self._include_headers else ""  # a worker's messages are whole already (lsp/worker.py)
-        written = self.writer.write((header + body).encode(self.CHARSET))
+        # the body's parts encoded apart and joined once: the outline of 18,000 rungs is 13 MB,
+        # and each copy of it costs milliseconds
+        parts = [head.encode(self.CHARSET), text.encode(self.CHARSET), b"}"]
+        if self._include_headers:  # a worker's messages are whole already (lsp/worker.py)
+            length = sum(map(len, parts))
+            parts.insert(0, f"Content-Length: {length}\r\nContent-Type: {self.CONTENT_TYPE}; "
+                            f"charset={self.CHARSET}\r\n\r\n".encode(self.CHARSET))
+        written = self.writer.write(b"".join(parts))
         if inspect.isawaitable(written):
             asyncio.ensure_future(written)
 

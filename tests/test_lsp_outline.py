@@ -85,6 +85,29 @@ async def test_semantic_tokens(client):
     assert whole.data == full.data
 
 
+async def test_semantic_tokens_delta(client):
+    """After an edit the client asks for the change since the answer it has:
+    applied to that answer, it is the new version's whole answer."""
+    doc = Doc(client, new_uri(), example_text())
+    ident = td(doc.uri)
+    first = await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=ident))
+    at = doc.find("Xstart")
+    doc.change(at.line, at.character + 1, at.line, at.character + 1, "q")
+    delta = await client.text_document_semantic_tokens_full_delta_async(
+        types.SemanticTokensDeltaParams(text_document=ident, previous_result_id=first.result_id))
+    assert isinstance(delta, types.SemanticTokensDelta) and len(delta.edits) == 1
+    data = list(first.data)
+    for edit in delta.edits:
+        data[edit.start:edit.start + edit.delete_count] = edit.data or []
+    assert data == list((await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(text_document=ident))).data)
+    assert len(delta.edits[0].data or []) < len(data) // 4
+    # an id the server does not have: the whole answer
+    whole = await client.text_document_semantic_tokens_full_delta_async(
+        types.SemanticTokensDeltaParams(text_document=ident, previous_result_id="gone"))
+    assert isinstance(whole, types.SemanticTokens) and list(whole.data) == data
+
+
 async def test_results_follow_edits(client):
     """The per-rung results kept from one version to the next (rungs unchanged
     or moved) equal those of the same text opened afresh."""
