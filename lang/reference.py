@@ -9,7 +9,7 @@ from __future__ import annotations
 import difflib
 import re
 import sys
-from functools import cache
+from functools import cache, lru_cache
 
 from .instructions import INSTRUCTIONS, Instruction
 from .model import Element, Program
@@ -51,15 +51,23 @@ def closest(glyph: str, top: str = "", limit: int = 3) -> list[str]:
     whose glyph shares a word with it (`CTU` in `[CTU >=5]`), then the most
     alike by their characters."""
     words = {w.upper() for w in _WORD.findall(glyph)}
-    known = drawings()
-    same_word = [key for key, (_, drawn) in known.items()
-                 if words & {w.upper() for w in _WORD.findall(drawn)} or key in words]
-    by_text = {drawn.strip(): key for key, (_, drawn) in known.items() if drawn.strip()}
+    drawn_words, by_text = _known()
+    same_word = [key for key, drawn in drawn_words.items() if words & drawn or key in words]
     alike = [by_text[m] for m in difflib.get_close_matches(glyph.strip(), list(by_text), n=limit, cutoff=0.5)]
     ordered = list(dict.fromkeys(same_word + alike))
     return ordered[:limit]
 
 
+@cache
+def _known() -> tuple[dict[str, set[str]], dict[str, str]]:
+    """Each instruction's words in its drawing, and each drawing's instruction."""
+    known = drawings()
+    words = {key: {w.upper() for w in _WORD.findall(drawn)} for key, (_, drawn) in known.items()}
+    return words, {drawn.strip(): key for key, (_, drawn) in known.items() if drawn.strip()}
+
+
+# a damaged or foreign file repeats its unreadable glyphs thousands of times: each is matched once
+@lru_cache(maxsize=4096)
 def suggestion(glyph: str, top: str = "") -> str:
     """`; did you mean ...?` naming the closest drawings, or nothing."""
     keys = closest(glyph, top)

@@ -136,7 +136,8 @@ class _RungReader:
     def __init__(self, lines: list[Line], symbol_index: int):
         self.lines = lines
         self.first = symbol_index
-        self.symbol_rows = list(range(symbol_index, len(lines), 3))
+        # a range: `row in symbol_rows` is arithmetic, not a walk of a tall rung's rows
+        self.symbol_rows = range(symbol_index, len(lines), 3)
         self.nodes = Nodes()
         self.edges: list[Edge] = []
         self.problems: list[Diagnostic] = []
