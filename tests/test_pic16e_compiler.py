@@ -164,3 +164,20 @@ def test_outputs_on_two_ports_follow_the_simulator(fsr1, tmp_path):
                                                      "Yd": "RA5"}, crystal_hz=16_000_000)
     events = [Event(1, "Xa", 1), Event(4, "Xa", 0), Event(6, "Xb", 1), Event(9, "Xb", 0), Event(11, "Xa", 1)]
     assert differential(prog, events, 16, tmp_path) == []
+
+
+def test_look_up_tables_reached_by_brw_follow_the_simulator(tmp_path):
+    """A table (LDmicro's at most 64 entries) is jumped into by BRW from the
+    index's low byte: two of them read at every index in gpsim beside the
+    simulator, one of the largest size."""
+    long, short = [(i * 7 + i // 8) % 4 for i in range(64)], [1, 3, 0, 2, 3, 1]
+    rungs = [[el("ADD", dest="vi", op1="vi", op2="1")], [el("GEQ", op1="vi", op2=str(len(long))), move("vi", 0)],
+             [el("ADD", dest="vs", op1="vs", op2="1")], [el("GEQ", op1="vs", op2=str(len(short))), move("vs", 0)],
+             [el("LOOK_UP_TABLE", dest="vt", index="vi", values=tuple(map(str, long)))],
+             [el("LOOK_UP_TABLE", dest="vu", index="vs", values=tuple(map(str, short)))],
+             [el("EQU", op1="vt", op2="1"), coil("Ya")], [el("EQU", op1="vt", op2="2"), coil("Yb")],
+             [el("EQU", op1="vu", op2="1"), coil("Yc")], [el("EQU", op1="vu", op2="3"), coil("Yd")]]
+    prog = program(*rungs, mcu="pic16f1824", pins={"Ya": "RA2", "Yb": "RC0", "Yc": "RC1", "Yd": "RA5"},
+                   crystal_hz=16_000_000)
+    assert compiler.build(prog).image.listing.count("\tbrw") == 2
+    assert differential(prog, [], 2 * len(long), tmp_path) == []
