@@ -178,17 +178,10 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
     bits.write(e, go, True)
     # 12 converter clocks of at most 32 instruction cycles... each pass is 4 cycles
     _wait_while(cx, go, True, LoopBound(12 * 32 // 4 + 1, "an A/D conversion"))
-    regs = ints.scratch(cx, "A", 4)
-    result = adc["result"]
-    e.load(part.reg(result[-1]))
-    e.store(regs[0])
-    if len(result) > 1:
-        e.load(part.reg(result[0]))
-        e.store(regs[1])
-    else:
-        e.ins("clrf", regs[1])
-    n = ints.target_size(cx, op.dst)
-    ints.copy_out(cx, ints.widen(cx, regs, 2, n, False), op.dst)
+    # the result registers copied straight into the destination (low byte first), zero above
+    result = [part.reg(name) for name in reversed(adc["result"])]
+    for i, address in enumerate(ints.target_bytes(cx, op.dst)):
+        ints.put(e, ints.Byte("mem", result[i]) if i < len(result) else ints.Byte("const", 0), address)
 
 
 # --- PWM ----------------------------------------------------------------------------------
