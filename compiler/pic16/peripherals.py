@@ -178,10 +178,14 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
     bits.write(e, go, True)
     # 12 converter clocks of at most 32 instruction cycles... each pass is 4 cycles
     _wait_while(cx, go, True, LoopBound(12 * 32 // 4 + 1, "an A/D conversion"))
-    # the result registers copied straight into the destination (low byte first), zero above
-    result = [part.reg(name) for name in reversed(adc["result"])]
-    for i, address in enumerate(ints.target_bytes(cx, op.dst)):
-        ints.put(e, ints.Byte("mem", result[i]) if i < len(result) else ints.Byte("const", 0), address)
+    _copy_unsigned(cx, [part.reg(name) for name in reversed(adc["result"])], op.dst)
+
+
+def _copy_unsigned(cx, registers: list[int], target) -> None:
+    """The registers (low byte first) straight into the destination, zero
+    above them: each register read once (RCREG's read takes the byte)."""
+    for i, address in enumerate(ints.target_bytes(cx, target)):
+        ints.put(cx.e, ints.Byte("mem", registers[i]) if i < len(registers) else ints.Byte("const", 0), address)
 
 
 # --- PWM ----------------------------------------------------------------------------------
@@ -400,15 +404,10 @@ def uart_available(cx, op: ir.UartAvailable) -> None:
 def uart_take(cx, op: ir.UartTake) -> None:
     """A byte already seen in the receiver is taken at once; one still to
     come, whenever it comes."""
-    e = cx.e
     _clear_overrun(cx)
     if op.wait:
         _wait_while(cx, _bit(cx, "PIR1", "RCIF"), False, LoopBound(None, "a UART receive waiting for a byte"))
-    regs = ints.scratch(cx, "A", 4)
-    e.load(cx.part.reg("RCREG"))
-    e.store(regs[0])
-    n = ints.target_size(cx, op.dst)
-    ints.copy_out(cx, ints.widen(cx, regs, 1, n, False), op.dst)
+    _copy_unsigned(cx, [cx.part.reg("RCREG")], op.dst)
 
 
 # --- EEPROM ----------------------------------------------------------------------------------
