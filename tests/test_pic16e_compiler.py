@@ -84,6 +84,21 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(part, pin, port, bit, tmp_path):
     assert len({value & ~(1 << bit) for _, _, value in run.reads}) == 1
 
 
+@pytest.mark.parametrize("duty", [1, 30, 99])
+def test_a_pwm_scale_of_four_is_the_duty_shifted(duty, tmp_path):
+    """40 kHz at 16 MHz is a period of 100: a duty of 0..100 makes 4 x duty
+    tenths, shifted (LSLF) and not multiplied, and CCPR1L and CCP1CON<5:4> hold
+    them in gpsim."""
+    prog = program([move("duty", str(duty))], [el("SET_PWM", duty="duty", freq=40000, name="Ppwm")],
+                   mcu="pic16f1824", pins={"Ppwm": "RC5"}, crystal_hz=16_000_000)
+    build = compiler.build(prog)
+    assert "mul3" not in build.image.listing and "lslf" in build.image.listing
+    build.write(tmp_path / "pwm.hex")
+    run = gpsim.run_pic(tmp_path / "pwm.hex", Part.of(build.device).gpsim, 16_000_000,
+                        reads=[(5, "ccpr1l"), (5, "ccp1con")], until_ms=6, timeout=120)
+    assert [value for _, _, value in run.reads] == [4 * duty >> 2, (4 * duty & 3) << 4 | 0x0C]
+
+
 def test_two_pwm_names_on_the_pins_of_one_ccp_are_a_located_error():
     second = el("SET_PWM", duty="70", freq=1000, name="Pb")
     prog = program([el("SET_PWM", duty="30", freq=1000, name="Pa")], [second], mcu="pic16f1824",

@@ -9,6 +9,8 @@ the transmitter is busy is lost.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from lang.devices import Pin
 from lang.hardware import analog_group, baud_setting, pwm_setting
 from lang.semantics import ir
@@ -216,8 +218,45 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
     e.ins("btfsc", e.status, 0)
     e.goto(on)
-    # duty * 4 * period / full, a 10-bit duty cycle, as duty * factor >> shift (no division)
-    factor, shift = pwm_scale(4 * setting.period, op.full)
+    value = _ten_bits(cx, duty, 4 * setting.period, op.full)
+    unit = op.unit
+    ccp = part.reg(f"{unit}CON")
+    # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
+    e.load(value[0])
+    e.ins("andlw", 3)
+    e.store(s.E)
+    e.ins("swapf", s.E, W)
+    e.ins("iorlw", PWM_MODE)
+    e.store(ccp)
+    for _ in range(2):
+        e.ins("bcf", e.status, 0)
+        e.ins("rrf", value[1], F)
+        e.ins("rrf", value[0], F)
+    e.load(value[0])
+    e.store(part.reg(f"CCPR{unit[-1]}L"))
+    e.goto(done)
+    e.label(on)
+    _disconnect(cx, unit, True)
+    e.goto(done)
+    e.label(off)
+    _disconnect(cx, unit, False)
+    e.label(done)
+
+
+def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
+    """The 10-bit duty cycle duty * numerator // full (0 < duty < full) in
+    two scratch bytes, low first: the duty shifted where the scale is a
+    power of two (4 x a period of 100 with a full scale of 100...), else
+    duty * factor >> shift (no division)."""
+    e = cx.e
+    s = ints.Scratch(cx.layout.scratch)
+    scale = Fraction(numerator, full)
+    if _power_of_two(scale.numerator) and _power_of_two(scale.denominator):
+        up = scale.numerator.bit_length() - scale.denominator.bit_length()
+        for _ in range(abs(up)):
+            ints.shift_once(e, "shl" if up > 0 else "sr0", duty[:2])
+        return duty[:2]
+    factor, shift = pwm_scale(numerator, full)
     for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
         ints.put(e, ints.Byte("const", value), reg)
     ints.copy_in(cx, ir.Const(0), s.B[2:3])
@@ -244,28 +283,11 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
         high = product[shift // 8:][:2]
     for byte, dst in zip(high + [None], s.A[:2]):
         ints.put(e, ints.Byte("mem", byte) if byte is not None else ints.Byte("const", 0), dst)
-    unit = op.unit
-    ccp = part.reg(f"{unit}CON")
-    # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
-    e.load(s.A[0])
-    e.ins("andlw", 3)
-    e.store(s.E)
-    e.ins("swapf", s.E, W)
-    e.ins("iorlw", PWM_MODE)
-    e.store(ccp)
-    for _ in range(2):
-        e.ins("bcf", e.status, 0)
-        e.ins("rrf", s.A[1], F)
-        e.ins("rrf", s.A[0], F)
-    e.load(s.A[0])
-    e.store(part.reg(f"CCPR{unit[-1]}L"))
-    e.goto(done)
-    e.label(on)
-    _disconnect(cx, unit, True)
-    e.goto(done)
-    e.label(off)
-    _disconnect(cx, unit, False)
-    e.label(done)
+    return s.A[:2]
+
+
+def _power_of_two(n: int) -> bool:
+    return n & (n - 1) == 0
 
 
 def pwm_scale(numerator: int, full: int) -> tuple[int, int]:
