@@ -218,21 +218,27 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
     e.ins("btfsc", e.status, 0)
     e.goto(on)
-    value = _ten_bits(cx, duty, 4 * setting.period, op.full)
     unit = op.unit
     ccp = part.reg(f"{unit}CON")
-    # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
-    e.load(value[0])
-    e.ins("andlw", 3)
-    e.store(s.E)
-    e.ins("swapf", s.E, W)
-    e.ins("iorlw", PWM_MODE)
-    e.store(ccp)
-    for _ in range(2):
-        e.ins("bcf", e.status, 0)
-        e.ins("rrf", value[1], F)
-        e.ins("rrf", value[0], F)
-    e.load(value[0])
+    if Fraction(4 * setting.period, op.full) == 4:
+        # the 10 bits are duty * 4: CCPxCON<5:4> = 0, CCPRxL = the duty
+        e.load_constant(PWM_MODE)
+        e.store(ccp)
+        e.load(duty[0])
+    else:
+        value = _ten_bits(cx, duty, 4 * setting.period, op.full)
+        # CCPRxL = the 10 bits >> 2, CCPxCON<5:4> = their low two, PWM mode
+        e.load(value[0])
+        e.ins("andlw", 3)
+        e.store(s.E)
+        e.ins("swapf", s.E, W)
+        e.ins("iorlw", PWM_MODE)
+        e.store(ccp)
+        for _ in range(2):
+            e.ins("bcf", e.status, 0)
+            e.ins("rrf", value[1], F)
+            e.ins("rrf", value[0], F)
+        e.load(value[0])
     e.store(part.reg(f"CCPR{unit[-1]}L"))
     e.goto(done)
     e.label(on)
@@ -246,7 +252,7 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
 def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
     """The 10-bit duty cycle duty * numerator // full (0 < duty < full) in
     two scratch bytes, low first: the duty shifted where the scale is a
-    power of two (4 x a period of 100 with a full scale of 100...), else
+    power of two (4 x a period of 64 with a full scale of 256...), else
     duty * factor >> shift (no division)."""
     e = cx.e
     s = ints.Scratch(cx.layout.scratch)

@@ -46,7 +46,7 @@ class Context:
     def relative_table(self, entries: int) -> bool:
         """A table of this many entries is reached by BRW (PC + 1 + W, whatever
         PCLATH holds) from A0 alone: the enhanced core's, up to 256 entries."""
-        return "brw" in self.e.asm.isa.INSTRUCTIONS and entries <= 256
+        return self.e.asm.relative_tables and entries <= 256
 
 
 def _call(cx: Context, op: ir.Call) -> None:

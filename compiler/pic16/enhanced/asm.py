@@ -19,6 +19,7 @@ class Assembler(midrange.Assembler):
     isa = isa
     # program memory is at 0x8000 up for FSR0/FSR1: gpasm's high() of a code label has bit 7 set (PCLATH ignores it)
     code_space = 0x8000
+    relative_tables = True
 
     def __init__(self, flash_words: int, page_words: int, alias: Alias | None = None):
         super().__init__(flash_words, page_words)
