@@ -84,19 +84,22 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(part, pin, port, bit, tmp_path):
     assert len({value & ~(1 << bit) for _, _, value in run.reads}) == 1
 
 
+@pytest.mark.parametrize("freq,scale", [(40000, 4), (8000, 5)])
 @pytest.mark.parametrize("duty", [1, 30, 99])
-def test_a_pwm_scale_of_four_writes_the_duty_itself(duty, tmp_path):
-    """40 kHz at 16 MHz is a period of 100: a duty of 0..100 makes 4 x duty
-    tenths, not multiplied: CCPR1L holds the duty and CCP1CON<5:4> zero in
-    gpsim."""
-    prog = program([move("duty", str(duty))], [el("SET_PWM", duty="duty", freq=40000, name="Ppwm")],
+def test_a_pwm_scale_of_four_or_five_needs_no_multiplication(freq, scale, duty, tmp_path):
+    """40 kHz and 8 kHz at 16 MHz are periods of 100 and 125: a duty of 0..100
+    makes 4 or 5 x duty tenths of a Timer2 count, written as the duty itself
+    or shifted and added (LSLF, ADDWFC), not multiplied: CCPR1L and
+    CCP1CON<5:4> hold them in gpsim."""
+    prog = program([move("duty", str(duty))], [el("SET_PWM", duty="duty", freq=freq, name="Ppwm")],
                    mcu="pic16f1824", pins={"Ppwm": "RC5"}, crystal_hz=16_000_000)
     build = compiler.build(prog)
     assert "mul3" not in build.image.listing
     build.write(tmp_path / "pwm.hex")
     run = gpsim.run_pic(tmp_path / "pwm.hex", Part.of(build.device).gpsim, 16_000_000,
                         reads=[(5, "ccpr1l"), (5, "ccp1con")], until_ms=6, timeout=120)
-    assert [value for _, _, value in run.reads] == [4 * duty >> 2, (4 * duty & 3) << 4 | 0x0C]
+    tenths = scale * duty
+    assert [value for _, _, value in run.reads] == [tenths >> 2, (tenths & 3) << 4 | 0x0C]
 
 
 def test_two_pwm_names_on_the_pins_of_one_ccp_are_a_located_error():

@@ -252,8 +252,9 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
 def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
     """The 10-bit duty cycle duty * numerator // full (0 < duty < full) in
     two scratch bytes, low first: the duty shifted where the scale is a
-    power of two (4 x a period of 64 with a full scale of 256...), else
-    duty * factor >> shift (no division)."""
+    power of two (4 x a period of 64 with a full scale of 256...), shifted
+    and added once where it is an integer of two bits (4 x 125 / 100 = 5),
+    else duty * factor >> shift (no division)."""
     e = cx.e
     s = ints.Scratch(cx.layout.scratch)
     scale = Fraction(numerator, full)
@@ -262,6 +263,19 @@ def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
         for _ in range(abs(up)):
             ints.shift_once(e, "shl" if up > 0 else "sr0", duty[:2])
         return duty[:2]
+    if scale.denominator == 1 and scale.numerator.bit_count() == 2:
+        # two bits set (3, 5, 6...): (duty << (high - low) + duty) << low, no multiplication
+        value = s.A[:2]
+        for reg, src in zip(value, duty[:2]):
+            e.load(src)
+            e.store(reg)
+        low, high = (scale.numerator & -scale.numerator).bit_length() - 1, scale.numerator.bit_length() - 1
+        for _ in range(high - low):
+            ints.shift_once(e, "shl", value)
+        ints.add_files(e, value, duty[:2])
+        for _ in range(low):
+            ints.shift_once(e, "shl", value)
+        return value
     factor, shift = pwm_scale(numerator, full)
     for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
         ints.put(e, ints.Byte("const", value), reg)
