@@ -264,18 +264,18 @@ def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
             ints.shift_once(e, "shl" if up > 0 else "sr0", duty[:2])
         return duty[:2]
     if scale.denominator == 1 and scale.numerator.bit_count() == 2:
-        # two bits set (3, 5, 6...): (duty << (high - low) + duty) << low, no multiplication
-        value = s.A[:2]
-        for reg, src in zip(value, duty[:2]):
+        # two bits set (3, 5, 6...): (duty << (top - bottom) + duty) << bottom, no multiplication
+        scaled = s.A[:2]
+        for reg, src in zip(scaled, duty[:2]):
             e.load(src)
             e.store(reg)
-        low, high = (scale.numerator & -scale.numerator).bit_length() - 1, scale.numerator.bit_length() - 1
-        for _ in range(high - low):
-            ints.shift_once(e, "shl", value)
-        ints.add_files(e, value, duty[:2])
-        for _ in range(low):
-            ints.shift_once(e, "shl", value)
-        return value
+        bottom, top = (scale.numerator & -scale.numerator).bit_length() - 1, scale.numerator.bit_length() - 1
+        for _ in range(top - bottom):
+            ints.shift_once(e, "shl", scaled)
+        ints.add_files(e, scaled, duty[:2])
+        for _ in range(bottom):
+            ints.shift_once(e, "shl", scaled)
+        return scaled
     factor, shift = pwm_scale(numerator, full)
     for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
         ints.put(e, ints.Byte("const", value), reg)
