@@ -410,11 +410,14 @@ END
 
 
 @pytest.mark.parametrize("freq, resolution, full, step", [(2000, "0-100%", 100, 1), (300, "0-1024", 1024, 9),
-                                                          (15000, "0-256", 256, 3), (4000, "0-512", 512, 5)])
+                                                          (15000, "0-256", 256, 3), (4000, "0-512", 512, 5),
+                                                          (10000, "0-100%", 100, 1), (15625, "0-512", 512, 5),
+                                                          (15625, "0-256", 256, 3)])
 def test_pwm_duty_registers_for_every_duty(freq, resolution, full, step, tmp_path):
     """A duty stepping every scan through 0..full and past it: CCPR1L and
     CCP1CON<5:4> hold duty * 4 * period / full (truncated) each scan, the
-    module off at full and beyond."""
+    module off at full and beyond; the last three scale by 4, 1/2 and 1
+    (periods of 100, 64 and 64), shifts and no multiplication."""
     from lang.hardware import pwm_setting
 
     program = _program(PWM_STEPS_LD.format(freq=freq, resolution=resolution, step=step))

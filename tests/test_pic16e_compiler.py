@@ -84,6 +84,24 @@ def test_pwm_duty_and_frequency_on_the_ccp_pin(part, pin, port, bit, tmp_path):
     assert len({value & ~(1 << bit) for _, _, value in run.reads}) == 1
 
 
+@pytest.mark.parametrize("freq,scale", [(40000, 4), (8000, 5)])
+@pytest.mark.parametrize("duty", [1, 30, 99])
+def test_a_pwm_scale_of_four_or_five_needs_no_multiplication(freq, scale, duty, tmp_path):
+    """40 kHz and 8 kHz at 16 MHz are periods of 100 and 125: a duty of 0..100
+    makes 4 or 5 x duty tenths of a Timer2 count, written as the duty itself
+    or shifted and added (LSLF, ADDWFC), not multiplied: CCPR1L and
+    CCP1CON<5:4> hold them in gpsim."""
+    prog = program([move("duty", str(duty))], [el("SET_PWM", duty="duty", freq=freq, name="Ppwm")],
+                   mcu="pic16f1824", pins={"Ppwm": "RC5"}, crystal_hz=16_000_000)
+    build = compiler.build(prog)
+    assert "mul3" not in build.image.listing
+    build.write(tmp_path / "pwm.hex")
+    run = gpsim.run_pic(tmp_path / "pwm.hex", Part.of(build.device).gpsim, 16_000_000,
+                        reads=[(5, "ccpr1l"), (5, "ccp1con")], until_ms=6, timeout=120)
+    tenths = scale * duty
+    assert [value for _, _, value in run.reads] == [tenths >> 2, (tenths & 3) << 4 | 0x0C]
+
+
 def test_two_pwm_names_on_the_pins_of_one_ccp_are_a_located_error():
     second = el("SET_PWM", duty="70", freq=1000, name="Pb")
     prog = program([el("SET_PWM", duty="30", freq=1000, name="Pa")], [second], mcu="pic16f1824",
@@ -164,3 +182,20 @@ def test_outputs_on_two_ports_follow_the_simulator(fsr1, tmp_path):
                                                      "Yd": "RA5"}, crystal_hz=16_000_000)
     events = [Event(1, "Xa", 1), Event(4, "Xa", 0), Event(6, "Xb", 1), Event(9, "Xb", 0), Event(11, "Xa", 1)]
     assert differential(prog, events, 16, tmp_path) == []
+
+
+def test_look_up_tables_reached_by_brw_follow_the_simulator(tmp_path):
+    """A table (LDmicro's at most 64 entries) is jumped into by BRW from the
+    index's low byte: two of them read at every index in gpsim beside the
+    simulator, one of the largest size."""
+    long, short = [(i * 7 + i // 8) % 4 for i in range(64)], [1, 3, 0, 2, 3, 1]
+    rungs = [[el("ADD", dest="vi", op1="vi", op2="1")], [el("GEQ", op1="vi", op2=str(len(long))), move("vi", 0)],
+             [el("ADD", dest="vs", op1="vs", op2="1")], [el("GEQ", op1="vs", op2=str(len(short))), move("vs", 0)],
+             [el("LOOK_UP_TABLE", dest="vt", index="vi", values=tuple(map(str, long)))],
+             [el("LOOK_UP_TABLE", dest="vu", index="vs", values=tuple(map(str, short)))],
+             [el("EQU", op1="vt", op2="1"), coil("Ya")], [el("EQU", op1="vt", op2="2"), coil("Yb")],
+             [el("EQU", op1="vu", op2="1"), coil("Yc")], [el("EQU", op1="vu", op2="3"), coil("Yd")]]
+    prog = program(*rungs, mcu="pic16f1824", pins={"Ya": "RA2", "Yb": "RC0", "Yc": "RC1", "Yd": "RA5"},
+                   crystal_hz=16_000_000)
+    assert compiler.build(prog).image.listing.count("\tbrw") == 2
+    assert differential(prog, [], 2 * len(long), tmp_path) == []

@@ -116,6 +116,8 @@ class Writer:
     """The items in program order, as the emitter writes them; each
     family's assembler lays them out."""
 
+    relative_tables = False  # a table of up to 256 entries is reached by BRW (PC + 1 + W) from its index's low byte
+
     def __init__(self) -> None:
         self.items: list[Item] = []
 

@@ -34,11 +34,18 @@ def ram_in_use(layout) -> frozenset[int]:
 def _write_tables(cx: Context) -> None:
     """Each table: a routine that jumps to RETLW data[A1:A0] (PCLATH takes
     the high byte of the entry's address: the table may cross 256-word
-    boundaries and pages)."""
+    boundaries and pages), or BRW from A0 where the core has it
+    (`Context.relative_table`)."""
     e, s = cx.e, cx.layout.scratch
     for data, name in cx.tables.items():
         entries = f"{name}_data"
         e.label(name, loop=True)
+        if cx.relative_table(len(data)):
+            e.ins("movf", s[0], 0)
+            e.ins("brw")
+            e.end_path()
+            e.asm.table(entries, data)
+            continue
         e.asm.address(entries, high=True)
         e.ins("movwf", 0x0A)
         e.ins("movf", s[1], 0)

@@ -16,7 +16,8 @@ boundary).
 
 The enhanced mid-range core (a part whose device file says `"core":
 "enhanced"`) adds MOVLB, MOVLP, BRA (2 cycles, a 9-bit signed offset from
-the next word), BRW and CALLW (computed: not read), ADDWFC, SUBWFB, LSLF,
+the next word), BRW (a table lookup, as a write to PCL: the back end's
+tables of up to 256 entries), CALLW (computed: not read), ADDWFC, SUBWFB, LSLF,
 LSRF, ASRF, ADDFSR, MOVIW, MOVWI and RESET; its RETLW is 0x34xx only (0x35xx
 to 0x37xx are the shifts), and a page is selected by one MOVLP before the
 jump.
@@ -28,6 +29,7 @@ from ..budget import CALL, COMPUTED, JUMP, NEXT, RETURN, SKIP, Instruction
 
 CLOCKS_PER_CYCLE = 4
 PCL, PCLATH = 0x02, 0x0A
+BRW = 0x000B
 PAGE_BITS = {3: 0, 4: 1}  # PCLATH bit -> bit of the page number
 PAGE_WORDS = 2048
 
@@ -122,6 +124,6 @@ def instruction_at(words: list[int], address: int, device) -> Instruction | None
         return Instruction(address, 1, 2, CALL, target, text="call")
     if _is_skip(word):
         return Instruction(address, 1, 1, SKIP, after + 1, 2, text="skip")
-    if _writes_pcl(word):
+    if _writes_pcl(word) or (enhanced and word == BRW):
         return Instruction(address, 1, 2, COMPUTED, targets=_table(words, address, enhanced), text="write to PCL")
     return Instruction(address, 1, 1, NEXT) if _known(word, enhanced) else None

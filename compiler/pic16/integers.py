@@ -760,7 +760,7 @@ def table(cx, op: ir.Table) -> None:
     e = cx.e
     s = Scratch(cx.layout.scratch)
     n = target_size(cx, op.dst)
-    copy_in(cx, op.index, s.A[:2])
+    copy_in(cx, op.index, s.A[:1 if cx.relative_table(len(op.values)) else 2])
     for address, i in zip(target_bytes(cx, op.dst), range(n)):
         data = bytes((v >> 8 * i) & 0xFF for v in op.values)
         if len(set(data)) == 1:  # every entry's byte the same (a sign extension...): no table

@@ -9,6 +9,8 @@ the transmitter is busy is lost.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from lang.devices import Pin
 from lang.hardware import analog_group, baud_setting, pwm_setting
 from lang.semantics import ir
@@ -178,17 +180,14 @@ def read_adc(cx, op: ir.ReadAdc) -> None:
     bits.write(e, go, True)
     # 12 converter clocks of at most 32 instruction cycles... each pass is 4 cycles
     _wait_while(cx, go, True, LoopBound(12 * 32 // 4 + 1, "an A/D conversion"))
-    regs = ints.scratch(cx, "A", 4)
-    result = adc["result"]
-    e.load(part.reg(result[-1]))
-    e.store(regs[0])
-    if len(result) > 1:
-        e.load(part.reg(result[0]))
-        e.store(regs[1])
-    else:
-        e.ins("clrf", regs[1])
-    n = ints.target_size(cx, op.dst)
-    ints.copy_out(cx, ints.widen(cx, regs, 2, n, False), op.dst)
+    _copy_unsigned(cx, [part.reg(name) for name in reversed(adc["result"])], op.dst)
+
+
+def _copy_unsigned(cx, registers: list[int], target) -> None:
+    """The registers (low byte first) straight into the destination, zero
+    above them: each register read once (RCREG's read takes the byte)."""
+    for i, address in enumerate(ints.target_bytes(cx, target)):
+        ints.put(cx.e, ints.Byte("mem", registers[i]) if i < len(registers) else ints.Byte("const", 0), address)
 
 
 # --- PWM ----------------------------------------------------------------------------------
@@ -219,8 +218,65 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
     ints.chain(e, "cmp", duty, [ints.Byte("const", op.full >> 8 * i & 0xFF) for i in range(width)])
     e.ins("btfsc", e.status, 0)
     e.goto(on)
-    # duty * 4 * period / full, a 10-bit duty cycle, as duty * factor >> shift (no division)
-    factor, shift = pwm_scale(4 * setting.period, op.full)
+    unit = op.unit
+    ccp = part.reg(f"{unit}CON")
+    if Fraction(4 * setting.period, op.full) == 4:
+        # the 10 bits are duty * 4: CCPxCON<5:4> = 0, CCPRxL = the duty
+        e.load_constant(PWM_MODE)
+        e.store(ccp)
+        e.load(duty[0])
+    else:
+        value = _ten_bits(cx, duty, 4 * setting.period, op.full)
+        # CCPRxL = the 10 bits >> 2, CCPxCON<5:4> = their low two, PWM mode
+        e.load(value[0])
+        e.ins("andlw", 3)
+        e.store(s.E)
+        e.ins("swapf", s.E, W)
+        e.ins("iorlw", PWM_MODE)
+        e.store(ccp)
+        for _ in range(2):
+            e.ins("bcf", e.status, 0)
+            e.ins("rrf", value[1], F)
+            e.ins("rrf", value[0], F)
+        e.load(value[0])
+    e.store(part.reg(f"CCPR{unit[-1]}L"))
+    e.goto(done)
+    e.label(on)
+    _disconnect(cx, unit, True)
+    e.goto(done)
+    e.label(off)
+    _disconnect(cx, unit, False)
+    e.label(done)
+
+
+def _ten_bits(cx, duty: list[int], numerator: int, full: int) -> list[int]:
+    """The 10-bit duty cycle duty * numerator // full (0 < duty < full) in
+    two scratch bytes, low first: the duty shifted where the scale is a
+    power of two (4 x a period of 64 with a full scale of 256...), shifted
+    and added once where it is an integer of two bits (4 x 125 / 100 = 5),
+    else duty * factor >> shift (no division)."""
+    e = cx.e
+    s = ints.Scratch(cx.layout.scratch)
+    scale = Fraction(numerator, full)
+    if _power_of_two(scale.numerator) and _power_of_two(scale.denominator):
+        up = scale.numerator.bit_length() - scale.denominator.bit_length()
+        for _ in range(abs(up)):
+            ints.shift_once(e, "shl" if up > 0 else "sr0", duty[:2])
+        return duty[:2]
+    if scale.denominator == 1 and scale.numerator.bit_count() == 2:
+        # two bits set (3, 5, 6...): (duty << (top - bottom) + duty) << bottom, no multiplication
+        scaled = s.A[:2]
+        for reg, src in zip(scaled, duty[:2]):
+            e.load(src)
+            e.store(reg)
+        bottom, top = (scale.numerator & -scale.numerator).bit_length() - 1, scale.numerator.bit_length() - 1
+        for _ in range(top - bottom):
+            ints.shift_once(e, "shl", scaled)
+        ints.add_files(e, scaled, duty[:2])
+        for _ in range(bottom):
+            ints.shift_once(e, "shl", scaled)
+        return scaled
+    factor, shift = pwm_scale(numerator, full)
     for reg, value in zip(s.A[:3], factor.to_bytes(3, "little")):
         ints.put(e, ints.Byte("const", value), reg)
     ints.copy_in(cx, ir.Const(0), s.B[2:3])
@@ -247,28 +303,11 @@ def set_pwm(cx, op: ir.SetPwm) -> None:
         high = product[shift // 8:][:2]
     for byte, dst in zip(high + [None], s.A[:2]):
         ints.put(e, ints.Byte("mem", byte) if byte is not None else ints.Byte("const", 0), dst)
-    unit = op.unit
-    ccp = part.reg(f"{unit}CON")
-    # CCPRxL = duty >> 2, CCPxCON<5:4> = duty & 3, PWM mode
-    e.load(s.A[0])
-    e.ins("andlw", 3)
-    e.store(s.E)
-    e.ins("swapf", s.E, W)
-    e.ins("iorlw", PWM_MODE)
-    e.store(ccp)
-    for _ in range(2):
-        e.ins("bcf", e.status, 0)
-        e.ins("rrf", s.A[1], F)
-        e.ins("rrf", s.A[0], F)
-    e.load(s.A[0])
-    e.store(part.reg(f"CCPR{unit[-1]}L"))
-    e.goto(done)
-    e.label(on)
-    _disconnect(cx, unit, True)
-    e.goto(done)
-    e.label(off)
-    _disconnect(cx, unit, False)
-    e.label(done)
+    return s.A[:2]
+
+
+def _power_of_two(n: int) -> bool:
+    return n & (n - 1) == 0
 
 
 def pwm_scale(numerator: int, full: int) -> tuple[int, int]:
@@ -407,15 +446,10 @@ def uart_available(cx, op: ir.UartAvailable) -> None:
 def uart_take(cx, op: ir.UartTake) -> None:
     """A byte already seen in the receiver is taken at once; one still to
     come, whenever it comes."""
-    e = cx.e
     _clear_overrun(cx)
     if op.wait:
         _wait_while(cx, _bit(cx, "PIR1", "RCIF"), False, LoopBound(None, "a UART receive waiting for a byte"))
-    regs = ints.scratch(cx, "A", 4)
-    e.load(cx.part.reg("RCREG"))
-    e.store(regs[0])
-    n = ints.target_size(cx, op.dst)
-    ints.copy_out(cx, ints.widen(cx, regs, 1, n, False), op.dst)
+    _copy_unsigned(cx, [cx.part.reg("RCREG")], op.dst)
 
 
 # --- EEPROM ----------------------------------------------------------------------------------

@@ -122,17 +122,19 @@ def _start(cx: Context, code: ir.Code) -> None:
     outputs = output_masks(cx)
     for letter in sorted(outputs):
         cx.e.ins("clrf", part.latch(letter))
+    # the WPUx before the TRISx: the pull-up switch after them is in the TRIS's bank on the enhanced
+    # core (OPTION_REG in bank 1, WPUx in bank 4), one bank selection fewer; nothing is pulled up before
+    pulled = pulled_up(cx)
+    for letter, mask in sorted(pulled.items()):
+        register = "WPU" if letter == "P" else f"WPU{letter}"
+        if part.has(register):
+            _write(cx, register, mask)
     for letter, mask in sorted(outputs.items()):
         direction = ~mask & 0xFF
         if "PSPMODE" in part.bits(f"TRIS{letter}"):
             direction &= 0x0F  # TRISE's high bits: PORTD as a port, not the parallel slave port
         cx.e.load_constant(direction)
         cx.e.store(part.tris(letter))
-    pulled = pulled_up(cx)
-    for letter, mask in sorted(pulled.items()):
-        register = "WPU" if letter == "P" else f"WPU{letter}"
-        if part.has(register):
-            _write(cx, register, mask)
     if pulled:
         switch = part.pullup_switch()
         assert switch is not None  # a port with weak pull-ups has their switch

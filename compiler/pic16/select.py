@@ -43,6 +43,11 @@ class Context:
         """The label of a routine returning data[A1:A0] in W (one per distinct table)."""
         return self.tables.setdefault(data, f"table{len(self.tables) + 1}")
 
+    def relative_table(self, entries: int) -> bool:
+        """A table of this many entries is reached by BRW (PC + 1 + W, whatever
+        PCLATH holds) from A0 alone: the enhanced core's, up to 256 entries."""
+        return self.e.asm.relative_tables and entries <= 256
+
 
 def _call(cx: Context, op: ir.Call) -> None:
     cx.e.call(op.target)

@@ -19,6 +19,7 @@ class Assembler(midrange.Assembler):
     isa = isa
     # program memory is at 0x8000 up for FSR0/FSR1: gpasm's high() of a code label has bit 7 set (PCLATH ignores it)
     code_space = 0x8000
+    relative_tables = True
 
     def __init__(self, flash_words: int, page_words: int, alias: Alias | None = None):
         super().__init__(flash_words, page_words)
@@ -39,6 +40,19 @@ class Assembler(midrange.Assembler):
         while drop_known_selections(self.items):
             tighten(self.items)
         return super().assemble(processor, config)
+
+    def _groups(self, far: set[int]) -> list[tuple[list, list[midrange._Word], bool]]:
+        """The mid-range's, with a BRW and the RETLW table after it one group:
+        nothing (a NOP before a page boundary, a page selection) may come
+        between the jump and the entries it counts from."""
+        groups: list[tuple[list, list[midrange._Word], bool]] = []
+        for before, words, falls in super()._groups(far):
+            if groups and groups[-1][1] and groups[-1][1][-1].op == "brw" and words and words[0].op == "retlw":
+                jump_before, jump, _ = groups.pop()
+                # the entries' label, which nothing reads here, goes: a label can only begin a group
+                before, words = jump_before + [item for item in before if not isinstance(item, midrange.Label)], jump + words
+            groups.append((before, words, falls))
+        return groups
 
     def _select(self, which: str) -> list[midrange._Word]:
         return [midrange._Word("pagesel", select=which)]

@@ -5,9 +5,9 @@ top of a wait loop and after every CALL. Here BSR is followed through the
 jumps, skips and loops to a fixed point, a CALL keeps it when the routine
 called never writes it, and each MOVLB of a bank already known goes.
 
-A computed jump (a write to PCL) lands only on a RETLW table in the
+A computed jump (a write to PCL, a BRW) lands only on a RETLW table in the
 programs the patterns write; with any other, or an instruction whose
-target is not a label (BRA, BRW, CALLW), nothing is removed."""
+target is not a label (BRA, CALLW), nothing is removed."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from . import isa
 PCL, BSR = 0x02, 0x08
 UNKNOWN = -1
 _READS = frozenset(("btfsc", "btfss"))
-_OPAQUE = frozenset(("bra", "brw", "callw"))
+_OPAQUE = frozenset(("bra", "callw"))
 
 
 def drop_known_selections(items: list[Item]) -> bool:
@@ -75,7 +75,8 @@ class _Graph:
         graph = cls(items, real, labels)
         for i in real:
             item = items[i]
-            if isinstance(item, Ins) and (item.op in _OPAQUE or (_writes(item, PCL) and not graph._table_follows(i))):
+            if isinstance(item, Ins) and (item.op in _OPAQUE or (
+                    (item.op == "brw" or _writes(item, PCL)) and not graph._table_follows(i))):
                 return None
         return graph
 
