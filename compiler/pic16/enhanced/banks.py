@@ -109,9 +109,9 @@ class _Graph:
     def _routine_keeps_bsr(self, label: str, seen: set[str]) -> bool:
         """The routine at the label (and those it calls) writes BSR nowhere."""
         seen.add(label)
-        todo, visited = [self.labels[label]], set()
-        while todo:
-            i = todo.pop()
+        pending, visited = [self.labels[label]], set()
+        while pending:
+            i = pending.pop()
             if i in visited:
                 continue
             visited.add(i)
@@ -121,7 +121,7 @@ class _Graph:
             if isinstance(item, Goto) and item.call and item.target not in seen and not self._routine_keeps_bsr(
                     item.target, seen):
                 return False
-            todo += self._successors(i)
+            pending += self._successors(i)
         return True
 
     def solve(self) -> dict[int, int]:
@@ -129,10 +129,10 @@ class _Graph:
         callees = {label for label in map(_calls, (self.items[i] for i in self.real)) if label is not None}
         keeps = {label: self._routine_keeps_bsr(label, set()) for label in callees}
         state: dict[int, int] = {}
-        todo: list[tuple[int, int]] = [(self.real[0], UNKNOWN)] if self.real else []
-        todo += [(self.labels[label], UNKNOWN) for label in callees]
-        while todo:
-            i, value = todo.pop()
+        pending: list[tuple[int, int]] = [(self.real[0], UNKNOWN)] if self.real else []
+        pending += [(self.labels[label], UNKNOWN) for label in callees]
+        while pending:
+            i, value = pending.pop()
             have = state.get(i)
             merged = value if have is None else (have if have == value else UNKNOWN)
             if merged == have:
@@ -147,5 +147,5 @@ class _Graph:
                     out = UNKNOWN
             elif isinstance(item, Goto) and item.call and not keeps[item.target]:
                 out = UNKNOWN
-            todo += [(j, out) for j in self._successors(i)]
+            pending += [(j, out) for j in self._successors(i)]
         return state
