@@ -259,4 +259,28 @@ function workbench(page) {
   return { openFile, runCommand, hoverName, hoverText, problems, energized };
 }
 
-module.exports = { stopwatch, waitFor, openCodeServer, workbench };
+/** Runs a driver's steps, given an object they put the code-server session in, and prints the
+ * result as the one JSON line the pytest side reads: on a failure its error and a screenshot named
+ * `shot` in `out`. The session is closed either way; the exit status is the outcome. */
+async function report(result, steps, { out, shot, log, total }) {
+  const opened = {};
+  try {
+    await steps(opened);
+    result.ok = true;
+  } catch (err) {
+    result.error = String(err && err.stack ? err.stack : err);
+    log(`FAILED: ${result.error}`);
+    if (opened.session) {
+      const file = path.join(out, shot);
+      await opened.session.page.screenshot({ path: file }).catch(() => undefined);
+      result.screenshot = file;
+    }
+  } finally {
+    if (opened.session) await opened.session.close();
+  }
+  result.timings.total = total();
+  process.stdout.write(JSON.stringify(result) + '\n');
+  process.exit(result.ok ? 0 : 1);
+}
+
+module.exports = { stopwatch, waitFor, openCodeServer, workbench, report };

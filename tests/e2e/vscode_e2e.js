@@ -20,7 +20,7 @@
 'use strict';
 
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench } = require('./code_server');
+const { stopwatch, waitFor, openCodeServer, workbench, report } = require('./code_server');
 
 function parseArgs(argv) {
   const args = {};
@@ -43,17 +43,15 @@ const { log, timed, timings, total } = stopwatch();
 
 async function main() {
   const args = parseArgs(process.argv.slice(2));
-  let session;
-  let page;
   const result = { ok: false, timings };
-  try {
-    session = await openCodeServer({
+  await report(result, async (opened) => {
+    const session = opened.session = await openCodeServer({
       ...args,
       settings: { ...(args.python ? { 'ladder.server.pythonPath': args.python } : {}), 'ladder.compileOnSave': false },
       timed,
       log,
     });
-    page = session.page;
+    const page = session.page;
     const { openFile, runCommand, hoverName, hoverText, problems, energized } = workbench(page);
 
     // the rows of the watch view as drawn: label (its spaces kept), description, depth in the tree
@@ -265,21 +263,7 @@ async function main() {
         result.screenshot = shot;
       }
     }
-    result.ok = true;
-  } catch (err) {
-    result.error = String(err && err.stack ? err.stack : err);
-    log(`FAILED: ${result.error}`);
-    if (page) {
-      const shot = path.join(args.out, 'vscode-failure.png');
-      await page.screenshot({ path: shot }).catch(() => undefined);
-      result.screenshot = shot;
-    }
-  } finally {
-    if (session) await session.close();
-  }
-  timings.total = total();
-  process.stdout.write(JSON.stringify(result) + '\n');
-  process.exit(result.ok ? 0 : 1);
+  }, { out: args.out, shot: 'vscode-failure.png', log, total });
 }
 
 main().catch((err) => {

@@ -19,7 +19,7 @@
 
 const fs = require('fs');
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench } = require('./code_server');
+const { stopwatch, waitFor, openCodeServer, workbench, report } = require('./code_server');
 
 function parseArgs(argv) {
   const args = {};
@@ -38,16 +38,14 @@ async function main() {
   const args = parseArgs(process.argv.slice(2));
   const { log, timed, timings, total } = stopwatch();
   const result = { ok: false, timings };
-  let session;
-  let page;
-  try {
-    session = await openCodeServer({
+  await report(result, async (opened) => {
+    const session = opened.session = await openCodeServer({
       ...args,
       settings: { 'remote.extensionKind': { 'textladder.textladder': ['web'] }, 'ladder.compileOnSave': false },
       timed,
       log,
     });
-    page = session.page;
+    const page = session.page;
     const ui = workbench(page);
     const statusBar = () => page.locator('.statusbar').innerText();
 
@@ -164,21 +162,7 @@ async function main() {
         return /starting the language server/.test(text) ? text : false;
       }, 15000);
     });
-    result.ok = true;
-  } catch (err) {
-    result.error = String(err && err.stack ? err.stack : err);
-    log(`FAILED: ${result.error}`);
-    if (page) {
-      const shot = path.join(args.out, 'vscode-web-failure.png');
-      await page.screenshot({ path: shot }).catch(() => undefined);
-      result.screenshot = shot;
-    }
-  } finally {
-    if (session) await session.close();
-  }
-  timings.total = total();
-  process.stdout.write(JSON.stringify(result) + '\n');
-  process.exit(result.ok ? 0 : 1);
+  }, { out: args.out, shot: 'vscode-web-failure.png', log, total });
 }
 
 main().catch((err) => {
