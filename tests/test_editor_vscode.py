@@ -183,15 +183,7 @@ def _vscode_e2e(vsix: Path, ws: Path, bad: Path, sim: Path, out: Path, path: str
            "--bad", str(bad), "--sim", str(sim), "--out", str(out), *more]
     # VSCODE_CLI: the environment comes from a shell already, so the server does not replace it with
     # a login shell's (whose PATH, from /etc/profile, would bring back /usr/bin's Python)
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240,
-                          env={**os.environ, "PATH": path, "VSCODE_CLI": "1"})
-    sys.stderr.write(proc.stderr)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    assert lines, f"no result from vscode_e2e.js (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    result = json.loads(lines[-1])
-    print(json.dumps(result.get("timings")))
-    assert result["ok"], f"{result.get('error')}\nscreenshot: {result.get('screenshot')}\nlog: {proc.stderr[-3000:]}"
-    return result
+    return env.driver_result(cmd, {**os.environ, "PATH": path, "VSCODE_CLI": "1"})
 
 
 def test_the_bundled_server_runs_with_the_python_on_path(code_server_run, bare_path):

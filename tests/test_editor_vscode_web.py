@@ -69,14 +69,7 @@ def web_run(vsix, tmp_path_factory) -> dict:
     OUT.mkdir(parents=True)
     cmd = [env.which("node"), str(env.E2E / "vscode_web_e2e.js"), "--vsix", str(vsix), "--workspace", str(ws),
            "--bad", "lamp.ladder", "--fmt", "messy.ladder", "--sim", "conveyor.ladder", "--out", str(OUT)]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
-    sys.stderr.write(proc.stderr)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    assert lines, f"no result from vscode_web_e2e.js (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
-    result = json.loads(lines[-1])
-    print(json.dumps(result.get("timings")))
-    assert result["ok"], f"{result.get('error')}\nscreenshot: {result.get('screenshot')}\nlog: {proc.stderr[-3000:]}"
-    return {**result, "workspace": ws}
+    return {**env.driver_result(cmd), "workspace": ws}
 
 
 def test_the_browser_entry_runs_in_the_web_worker_extension_host(web_run):

@@ -167,6 +167,19 @@ def require_feature(name: str) -> None:
         pytest.fail(f"the server does not advertise {name}")
 
 
+def driver_result(cmd: list[str], environ: dict[str, str] | None = None) -> dict:
+    """Runs a Node driver of tests/e2e and returns the result it prints as its last JSON line,
+    failing with the driver's error, screenshot and log when a step failed."""
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240, env=environ)
+    sys.stderr.write(proc.stderr)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
+    assert lines, f"no result from {Path(cmd[1]).name} (exit {proc.returncode}):\n{proc.stdout}\n{proc.stderr}"
+    result = json.loads(lines[-1])
+    print(json.dumps(result.get("timings")))
+    assert result["ok"], f"{result.get('error')}\nscreenshot: {result.get('screenshot')}\nlog: {proc.stderr[-3000:]}"
+    return result
+
+
 def which(name: str) -> str | None:
     return shutil.which(name)
 
