@@ -218,6 +218,13 @@ def test_bus_permutes_bits():
     assert sim.value("d") == 0b11000000
 
 
+def test_a_bus_bit_number_past_the_byte_sends_its_bit_nowhere():
+    # LDmicro's files take any integer there; the bus is one byte (docs/semantics.md)
+    bits = {"b0": 8, "b1": 300, "b2": -1}
+    sim = compute(el("BUS", dest="d", src="s", **bits), values={"s": 0xFF})
+    assert sim.value("d") == 0b11111000
+
+
 def test_nine_fourteen_and_sixteen_segments():
     """LDmicro's fonts (display.cpp): 'A' on 14 segments lights a b c e f g1 g2;
     '0' on 16 segments a1 a2 b c d1 d2 e f and the slash j m; anode inverts."""

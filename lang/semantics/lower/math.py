@@ -181,8 +181,9 @@ def segments(b: Builder, el, p: ir.Bit) -> None:
 @lowers("BUS")
 def bus(b: Builder, el, p: ir.Bit) -> None:
     d = b.dest()
-    # as the simulator (and LDmicro's compiled code): source bit j goes to bit b<j>
-    pairs = tuple((j, int(el.args[f"b{j}"])) for j in range(8))
+    # as the simulator (and LDmicro's compiled code): source bit j goes to bit b<j>; a b<j> outside
+    # the byte (0-7) sends its bit nowhere (docs/semantics.md)
+    pairs = tuple((j, int(el.args[f"b{j}"])) for j in range(8) if 0 <= int(el.args[f"b{j}"]) <= 7)
     src = b.operand(el.args["src"])
     if isinstance(src, ir.Const):
         value = 0
