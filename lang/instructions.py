@@ -593,8 +593,9 @@ define("I2C_WR", "I2C write",
        box("{I2C WR ", "", "", "{name}", "}"), box("{", "{address}", "{register}", "{send}", "->}"),
        "Writes a register of an I2C device (C back ends only in LDmicro).",
        "target", support=DRAWN_ONLY, example='I2C_WR I2C1 send recv Master 0 0 MSB 100000')
+# LDmicro compiles NPULSE OFF for the AVRs alone, and no NPULSE for any part (docs/compiler.md)
 define("NPULSE_OFF", "N pulse off", (), None, text("{{NPULSE OFF}}"),
-       "Stops the N PULSE generator.", "target", eol=True, support=DRAWN_ONLY)
+       "Stops the N PULSE generator.", "target", eol=True, support=SIM_ONLY | {"avr"})
 define("QUAD_ENCOD", "quadrature encoder",
        (Field("counter", "var", access="write"), integer("int01", 0, drawn=False),
         bit("a", "X"), bit("b", "X"), Field("z", "bit", "X", default=""), Field("dir", "bit", "YR", "write", default=""),

@@ -2,7 +2,9 @@
 the input's rising edge it starts `counter` pulses of `p1` scans high and
 `p0` scans low, each stretched `accel` times at the start and the end and
 shortened by a scan a pulse in between (the ramps), and passes power while
-it runs. Its working variables are LDmicro's, of LDmicro's size (2 bytes)."""
+it runs. Its working variables are LDmicro's, of LDmicro's size (2 bytes).
+
+And NPULSE OFF, which stops the N PULSE generator."""
 
 from __future__ import annotations
 
@@ -110,3 +112,11 @@ def _ramp(b: Builder, left: ir.Var, ramp_end: ir.Var, times) -> None:
                 b.emit(ir.Arith("add", time, time, ir.Const(1)))
                 if work is not None:
                     b.emit(ir.Move(work, time))
+
+
+@lowers("NPULSE_OFF")
+def npulse_off(b: Builder, el, p: ir.Bit) -> None:
+    """No code: the generator it stops never runs. LDmicro refuses every
+    program with an N PULSE (docs/compiler.md), and so do we; in the AVR
+    images LDmicro makes of NPULSE OFF alone, it clears an interrupt enable
+    bit that nothing sets, between a CLI and an SEI."""
