@@ -150,7 +150,7 @@ def test_ldmicro_refuses_every_npulse(micro, tmp_path):
 
 @pytest.mark.ldmicro
 def test_ldmicro_refuses_npulse_off_on_the_atmega328(tmp_path):
-    """Its tables give the ATmega48-328's TIMSK0/TIMSK1 no TOIE0 bit: the
+    """Its tables define neither TOIE0 nor OCIE1A for the ATmega48-328: the
     bit number -1 fails its own range check. We build it."""
     text = STOP.format(micro=ATMEGA328)
     assert "v=2147483648" in _ldmicros_refusal(text, tmp_path)
