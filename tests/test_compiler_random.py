@@ -397,7 +397,7 @@ FACTORIES = {
     "PERSIST": _persist, "READ_ADC": _adc, "SET_PWM": _pwm, "UART_SEND": _uart_send,
     "UART_SEND_READY": _simple("UART_SEND_READY"), "UART_RECV_AVAIL": _simple("UART_RECV_AVAIL"),
     "FORMATTED_STRING": _fstring, "TIME2COUNT": _t2cnt, "MASTER_RELAY": _simple("MASTER_RELAY"),
-    "UART_RECV": _uart_recv, "DELAY": _delay, "CLRWDT": _simple("CLRWDT"),
+    "UART_RECV": _uart_recv, "DELAY": _delay, "CLRWDT": _simple("CLRWDT"), "NPULSE_OFF": _simple("NPULSE_OFF"),
 }
 
 
