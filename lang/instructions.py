@@ -595,7 +595,8 @@ define("I2C_WR", "I2C write",
        "target", support=DRAWN_ONLY, example='I2C_WR I2C1 send recv Master 0 0 MSB 100000')
 # LDmicro compiles NPULSE OFF for the AVRs alone, and no NPULSE for any part (docs/compiler.md)
 define("NPULSE_OFF", "N pulse off", (), None, text("{{NPULSE OFF}}"),
-       "Stops the N PULSE generator; since no generator runs (see N PULSE), it does nothing.", "target", eol=True, support=SIM_ONLY | {"avr"})
+       "Stops the N PULSE generator; since no generator runs (see N PULSE), it does nothing.", "target", eol=True,
+       support=SIM_ONLY | {"avr"})
 define("QUAD_ENCOD", "quadrature encoder",
        (Field("counter", "var", access="write"), integer("int01", 0, drawn=False),
         bit("a", "X"), bit("b", "X"), Field("z", "bit", "X", default=""), Field("dir", "bit", "YR", "write", default=""),
@@ -617,7 +618,7 @@ define("STEPPER", "stepper motor",
 define("NPULSE", "N pulse generator",
        (Field("counter", "var", access="rw"), Field("freq", "int", access=""), bit("coil", "Y", "write")),
        box("[N PULSE ", "{counter}", "", "{coil}", "]->"), box("[", "", "{freq:hz}", "", "]--"),
-       ("Meant to generate the counted number of pulses at the given frequency; LDmicro 5.4 refuses "
+       ("Meant to generate the counted number of pulses at the given frequency; LDmicro 5.4.1.1 refuses "
         "every program with one (docs/compiler.md), so neither the simulator nor a back end has it."),
        "target", cells=2, support=DRAWN_ONLY, example='NPULSE counter 1000 YNpulse')
 for _key, _word, _second in (("RSFR", "Read", "dest"), ("WSFR", "Write", "src"), ("SSFR", "Sbit", "bit"),
