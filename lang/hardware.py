@@ -232,7 +232,7 @@ _PORT_NAMES = {"avr": {"TRIS": "DDR"}, "pic16": {"PIN": "PORT", "DDR": "TRIS"}, 
                "pic10": {"PIN": "PORT", "DDR": "TRIS"}}
 
 
-def _data_addresses(device: Device) -> range:
+def data_addresses(device: Device) -> range:
     """The data addresses a `#0x..` name may reach: an AVR's above its 32
     working registers (from 0 on the reduced core) up to the end of RAM, a
     PIC16's every bank."""
@@ -260,7 +260,7 @@ def register_address(device: Device, name: str) -> int | None:
         address = int(name[1:], 0)
     except ValueError:
         return None
-    return address if address in _data_addresses(device) else None
+    return address if address in data_addresses(device) else None
 
 
 def internal_clock_refusal(device: Device, crystal_hz: int, config_word: int | None) -> str | None:

@@ -621,12 +621,20 @@ define("NPULSE", "N pulse generator",
        ("Meant to generate the counted number of pulses at the given frequency; LDmicro 5.4.1.1 refuses "
         "every program with one (docs/compiler.md), so neither the simulator nor a back end has it."),
        "target", cells=2, support=DRAWN_ONLY, example='NPULSE counter 1000 YNpulse')
-for _key, _word, _second in (("RSFR", "Read", "dest"), ("WSFR", "Write", "src"), ("SSFR", "Sbit", "bit"),
-                             ("CSFR", "Cbit", "bit"), ("TSFR", "IsBitS", "bit"), ("TCSFR", "IsBitC", "bit")):
-    define(_key, f"special function register {_word.lower()}", (token("sfr"), Field(_second, "operand")),
+# raw register access: `sfr` is a data-space address (a number, or a variable holding one), as
+# LDmicro's AVR back end reads it; its PIC and C back ends refuse these (docs/compiler.md)
+for _key, _word, _second, _doc in (
+        ("RSFR", "Read", "dest", "Copies the register at data address sfr into dest (0 to 255)."),
+        ("WSFR", "Write", "src", "Writes the low byte of src to the register at data address sfr."),
+        ("SSFR", "Sbit", "bit", "Sets the bits of the mask in the register at data address sfr."),
+        ("CSFR", "Cbit", "bit", "Clears the bits of the mask in the register at data address sfr."),
+        ("TSFR", "IsBitS", "bit", "Passes power when every bit of the mask is set in the register at data address sfr."),
+        ("TCSFR", "IsBitC", "bit",
+         "Passes power when every bit of the mask is clear in the register at data address sfr.")):
+    define(_key, f"special function register {_word.lower()}", (Field("sfr", "operand"), Field(_second, "operand")),
            box("?", "{sfr} " + _word, "", "", "?", width="sfr"), box("? ", "{" + _second + "}", "", "", "?", width="sfr"),
-           "Raw access to a special function register of the AVR.",
-           "target", support=DRAWN_ONLY, consts={"word": _word, "second": _second},
+           _doc + " The address is the part's data-space address (an AVR's I/O register n is at n + 0x20).",
+           "target", support=SIM_ONLY | {"avr"}, consts={"word": _word, "second": _second},
            example=f"{_key} sfr {'1' if _second == 'bit' else _second}")
 
 

@@ -177,6 +177,12 @@ class Emitter:
                 if value == ("mem", address):
                     del self.known[reg]
 
+    def forget_memory(self) -> None:
+        """A store to an address not known when compiling: no RAM byte a
+        register holds can be trusted."""
+        if self.known is not None:
+            self.known = {r: v for r, v in self.known.items() if v[0] != "mem"}
+
     def forget_scratch(self) -> None:
         if self.known is not None:
             self.known = {r: v for r, v in self.known.items() if r in self._preserved}

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from lang.semantics import ir
 
 from ..image import LoopBound
-from . import bits, integers, peripherals
+from . import bits, integers, peripherals, sfr
 from .emit import SCRATCH, A, Emitter
 from .memory import Layout, RegBit
 from .part import Part
@@ -132,6 +132,8 @@ PATTERNS = {
     ir.UartReady: lambda cx, op: peripherals.uart_ready(cx, op.dst),
     ir.UartAvailable: lambda cx, op: peripherals.uart_available(cx, op.dst),
     ir.UartTake: peripherals.uart_take,
+    ir.ReadSfr: sfr.read_sfr,
+    ir.WriteSfr: sfr.write_sfr,
     ir.EepromLoad: peripherals.eeprom_load,
     ir.EepromSave: peripherals.eeprom_save,
     ir.Delay: _delay,

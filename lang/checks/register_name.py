@@ -1,18 +1,22 @@
 """LD702: a `#` name (indirect register access) that names none of the part's
-registers, which the back ends have no code for."""
+registers, which the back ends have no code for; and a raw register access
+(RSFR...TCSFR) at a constant address that is none of them either: on an AVR
+the working registers r0-r31 (data addresses 0x00-0x1F), which the compiled
+program keeps its own values in, or an address past the end of RAM."""
 
 from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
-from ..hardware import register_address
+from ..hardware import data_addresses, register_address
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled
-from .common import NAMES
+from ..targets import compiled, family_of
+from ..values import is_literal, literal_value
+from .common import NAMES, RUNGS, rung_no
 
 CODE = rule_code(__name__)
-SCOPE = NAMES
+SFR_KINDS = ("RSFR", "WSFR", "SSFR", "CSFR", "TSFR", "TCSFR")
 
 # the operand kinds that hold an integer variable, which a `#` name makes a register
 _INTEGER_KINDS = frozenset({"var", "operand", "delay"})
@@ -22,7 +26,7 @@ def _holds_integer(use) -> bool:
     return any(field.name == use.field and field.kind in _INTEGER_KINDS for field in use.element.spec.fields)
 
 
-def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+def check_names(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     device = index.device
     if not index.pins_matter or not compiled(device):
         return []
@@ -35,3 +39,29 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             found.append(report(CODE, f"'{name}' names no register of the {device.title}; indirect register "
                                       "access is not compiled", uses[0].element.span))
     return found
+
+
+def check_addresses(program: Program, index: ProgramIndex) -> list[Diagnostic]:
+    device = index.device
+    family = family_of(device) if device is not None and compiled(device) else None
+    if family is None:
+        return []
+    found = []
+    for rung, element in index.of_kind(*SFR_KINDS):
+        text = str(element.args.get("sfr", ""))
+        if not element.spec.supports(family.key) or not is_literal(text):
+            continue
+        address = literal_value(text)
+        if register_address(device, f"#{address}") is None and 0 <= address <= 0xFFFF:
+            found.append(report(CODE, f"{element.kind} in {rung_no(rung)}: address {text} is none of the "
+                                      f"{device.title}'s registers or RAM ({_reach(device)})", element.span))
+    return found
+
+
+def _reach(device) -> str:
+    addresses = data_addresses(device)
+    return f"data addresses 0x{addresses.start:X} to 0x{addresses.stop - 1:X}" + (
+        "; 0x00 to 0x1F are the working registers, which the compiled program uses" if addresses.start else "")
+
+
+CHECKS = {NAMES: check_names, RUNGS: check_addresses}

@@ -438,6 +438,23 @@ class UartTake(Op):
 
 
 @dataclass
+class ReadSfr(Op):
+    """dst = the byte at data address `address` (a constant, or a variable's
+    value modulo 65536), read unsigned: LDmicro's raw register access."""
+
+    dst: Target
+    address: Operand
+
+
+@dataclass
+class WriteSfr(Op):
+    """The low byte of `value` to data address `address` (as ReadSfr's)."""
+
+    address: Operand
+    value: Operand
+
+
+@dataclass
 class EepromLoad(Op):
     var: Var
     address: int

@@ -343,6 +343,16 @@ def read_adc(gen: Gen, op: ir.ReadAdc) -> None:
     assign(gen, op.dst, f"PER.read_adc({op.dst.name!r})")
 
 
+@pattern(ir.ReadSfr)
+def read_sfr(gen: Gen, op: ir.ReadSfr) -> None:
+    assign(gen, op.dst, f"PER.read_register({value(gen, op.address)})")
+
+
+@pattern(ir.WriteSfr)
+def write_sfr(gen: Gen, op: ir.WriteSfr) -> None:
+    gen.emit(f"PER.write_register({value(gen, op.address)}, {value(gen, op.value)})")
+
+
 @pattern(ir.SetPwm)
 def set_pwm(gen: Gen, op: ir.SetPwm) -> None:
     gen.emit(f"PER.set_pwm({op.unit!r}, {value(gen, op.duty)}, {op.freq}, {RESOLUTIONS[op.full]!r})")

@@ -1,5 +1,5 @@
-"""The simulated MCU peripherals: ADC readings, the UART, PWM outputs and the
-EEPROM. Their state lives outside the scan's variables because the user (or
+"""The simulated MCU peripherals: ADC readings, the UART, PWM outputs, the
+EEPROM and the registers raw register access reaches. Their state lives outside the scan's variables because the user (or
 a scenario) drives it from outside, and the EEPROM outlives a reset."""
 
 from __future__ import annotations
@@ -81,6 +81,15 @@ class Peripherals:
     adc: dict = field(default_factory=dict)  # A name -> reading
     pwm: dict = field(default_factory=dict)  # P name -> PwmOutput
     eeprom: Eeprom = field(default_factory=Eeprom)
+    # data address -> byte: the registers RSFR...TCSFR reach, plain storage with no hardware
+    # behind it (a write stays until the program or the user changes it; unset cells read 0)
+    registers: dict = field(default_factory=dict)
+
+    def read_register(self, address: int) -> int:
+        return self.registers.get(address & 0xFFFF, 0)
+
+    def write_register(self, address: int, value: int) -> None:
+        self.registers[address & 0xFFFF] = value & 0xFF
 
     def read_adc(self, name: str) -> int:
         return self.adc.get(name, 0)

@@ -27,6 +27,17 @@ class ElementKey:
     index: int
 
 
+def register_address(name: str) -> int | None:
+    """The data address a `#` name with a number (`#0x23`, `#35`) gives, else None."""
+    if not name.startswith("#"):
+        return None
+    try:
+        address = int(name[1:], 0)
+    except ValueError:
+        return None
+    return address if 0 <= address <= 0xFFFF else None
+
+
 class Simulator:
     def __init__(self, program: Program):
         self.peripherals = Peripherals(Uart(program.settings.baud))
@@ -142,11 +153,26 @@ class Simulator:
 
     def set(self, name: str, value: int) -> None:
         """Set whatever `name` is: an ADC reading when a READ_ADC reads it,
-        else a bit or an integer variable."""
+        a register of the raw register access for `#` and an address the
+        program has no variable of (`#0x23`), else a bit or an integer variable."""
+        address = register_address(name)
         if any(e.kind == "READ_ADC" and e.args.get("name") == name for _, _, e in self._compiled.elements):
             self.set_adc(name, value)
+        elif address is not None and name not in self._compiled.index:
+            self.set_register(address, value)
         else:
             self.set_variable(name, value)
+
+    def set_register(self, address: int, value: int) -> None:
+        """The byte RSFR, TSFR and TCSFR read at data address `address`
+        until the program writes it (what the hardware would show there)."""
+        if not 0 <= int(value) <= 0xFF:
+            raise ValueError(f"register value {value} out of range 0..255")
+        self.peripherals.write_register(address, int(value))
+
+    def register(self, address: int) -> int:
+        """The byte at data address `address` of the raw register access."""
+        return self.peripherals.read_register(address)
 
     def set_adc(self, name: str, value: int) -> None:
         """The reading READ_ADC will copy into `name` (0..1023)."""

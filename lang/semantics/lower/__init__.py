@@ -23,7 +23,7 @@ from lang.values import as_int, is_literal, literal_value
 from .. import ir
 from ..errors import JUMP, OPERAND, UNSUPPORTED, fail
 from ..operands import operand_refusal
-from . import io, logic, math, pulses, stepper, timers  # noqa: F401  (they register the lowerings)
+from . import io, logic, math, pulses, sfr, stepper, timers  # noqa: F401  (they register the lowerings)
 from .builder import LOWERINGS, Builder
 
 # the 16-bit addresses of LDmicro's EEPROM_read()/EEPROM_write() hooks
