@@ -46,12 +46,9 @@ def _plan(key: str) -> tuple[tuple[str, str], ...]:
     for f in INSTRUCTIONS[key].fields:
         if f.kind not in _NAME_KINDS or not f.access:
             continue
-        access = f.access
-        if key == "RSFR" and f.name == "dest":
-            access = "write"  # the SFR read stores into its second operand
         if key == "SPI_WR" and f.name == "send":
             continue  # the text to send, not a variable
-        plan.append((f.name, access))
+        plan.append((f.name, f.access))
     return tuple(plan)
 
 

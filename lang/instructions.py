@@ -621,21 +621,27 @@ define("NPULSE", "N pulse generator",
        ("Meant to generate the counted number of pulses at the given frequency; LDmicro 5.4.1.1 refuses "
         "every program with one (docs/compiler.md), so neither the simulator nor a back end has it."),
        "target", cells=2, support=DRAWN_ONLY, example='NPULSE counter 1000 YNpulse')
-# raw register access: `sfr` is a data-space address (a number, or a variable holding one), as
-# LDmicro's AVR back end reads it; its PIC and C back ends refuse these (docs/compiler.md)
-for _key, _word, _second, _doc in (
-        ("RSFR", "Read", "dest", "Copies the register at data address sfr into dest (0 to 255)."),
-        ("WSFR", "Write", "src", "Writes the low byte of src to the register at data address sfr."),
-        ("SSFR", "Sbit", "bit", "Sets the bits of the mask in the register at data address sfr."),
-        ("CSFR", "Cbit", "bit", "Clears the bits of the mask in the register at data address sfr."),
-        ("TSFR", "IsBitS", "bit", "Passes power when every bit of the mask is set in the register at data address sfr."),
-        ("TCSFR", "IsBitC", "bit",
-         "Passes power when every bit of the mask is clear in the register at data address sfr.")):
-    define(_key, f"special function register {_word.lower()}", (Field("sfr", "operand"), Field(_second, "operand")),
-           box("?", "{sfr} " + _word, "", "", "?", width="sfr"), box("? ", "{" + _second + "}", "", "", "?", width="sfr"),
-           _doc + " The address is the part's data-space address (an AVR's I/O register n is at n + 0x20).",
-           "target", support=SIM_ONLY | {"avr"}, consts={"word": _word, "second": _second},
-           example=f"{_key} sfr {'1' if _second == 'bit' else _second}")
+# raw register access, its operands in the order LDmicro's compiler reads them (its editor's
+# dialog names them the other way round for all but WSFR: docs/compiler.md): `sfr` is a
+# data-space address, a number or a variable holding one; the PIC and C back ends of LDmicro
+# refuse these
+_SFR_WHERE = " sfr is a data address: an AVR's I/O register n is at n + 0x20 (at n on the ATtiny10)."
+for _key, _word, _fields, _doc in (
+        ("RSFR", "Read", (var("dest"), operand("sfr")), "Copies the register at address sfr into dest (0 to 255)."),
+        ("WSFR", "Write", (operand("sfr"), operand("src")), "Writes the low byte of src to the register at address sfr."),
+        ("SSFR", "Sbit", (operand("mask"), operand("sfr")), "Sets the bits of the mask in the register at address sfr."),
+        ("CSFR", "Cbit", (operand("mask"), operand("sfr")), "Clears the bits of the mask in the register at address sfr."),
+        ("TSFR", "IsBitS", (operand("mask"), operand("sfr")),
+         "Passes power when every bit of the mask is set in the register at address sfr."),
+        ("TCSFR", "IsBitC", (operand("mask"), operand("sfr")),
+         "Passes power when every bit of the mask is clear in the register at address sfr.")):
+    _first, _second = (f.name for f in _fields)
+    define(_key, f"special function register {_word.lower()}", _fields,
+           box("?", "{" + _first + "} " + _word, "", "", "?", width="sfr"),
+           box("? ", "{" + _second + "}", "", "", "?", width="sfr"),
+           _doc + _SFR_WHERE, "target", support=SIM_ONLY | {"avr"},
+           consts={"word": _word, "first": _first, "second": _second},
+           example=f"{_key} sfr {({'RSFR': 'dest', 'WSFR': 'srs'}).get(_key, '1')}")  # LDmicro's editor default
 
 
 INSTRUCTIONS: dict[str, Instruction] = {i.key: i for i in _TABLE}
@@ -666,7 +672,7 @@ def shift_width(args: dict) -> int:
 
 
 def sfr_width(args: dict) -> int:
-    return max(3 + len(args["word"]) + len(str(args["sfr"])), 3 + len(str(args[args["second"]])))
+    return max(3 + len(args["word"]) + len(str(args[args["first"]])), 3 + len(str(args[args["second"]])))
 
 
 def _register_widths() -> None:

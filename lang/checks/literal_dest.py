@@ -18,7 +18,7 @@ _WRITES = frozenset(
     (key, f.name)
     for key, spec in INSTRUCTIONS.items()
     for f in spec.fields
-    if (f.kind in ("var", "bit") and f.access in ("write", "rw")) or (key == "RSFR" and f.name == "dest")
+    if f.kind in ("var", "bit") and f.access in ("write", "rw")
 )
 
 

@@ -1,7 +1,8 @@
 """Raw register access (RSFR, WSFR, SSFR, CSFR, TSFR, TCSFR), as LDmicro's
-AVR back end compiles it: the first operand is a data-space address (a
-number, or a variable holding one), the second the byte read or written, or
-a mask of bits to set, clear or test. Set and clear read the register,
+AVR back end compiles it: `sfr` is a data-space address (a number, or a
+variable holding one); RSFR copies the byte there into `dest`, WSFR writes
+the low byte of `src` there, the others set, clear or test the bits of
+`mask` (its low byte). Set and clear read the register,
 change it and write it back; the tests read it whether or not power comes
 in, as a contact reads its input (docs/semantics.md, "Raw register access")."""
 
@@ -43,7 +44,7 @@ def write_sfr(b: Builder, el, p: ir.Bit) -> None:
 
 @lowers("SSFR", "CSFR")
 def change_sfr(b: Builder, el, p: ir.Bit) -> None:
-    address, mask = _address(b), _low_byte(b, "bit")
+    address, mask = _address(b), _low_byte(b, "mask")
     cell = b.temp_var(1)
     with b.if_(IsSet(p)):
         b.emit(ir.ReadSfr(cell, address))
@@ -61,7 +62,7 @@ def change_sfr(b: Builder, el, p: ir.Bit) -> None:
 def test_sfr(b: Builder, el, p: ir.Bit) -> None:
     """TSFR passes power when every bit of the mask is set, TCSFR when every
     one is clear."""
-    address, mask = _address(b), _low_byte(b, "bit")
+    address, mask = _address(b), _low_byte(b, "mask")
     cell = b.temp_var(1)
     b.emit(ir.ReadSfr(cell, address))
     b.emit(ir.Arith("and", cell, cell, mask))
