@@ -214,3 +214,43 @@ def test_ldmicro_refuses_a_set_with_a_constant_mask_and_address_which_we_compile
     done = _ldmicro(prog, tmp_path)
     assert "Empty variable name" in done.stdout + done.stderr
     assert compiler.build(prog).device.part == "atmega328p"
+
+
+@pytest.mark.ldmicro
+@pytest.mark.parametrize("settings, output", [("MICRO=Microchip PIC16F877 40-PDIP", "out.hex"),
+                                              ("COMPILER=ANSIC", "out.c")])
+def test_ldmicros_pic16_and_c_back_ends_refuse_it(settings, output, tmp_path):
+    """Why these families keep LD501: LDmicro's pic16.cpp and ansic.cpp have
+    no case for the SFR operations ("INT_1063" is INT_SET_SFR_LITERAL)."""
+    source = tmp_path / "program.ld"
+    source.write_bytes(f"LDmicro0.2\r\n{settings}\r\nCYCLE=10000 us at Timer1, YPlcCycleDuty:0\r\nCRYSTAL=4000000 Hz\r\n"
+                       "\r\nPROGRAM\r\nRUNG 1\r\n  SSFR m 0x25\r\nEND\r\n".encode("cp1252"))
+    done = subprocess.run([str(LDMICRO), "compile", str(source), str(tmp_path / output)], capture_output=True,
+                          text=True, timeout=300)
+    assert "Compile error" in done.stdout + done.stderr and "INT_1063" in done.stdout + done.stderr
+
+
+@needs_simavr
+@pytest.mark.ldmicro
+def test_ldmicros_clear_with_an_address_variable_and_a_constant_mask_keeps_the_mask(tmp_path):
+    """LDmicro 5.4.1.1's INT_CLEAR_SFR_VARIABLE_L complements r0, not the
+    mask it loaded into r28, then ANDs the register with the mask: CSFR 32 a
+    leaves bit 5 alone and clears the others. Ours clears bit 5."""
+    prog = program(
+        [sfr("WSFR", DDRB, 0x3F)],
+        [move("a", PORTB)],
+        [contact("Xa"), sfr("WSFR", "a", 0x21)],
+        [contact("Xa", negated=1), sfr("CSFR", 0x20, "a")],
+        mcu=M328, pins={"Xa": 6}, crystal_hz=16_000_000,
+    )
+    done = _ldmicro(prog, tmp_path)
+    assert "Compiled okay" in done.stdout, done.stdout + done.stderr
+    compiler.build(prog).write(tmp_path / "ours.hex")
+    stimulus = [(0.0, "D4", 1), (45.0, "D4", 0)]
+
+    def levels(hex_path: Path) -> tuple[int, int]:
+        run = sa.simulate_avr(hex_path, "atmega328p", 16_000_000, until_ms=80, inputs=stimulus, watch=["B0", "B5"])
+        return run.level_at("B0", 79), run.level_at("B5", 79)
+
+    assert levels(tmp_path / "ours.hex") == (1, 0)
+    assert levels(tmp_path / "ldmicro.hex") == (0, 1)
