@@ -85,6 +85,19 @@ def test_ladder_sim_sets_a_register(tmp_path, capsys):
     assert capsys.readouterr().out.splitlines() == ["10 v 4"]  # changes only
 
 
+def test_the_editors_simulation_sets_a_register():
+    from ide.analysis import Analysis
+    from ide.session import Simulation
+    from lang.loader import TEXT_KIND, parse
+    from lang.textform.writer import render_program
+
+    text = render_program(program([sfr("RSFR", "v", PIND)], mcu=M328))
+    session = Simulation(Analysis(TEXT_KIND, text, *parse(text, TEXT_KIND)))
+    session.set("#0x29", 6)
+    session.step(1)
+    assert session.value("v") == 6
+
+
 # --- the checks ----------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("address, why", [

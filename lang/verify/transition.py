@@ -401,7 +401,8 @@ def bit_mask(index: z3.BitVecRef) -> z3.BitVecRef:
 
 
 def _what(op: ir.Op) -> str:
-    names = {ir.Halt: "LOCK", ir.Sleep: "SLEEP"}
+    names = {ir.Halt: "LOCK", ir.Sleep: "SLEEP", ir.ReadSfr: "raw register access (RSFR, SSFR, CSFR, TSFR, TCSFR)",
+             ir.WriteSfr: "raw register access (WSFR, SSFR, CSFR)"}
     return names.get(type(op), type(op).__name__)
 
 
