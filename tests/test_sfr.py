@@ -111,8 +111,10 @@ def test_a_constant_address_the_part_does_not_have_is_an_error(address, why):
 
 def test_a_register_or_ram_address_is_not_refused():
     none(program([sfr("WSFR", PORTB, 1)], [sfr("RSFR", "v", 0x8FF)], mcu=M328), "LD702")
-    # the ATtiny10's I/O registers start at data address 0
-    none(program([sfr("WSFR", 0x02, 1)], mcu="Atmel AVR ATtiny10 6-SOT23"), "LD702")
+    # the ATtiny10's I/O registers start at data address 0, its RAM ends at 0x5F
+    tiny = "Atmel AVR ATtiny10 6-Pin packages"
+    none(program([sfr("WSFR", 0x02, 1)], mcu=tiny), "LD702")
+    assert "data addresses 0x00 to 0x5F)" in one(program([sfr("WSFR", 0x60, 1)], mcu=tiny), "LD702").message
 
 
 @pytest.mark.parametrize("mcu", ["Microchip PIC16F877 40-PDIP", None])

@@ -12,8 +12,7 @@ from ..hardware import data_addresses, register_address
 from ..index import ProgramIndex
 from ..model import Program
 from ..targets import compiled, family_of
-from ..values import is_literal, literal_value
-from .common import NAMES, RUNGS, rung_no
+from .common import NAMES, RUNGS, arg_span, literal_or_none, rung_no
 
 CODE = rule_code(__name__)
 SFR_KINDS = ("RSFR", "WSFR", "SSFR", "CSFR", "TSFR", "TCSFR")
@@ -49,18 +48,21 @@ def check_addresses(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for rung, element in index.of_kind(*SFR_KINDS):
         text = str(element.args.get("sfr", ""))
-        if not element.spec.supports(family.key) or not is_literal(text):
+        address = literal_or_none(text)
+        if not element.spec.supports(family.key) or address is None:
             continue
-        address = literal_value(text)
-        if register_address(device, f"#{address}") is None and 0 <= address <= 0xFFFF:
+        if register_address(device, f"#{address}") is None:
+            place = "first" if element.spec.fields[0].name == "sfr" else "second"
             found.append(report(CODE, f"{element.kind} in {rung_no(rung)}: address {text} is none of the "
-                                      f"{device.title}'s registers or RAM ({_reach(device)})", element.span))
+                                      f"{device.title}'s registers or RAM ({_reach(device)}); the address is "
+                                      f"{element.kind}'s {place} operand, as LDmicro compiles it",
+                                arg_span(element, "sfr")))
     return found
 
 
 def _reach(device) -> str:
     addresses = data_addresses(device)
-    return f"data addresses 0x{addresses.start:X} to 0x{addresses.stop - 1:X}" + (
+    return f"data addresses 0x{addresses.start:02X} to 0x{addresses.stop - 1:X}" + (
         "; 0x00 to 0x1F are the working registers, which the compiled program uses" if addresses.start else "")
 
 
