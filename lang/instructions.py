@@ -626,6 +626,8 @@ define("NPULSE", "N pulse generator",
 # data-space address, a number or a variable holding one; the PIC and C back ends of LDmicro
 # refuse these
 _SFR_WHERE = " sfr is a data address: an AVR's I/O register n is at n + 0x20 (at n on the ATtiny10)."
+_SFR_ORDER = (" LDmicro's editor names the two operands the other way round (its new element reads"
+              " `sfr` first); its compiler reads them in this order.")
 for _key, _word, _fields, _doc in (
         ("RSFR", "Read", (var("dest"), operand("sfr")), "Copies the register at address sfr into dest (0 to 255)."),
         ("WSFR", "Write", (operand("sfr"), operand("src")), "Writes the low byte of src to the register at address sfr."),
@@ -639,7 +641,7 @@ for _key, _word, _fields, _doc in (
     define(_key, f"special function register {_word.lower()}", _fields,
            box("?", "{" + _first + "} " + _word, "", "", "?", width="sfr"),
            box("? ", "{" + _second + "}", "", "", "?", width="sfr"),
-           _doc + _SFR_WHERE, "target", support=SIM_ONLY | {"avr"},
+           _doc + _SFR_WHERE + ("" if _key == "WSFR" else _SFR_ORDER), "target", support=SIM_ONLY | {"avr"},
            consts={"word": _word, "first": _first, "second": _second},
            example=f"{_key} sfr {({'RSFR': 'dest', 'WSFR': 'srs'}).get(_key, '1')}")  # LDmicro's editor default
 
