@@ -55,7 +55,8 @@ def persist(b: Builder, el, p: ir.Bit) -> None:
                 b.emit(ir.EepromSave(v, address))
 
 
-def _byte(value: ir.Var | ir.Const, index: int) -> ir.Operand:
+def byte_of(value: ir.Var | ir.Const, index: int) -> ir.Operand:
+    """Byte `index` (0 = least significant) of a variable or a constant, unsigned."""
     if isinstance(value, ir.Const):
         return ir.Const((value.value >> 8 * index) & 0xFF)
     return ir.Byte(value, index)
@@ -72,12 +73,12 @@ def uart_send(b: Builder, el, p: ir.Bit) -> None:
     count = int(el.args.get("bytes", 1) or 1)
     if count == 1:
         with b.if_(IsSet(p)):
-            b.emit(ir.UartSend(_byte(value, 0)))
+            b.emit(ir.UartSend(byte_of(value, 0)))
     elif el.args.get("wait"):
         # all bytes in this scan, the MCU waiting for each (low byte first)
         with b.if_(IsSet(p)):
             for i in range(count):
-                b.emit(ir.UartSend(_byte(value, i), wait=True))
+                b.emit(ir.UartSend(byte_of(value, i), wait=True))
     else:
         # one byte per scan from a copy taken when sending starts
         active, saved, sent = b.memory_bit("active"), b.memory_var("saved"), b.memory_var("sent", 1)

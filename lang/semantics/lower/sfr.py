@@ -2,15 +2,16 @@
 AVR back end compiles it: `sfr` is a data-space address (a number, or a
 variable holding one); RSFR copies the byte there into `dest`, WSFR writes
 the low byte of `src` there, the others set, clear or test the bits of
-`mask` (its low byte). Set and clear read the register,
-change it and write it back; the tests read it whether or not power comes
-in, as a contact reads its input (docs/semantics.md, "Raw register access")."""
+`mask` (its low byte). Set and clear read the register, change it and write
+it back; the tests read it whether or not power comes in, as a contact reads
+its input (docs/semantics.md, Peripherals, "Raw register access")."""
 
 from __future__ import annotations
 
 from .. import ir
 from ..errors import OPERAND, fail
 from .builder import Builder, Holds, IsSet, lowers
+from .io import byte_of
 
 ADDRESSES = 0x10000  # LDmicro loads the address into X: 16 bits
 
@@ -24,8 +25,7 @@ def _address(b: Builder) -> ir.Var | ir.Const:
 
 
 def _low_byte(b: Builder, field: str) -> ir.Operand:
-    value = b.operand(b.arg(field))
-    return ir.Const(value.value & 0xFF) if isinstance(value, ir.Const) else ir.Byte(value, 0)
+    return byte_of(b.operand(b.arg(field)), 0)
 
 
 @lowers("RSFR")
