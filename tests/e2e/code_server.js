@@ -1,6 +1,8 @@
 // A VS Code session in code-server (VS Code 1.100.3 on Node 20), driven by Debian's Chromium
 // through playwright-core: what the real-editor tests of the extension share (vscode_e2e.js, the
-// desktop extension; vscode_web_e2e.js, its browser entry in the web worker extension host).
+// desktop extension; vscode_web_e2e.js, its browser entry in the web worker extension host;
+// vscode_testweb_e2e.js, the same entry in @vscode/test-web, which uses the browser and the
+// workbench steps only).
 'use strict';
 
 const { spawn, spawnSync } = require('child_process');
@@ -210,7 +212,7 @@ async function openCodeServer({ vsix, workspace, out, settings, timed, log }) {
   }
 }
 
-/** What a person does in the workbench: open a file by Quick Open, run a command by its title, hover a word. */
+/** What a person does in the workbench: open a file, run a command by its title, hover a word, fix, simulate, read. */
 function workbench(page) {
   // the text box of Quick Open and the command palette (its list rows may hold checkboxes too)
   const quickInput = page.locator('.quick-input-widget .quick-input-box input');

@@ -108,7 +108,7 @@ async function main() {
     let page;
     ({ browser, page } = await openBrowser({ timed, log }));
     opened.session.page = page;
-    await page.context().route(/^(?!https?:\/\/127\.0\.0\.1[:/])(https?|wss?):/, (route) => {
+    await page.context().route(/^(?!https?:\/\/127\.0\.0\.1[:/])https?:/, (route) => {
       result.refused.push(route.request().url());
       return route.abort();
     });
