@@ -1,6 +1,8 @@
 // A VS Code session in code-server (VS Code 1.100.3 on Node 20), driven by Debian's Chromium
 // through playwright-core: what the real-editor tests of the extension share (vscode_e2e.js, the
-// desktop extension; vscode_web_e2e.js, its browser entry in the web worker extension host).
+// desktop extension; vscode_web_e2e.js, its browser entry in the web worker extension host;
+// vscode_testweb_e2e.js, the same entry in @vscode/test-web, which uses the browser and the
+// workbench steps only).
 'use strict';
 
 const { spawn, spawnSync } = require('child_process');
@@ -69,6 +71,39 @@ async function waitFor(what, fn, timeoutMs = 30000, intervalMs = 250) {
     await new Promise((r) => setTimeout(r, intervalMs));
   }
   throw new Error(`timed out waiting for ${what}${last instanceof Error ? `: ${last.message}` : ''}`);
+}
+
+/** Debian's Chromium (or $CHROMIUM) through playwright-core, headless: { browser, page }, the page 1400×900. */
+async function openBrowser({ timed, log }) {
+  const { chromium } = require(path.join(HERE, 'node_modules', 'playwright-core'));
+  const browser = await timed('start chromium', () =>
+    chromium.launch({
+      executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+      headless: true,
+      args: [
+        '--headless',
+        '--no-sandbox',
+        '--disable-gpu',
+        '--disable-dev-shm-usage',
+        '--disable-background-networking',
+        '--disable-component-update',
+        '--no-first-run',
+      ],
+    }),
+  );
+  const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
+  const page = await context.newPage();
+  page.on('pageerror', (e) => log(`page error: ${e.message}`));
+  return { browser, page };
+}
+
+/** Opens the workbench at url and waits for it and its Explorer. */
+async function loadWorkbench(page, url, timed) {
+  await timed('load workbench', async () => {
+    await page.goto(url, { waitUntil: 'domcontentloaded' });
+    await page.waitForSelector('.monaco-workbench', { timeout: 60000 });
+    await page.waitForSelector('.explorer-folders-view, .explorer-viewlet', { timeout: 60000 });
+  });
 }
 
 /**
@@ -167,30 +202,9 @@ async function openCodeServer({ vsix, workspace, out, settings, timed, log }) {
     await timed('start code-server', () =>
       waitFor('code-server to answer', async () => (await get(`http://127.0.0.1:${port}/healthz`)) === 200, 60000),
     );
-    const { chromium } = require(path.join(HERE, 'node_modules', 'playwright-core'));
-    browser = await timed('start chromium', () =>
-      chromium.launch({
-        executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-        headless: true,
-        args: [
-          '--headless',
-          '--no-sandbox',
-          '--disable-gpu',
-          '--disable-dev-shm-usage',
-          '--disable-background-networking',
-          '--disable-component-update',
-          '--no-first-run',
-        ],
-      }),
-    );
-    const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
-    const page = await context.newPage();
-    page.on('pageerror', (e) => log(`page error: ${e.message}`));
-    await timed('load workbench', async () => {
-      await page.goto(`http://127.0.0.1:${port}/?folder=${encodeURIComponent(workspace)}`, { waitUntil: 'domcontentloaded' });
-      await page.waitForSelector('.monaco-workbench', { timeout: 60000 });
-      await page.waitForSelector('.explorer-folders-view, .explorer-viewlet', { timeout: 60000 });
-    });
+    let page;
+    ({ browser, page } = await openBrowser({ timed, log }));
+    await loadWorkbench(page, `http://127.0.0.1:${port}/?folder=${encodeURIComponent(workspace)}`, timed);
     return { page, userDir, close };
   } catch (err) {
     await close();
@@ -198,26 +212,40 @@ async function openCodeServer({ vsix, workspace, out, settings, timed, log }) {
   }
 }
 
-/** What a person does in the workbench: open a file by Quick Open, run a command by its title, hover a word. */
+/** What a person does in the workbench: open a file, run a command by its title, hover a word, fix, simulate, read. */
 function workbench(page) {
-  const openFile = async (name) => {
-    await page.locator('.monaco-workbench').click({ position: { x: 700, y: 400 } }).catch(() => undefined);
-    await page.keyboard.press('Control+P');
-    const input = page.locator('.quick-input-widget input');
-    await input.waitFor({ state: 'visible', timeout: 15000 });
-    await input.fill(name);
-    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: name }).first();
-    await row.waitFor({ state: 'visible', timeout: 15000 });
-    await row.click();
+  // the text box of Quick Open and the command palette (its list rows may hold checkboxes too)
+  const quickInput = page.locator('.quick-input-widget .quick-input-box input');
+
+  // the editor of the file `name` is the active one
+  const shown = async (name) => {
     await page.locator(`.tab.active[aria-label^="${name}"], .tab.active:has-text("${name}")`).first().waitFor({ timeout: 15000 });
     await page.locator('.monaco-editor .view-lines').first().waitFor({ timeout: 15000 });
   };
 
+  const openFile = async (name) => {
+    await page.locator('.monaco-workbench').click({ position: { x: 700, y: 400 } }).catch(() => undefined);
+    await page.keyboard.press('Control+P');
+    await quickInput.waitFor({ state: 'visible', timeout: 15000 });
+    await quickInput.fill(name);
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: name }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+    await shown(name);
+  };
+
+  // a file of the workspace's top folder, by a double click on its row in the Explorer
+  const openFromExplorer = async (name) => {
+    const row = page.locator('.explorer-folders-view .monaco-list-row', { hasText: name }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.dblclick();
+    await shown(name);
+  };
+
   const runCommand = async (title) => {
     await page.keyboard.press('F1');
-    const input = page.locator('.quick-input-widget input');
-    await input.waitFor({ state: 'visible', timeout: 15000 });
-    await input.fill(`>${title}`);
+    await quickInput.waitFor({ state: 'visible', timeout: 15000 });
+    await quickInput.fill(`>${title}`);
     const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: title }).first();
     await row.waitFor({ state: 'visible', timeout: 15000 });
     await row.click();
@@ -245,21 +273,100 @@ function workbench(page) {
     }, timeoutMs);
   };
 
-  // the texts painted in textladder.energizedForeground (dark theme: #ff4040)
+  // the Problems panel once it is empty
+  const noProblems = () =>
+    waitFor('an empty Problems panel', async () => {
+      const text = await page.locator('.markers-panel').innerText().catch(() => '');
+      const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
+      return rows.length === 0 && /No problems/i.test(text) ? text.trim() : false;
+    }, 30000);
+
+  // Find and Replace in the active editor, Replace All
+  const replaceAll = async (find, replacement) => {
+    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await page.keyboard.press('Control+H');
+    const box = page.locator('.find-widget .find-part textarea').first();
+    await box.waitFor({ state: 'visible', timeout: 15000 });
+    await box.fill(find);
+    await page.locator('.find-widget .replace-part textarea').first().fill(replacement);
+    await page.keyboard.press('Control+Alt+Enter');
+    await page.keyboard.press('Escape');
+  };
+
+  const languageMode = () =>
+    waitFor('the ladder language mode', async () => {
+      const text = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')) || '';
+      return /ladder/i.test(text) ? text.trim() : false;
+    }, 30000);
+
+  const statusBar = () => page.locator('.statusbar').innerText();
+
+  const startSimulation = async () => {
+    await runCommand('Ladder: Start Simulation');
+    await waitFor('the status bar to show the simulation', async () => /scan\s+\d+/.test(await statusBar()), 30000);
+  };
+
+  // an input's code lens ("Xstart = 0") clicked, until it reads the other value
+  const toggleWithLens = async (name) => {
+    const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: `${name} = 0` }).first();
+    await lens.waitFor({ state: 'visible', timeout: 20000 });
+    await lens.click();
+    await page.locator('.contentWidgets .codelens-decoration a', { hasText: `${name} = 1` }).first().waitFor({ timeout: 20000 });
+  };
+
+  // F10 in the editor: the status bar's "Sim … scan N" once N has advanced
+  const scanWithF10 = async () => {
+    const scanBefore = Number((/scan\s+(\d+)/.exec(await statusBar()) || [])[1]);
+    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await page.keyboard.press('F10');
+    return waitFor('the scan count to advance', async () => {
+      const m = /Sim[^\n]*scan\s+(\d+)/.exec(await statusBar());
+      return m && Number(m[1]) > scanBefore ? m[0] : false;
+    }, 20000);
+  };
+
+  // the texts painted in the theme's textladder.energizedForeground (Default Dark Modern: #ff4040)
   const energized = () =>
     page.evaluate(() => {
+      const probe = document.createElement('span');
+      probe.style.color = 'var(--vscode-textladder-energizedForeground)';
+      document.querySelector('.monaco-workbench').appendChild(probe);
+      const red = getComputedStyle(probe).color;
+      probe.remove();
       const out = [];
       for (const s of document.querySelectorAll('.monaco-editor .view-lines .view-line span span')) {
         const text = s.textContent.replace(/\u00a0/g, ' ');
-        if (getComputedStyle(s).color === 'rgb(255, 64, 64)' && text.trim()) out.push(text);
+        if (getComputedStyle(s).color === red && text.trim()) out.push(text);
       }
       return out;
     });
 
-  return { openFile, runCommand, hoverName, hoverText, problems, energized };
+  // energized() once it has a text that passes `has`
+  const energizedUntil = (has) =>
+    waitFor('red (energized) text in the editor', async () => {
+      const texts = await energized();
+      return texts.some(has) ? texts : false;
+    }, 20000);
+
+  // the text of an output channel once it matches pattern
+  const output = async (channel, pattern) => {
+    await runCommand('Output: Show Output Channels');
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: new RegExp(`^${channel}$`) }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+    return waitFor(`the output of ${channel} to match ${pattern}`, async () => {
+      const text = (await page.locator('.panel .monaco-editor .view-lines').first().innerText().catch(() => '')).replace(/\u00a0/g, ' ');
+      return pattern.test(text) ? text : false;
+    }, 15000);
+  };
+
+  return {
+    quickInput, openFile, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
+    startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, output,
+  };
 }
 
-/** Runs a driver's steps, given an object they put the code-server session in, and prints the
+/** Runs a driver's steps, given an object they put their session in ({ page, close() }), and prints the
  * result as the one JSON line the pytest side reads: on a failure its error and a screenshot named
  * `shot` in `out`. The session is closed either way; the exit status is the outcome. */
 async function report(result, steps, { out, shot, log, total }) {
@@ -270,7 +377,7 @@ async function report(result, steps, { out, shot, log, total }) {
   } catch (err) {
     result.error = String(err && err.stack ? err.stack : err);
     log(`FAILED: ${result.error}`);
-    if (opened.session) {
+    if (opened.session && opened.session.page) {
       const file = path.join(out, shot);
       await opened.session.page.screenshot({ path: file }).catch(() => undefined);
       result.screenshot = file;
@@ -283,4 +390,4 @@ async function report(result, steps, { out, shot, log, total }) {
   process.exit(result.ok ? 0 : 1);
 }
 
-module.exports = { stopwatch, waitFor, openCodeServer, workbench, report };
+module.exports = { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, openCodeServer, workbench, report };

@@ -52,7 +52,8 @@ async function main() {
       log,
     });
     const page = session.page;
-    const { openFile, runCommand, hoverName, hoverText, problems, energized } = workbench(page);
+    const { quickInput, openFile, runCommand, hoverName, hoverText, problems, languageMode, startSimulation, toggleWithLens, scanWithF10,
+      energized, energizedUntil } = workbench(page);
 
     // the rows of the watch view as drawn: label (its spaces kept), description, depth in the tree
     const watchRows = (pane) =>
@@ -70,7 +71,7 @@ async function main() {
       await runCommand('Ladder: Start Simulation');
       await waitFor('the status bar to show scan 1', async () => /scan 1\b/.test(await page.locator('.statusbar').innerText()), 30000);
       await runCommand('Ladder: Run Simulation For');
-      const box = page.locator('.quick-input-widget input');
+      const box = quickInput;
       await box.waitFor({ state: 'visible', timeout: 15000 });
       await box.fill('1 s');
       await box.press('Enter');
@@ -99,12 +100,7 @@ async function main() {
 
     await timed('open file with an error', () => openFile(badName));
 
-    result.languageId = await timed('language mode', () =>
-      waitFor('the ladder language mode', async () => {
-        const text = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')) || '';
-        return /ladder/i.test(text) ? text.trim() : false;
-      }, 30000),
-    );
+    result.languageId = await timed('language mode', languageMode);
 
     if (args['no-python']) {
       // no Python on PATH: the notification says what to install
@@ -153,39 +149,10 @@ async function main() {
       }
 
       if (!args['no-sim']) {
-        await timed('start the simulation (command palette)', async () => {
-          await runCommand('Ladder: Start Simulation');
-          await waitFor('the status bar to show the simulation', async () => {
-            const text = await page.locator('.statusbar').innerText();
-            return /scan\s+\d+/.test(text);
-          }, 30000);
-        });
-
-        await timed('toggle Xstart with its code lens', async () => {
-          const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 0' }).first();
-          await lens.waitFor({ state: 'visible', timeout: 20000 });
-          await lens.click();
-          await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 1' }).first().waitFor({ timeout: 20000 });
-        });
-
-        await timed('one scan with F10', async () => {
-          const before = await page.locator('.statusbar').innerText();
-          const scanBefore = Number((/scan\s+(\d+)/.exec(before) || [])[1]);
-          await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-          await page.keyboard.press('F10');
-          result.statusBar = await waitFor('the scan count to advance', async () => {
-            const text = await page.locator('.statusbar').innerText();
-            const m = /Sim[^\n]*scan\s+(\d+)/.exec(text);
-            return m && Number(m[1]) > scanBefore ? m[0] : false;
-          }, 20000);
-        });
-
-        result.energized = await timed('energized elements painted red', () =>
-          waitFor('red (energized) text in the editor', async () => {
-            const texts = await energized();
-            return texts.length > 0 ? texts : false;
-          }, 20000),
-        );
+        await timed('start the simulation (command palette)', startSimulation);
+        await timed('toggle Xstart with its code lens', () => toggleWithLens('Xstart'));
+        result.statusBar = await timed('one scan with F10', scanWithF10);
+        result.energized = await timed('energized elements painted red', () => energizedUntil(() => true));
         log(`energized: ${JSON.stringify(result.energized)}`);
 
         // live values come as inlay hints after the end of their line: the drawing must not move

@@ -47,31 +47,16 @@ async function main() {
     });
     const page = session.page;
     const ui = workbench(page);
-    const statusBar = () => page.locator('.statusbar').innerText();
 
     await timed('open the program with an error', () => ui.openFile(args.bad));
-    result.languageId = await waitFor('the ladder language mode', async () => {
-      const text = (await page.locator('.statusbar [id="status.editor.mode"]').innerText().catch(() => '')) || '';
-      return /ladder/i.test(text) ? text.trim() : false;
-    }, 30000);
+    result.languageId = await ui.languageMode();
     // Pyodide's cold start comes first
     result.problems = await timed('the diagnostic in the Problems panel', () => ui.problems(/LD102/, 120000));
     await page.screenshot({ path: path.join(args.out, 'vscode-web-problems.png') });
 
     result.fixed = await timed('fix it (Replace All Xlamp by Ylamp): the diagnostic goes', async () => {
-      await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-      await page.keyboard.press('Control+H');
-      const find = page.locator('.find-widget .find-part textarea').first();
-      await find.waitFor({ state: 'visible', timeout: 15000 });
-      await find.fill('Xlamp');
-      await page.locator('.find-widget .replace-part textarea').first().fill('Ylamp');
-      await page.keyboard.press('Control+Alt+Enter');
-      await page.keyboard.press('Escape');
-      return waitFor('an empty Problems panel', async () => {
-        const text = await page.locator('.markers-panel').innerText().catch(() => '');
-        const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
-        return rows.length === 0 && /No problems/i.test(text) ? text.trim() : false;
-      }, 30000);
+      await ui.replaceAll('Xlamp', 'Ylamp');
+      return ui.noProblems();
     });
 
     const toast = (pattern) =>
@@ -113,31 +98,10 @@ async function main() {
       return rows;
     });
 
-    await timed('start the simulation (command palette)', async () => {
-      await ui.runCommand('Ladder: Start Simulation');
-      await waitFor('the status bar to show the simulation', async () => /scan\s+\d+/.test(await statusBar()), 30000);
-    });
-    await timed('toggle Xstart with its code lens', async () => {
-      const lens = page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 0' }).first();
-      await lens.waitFor({ state: 'visible', timeout: 20000 });
-      await lens.click();
-      await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Xstart = 1' }).first().waitFor({ timeout: 20000 });
-    });
-    result.statusBar = await timed('one scan with F10', async () => {
-      const scanBefore = Number((/scan\s+(\d+)/.exec(await statusBar()) || [])[1]);
-      await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-      await page.keyboard.press('F10');
-      return waitFor('the scan count to advance', async () => {
-        const m = /Sim[^\n]*scan\s+(\d+)/.exec(await statusBar());
-        return m && Number(m[1]) > scanBefore ? m[0] : false;
-      }, 20000);
-    });
-    result.energized = await timed('energized elements painted red', () =>
-      waitFor('red (energized) text in the editor', async () => {
-        const texts = await ui.energized();
-        return texts.some((t) => t.includes('(')) ? texts : false;
-      }, 20000),
-    );
+    await timed('start the simulation (command palette)', ui.startSimulation);
+    await timed('toggle Xstart with its code lens', () => ui.toggleWithLens('Xstart'));
+    result.statusBar = await timed('one scan with F10', ui.scanWithF10);
+    result.energized = await timed('energized elements painted red', () => ui.energizedUntil((t) => t.includes('(')));
     await page.screenshot({ path: path.join(args.out, 'vscode-web-simulation.png') });
     await timed('stop the simulation', async () => {
       await page.keyboard.press('Shift+F5');
@@ -152,16 +116,7 @@ async function main() {
       return toast(/Ladder: wrote conveyor/);
     });
 
-    result.output = await timed('the "Ladder" output', async () => {
-      await ui.runCommand('Output: Show Output Channels');
-      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: /^Ladder$/ }).first();
-      await row.waitFor({ state: 'visible', timeout: 15000 });
-      await row.click();
-      return waitFor('the server named in the output', async () => {
-        const text = (await page.locator('.panel .monaco-editor .view-lines').first().innerText().catch(() => '')).replace(/\u00a0/g, ' ');
-        return /starting the language server/.test(text) ? text : false;
-      }, 15000);
-    });
+    result.output = await timed('the "Ladder" output', () => ui.output('Ladder', /starting the language server/));
   }, { out: args.out, shot: 'vscode-web-failure.png', log, total });
 }
 

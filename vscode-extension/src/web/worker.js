@@ -3,6 +3,7 @@
 // which nothing relative can be fetched, and posts the files first ({textladderFiles}: the
 // WebAssembly, the standard library, the lock file, site.zip). A classic script: VS Code's web
 // extension host starts workers through importScripts.
+import './classic-worker.js';
 import { loadPyodide } from 'pyodide';
 import createPyodideModule from 'pyodide/pyodide.asm.mjs';
 import { serve } from '../../../web/src/serve.js';
