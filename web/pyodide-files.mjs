@@ -79,8 +79,8 @@ def trimmed(root, names):
 async def exercise(program):
     """Import every module of textladder but the compiler, then a session of every feature; returns
     the modules imported before the files are exported (which imports the compiler). The code
-    compiled from source text until the first diagnostics (attrs' and cattrs' methods, as the server
-    starts) is kept in START_CODE for the browser's worker (lsp/worker_compile.py)."""
+    compiled from source text until the first diagnostics, a problem's and an edit's included (attrs'
+    and cattrs' methods) is kept in START_CODE for the browser's worker (lsp/worker_compile.py)."""
     from lsp import worker_compile
     start_code = worker_compile.record()
     for package in ("lang", "ide", "lsp"):
@@ -102,6 +102,15 @@ async def exercise(program):
     message("initialize", {"processId": None, "rootUri": None, "capabilities": {}}, 1)
     message("initialized", {})
     message("textDocument/didOpen", {"textDocument": {**document, "languageId": "ladder", "version": 1, "text": program}})
+    # a program with a problem, then typed into: cattrs writes the code that turns a diagnostic into
+    # JSON when the first one is published, and the code that reads a didChange at the first edit;
+    # without these, the page's first keystroke and first mistake would compile them
+    typo = {"uri": "inmemory://build/typo.ladder"}
+    message("textDocument/didOpen", {"textDocument": {**typo, "languageId": "ladder", "version": 1,
+                                                      "text": program.replace("||", "|!", 1)}})
+    start = {"line": 0, "character": 0}
+    message("textDocument/didChange", {"textDocument": {**typo, "version": 2},
+                                       "contentChanges": [{"range": {"start": start, "end": start}, "text": " "}]})
     await asyncio.sleep(0.05)
     worker_compile.stop()
     worker_compile.save(start_code, START_CODE)

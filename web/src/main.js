@@ -3,7 +3,7 @@
 import { Annotation, EditorState, StateEffect, StateField } from '@codemirror/state';
 import { Decoration, EditorView, highlightActiveLine, hoverTooltip, keymap, lineNumbers } from '@codemirror/view';
 import { defaultKeymap, history, historyKeymap, indentWithTab } from '@codemirror/commands';
-import { lintGutter, setDiagnostics } from '@codemirror/lint';
+import { forEachDiagnostic, lintGutter, setDiagnostics } from '@codemirror/lint';
 import example from '../../examples/conveyor.ladder';
 import { Client } from './lsp.js';
 
@@ -20,6 +20,7 @@ const doc = { uri: 'inmemory://playground/conveyor.ladder', languageId: 'ladder'
 // version -> when its keystroke came and when the change was sent to the server
 const editStarted = new Map();
 let keyAt = null; // the keystroke being typed: its event's time
+let listed = null; // the Problems list shown (showDiagnostics)
 const loading = Annotation.define();
 let simulation = null; // the last state while one runs
 let plotted = []; // the states of the running simulation: {t, values}
@@ -71,21 +72,31 @@ const hover = hoverTooltip(async (view, pos) => {
   };
 });
 
-function sendChanges(update) {
-  if (!update.docChanged || update.transactions.some((tr) => tr.annotation(loading))) return;
+// Sent before CodeMirror updates its view (dispatchTransactions), so the server starts on the
+// change while the page draws it: the two threads work at the same time.
+function sendChanges(transactions) {
   const changes = [];
-  // from the last to the first: each range is then still where it was in the document before
-  update.changes.iterChanges((fromA, toA, _fromB, _toB, inserted) => {
-    changes.unshift({
-      range: { start: position(update.startState, fromA), end: position(update.startState, toA) },
-      text: inserted.toString(),
-    });
-  });
+  for (const tr of transactions) {
+    if (tr.docChanged && !tr.annotation(loading)) changes.push(...changesOf(tr));
+  }
+  if (!changes.length) return;
   doc.version += 1;
   const sent = performance.now();
   editStarted.set(doc.version, { key: keyAt, sent });
   keyAt = null;
   client.notify('textDocument/didChange', { textDocument: { uri: doc.uri, version: doc.version }, contentChanges: changes });
+}
+
+function changesOf(tr) {
+  const changes = [];
+  // from the last to the first: each range is then still where it was in the document before
+  tr.changes.iterChanges((fromA, toA, _fromB, _toB, inserted) => {
+    changes.unshift({
+      range: { start: position(tr.startState, fromA), end: position(tr.startState, toA) },
+      text: inserted.toString(),
+    });
+  });
+  return changes;
 }
 
 const view = new EditorView({
@@ -94,9 +105,12 @@ const view = new EditorView({
     doc: example,
     extensions: [lineNumbers(), history(), highlightActiveLine(), lintGutter(), hover, energized,
       keymap.of([...defaultKeymap, ...historyKeymap, indentWithTab]),
-      EditorView.updateListener.of(sendChanges),
       EditorView.domEventHandlers({ keydown: (event) => { keyAt = event.timeStamp; }, keyup: () => { keyAt = null; } })],
   }),
+  dispatchTransactions: (transactions, editor) => {
+    sendChanges(transactions);
+    editor.update(transactions);
+  },
 });
 
 // --- diagnostics -------------------------------------------------------------------------
@@ -110,22 +124,7 @@ client.on('textDocument/publishDiagnostics', (published) => {
   }
   const edit = editStarted.get(published.version);
   editStarted.clear();
-  const state = view.state;
-  const found = published.diagnostics.map((d) => ({
-    from: offset(state, d.range.start), to: Math.max(offset(state, d.range.end), offset(state, d.range.start)),
-    severity: d.severity === 1 ? 'error' : 'warning', message: d.message, source: d.code,
-  }));
-  view.dispatch(setDiagnostics(state, found));
-  $('problems').replaceChildren(...published.diagnostics.map((d, i) => {
-    const item = document.createElement('li');
-    item.textContent = `${d.range.start.line + 1}:${d.range.start.character + 1} ${d.code} ${d.message}`;
-    item.className = d.severity === 1 ? 'error' : 'warning';
-    item.onclick = () => {
-      view.dispatch({ selection: { anchor: found[i].from }, scrollIntoView: true });
-      view.focus();
-    };
-    return item;
-  }));
+  showDiagnostics(published.diagnostics);
   if (edit) {
     // the diagnostics are in the page (the next frame paints them); from the keystroke, as the
     // person typing sees it, and from the change sent, which is what the native figure's wire measures
@@ -133,6 +132,42 @@ client.on('textDocument/publishDiagnostics', (published) => {
     timings.edits.push({ keyToShownMs: edit.key === null ? null : shown - edit.key, sentToReceivedMs: now - edit.sent });
   }
 });
+
+// An edit rarely changes the diagnostics: the underlines CodeMirror has moved with the text and
+// the Problems list are redrawn only when the new ones differ, so that a reply costs the page
+// almost nothing while the person types.
+function showDiagnostics(diagnostics) {
+  const state = view.state;
+  const found = diagnostics.map((d) => ({
+    from: offset(state, d.range.start), to: Math.max(offset(state, d.range.end), offset(state, d.range.start)),
+    severity: d.severity === 1 ? 'error' : 'warning', message: d.message, source: d.code,
+  }));
+  if (!underlined(state, found)) view.dispatch(setDiagnostics(state, found));
+  const lines = diagnostics.map((d) => `${d.range.start.line + 1}:${d.range.start.character + 1} ${d.code} ${d.message}`);
+  const severities = diagnostics.map((d) => d.severity);
+  const list = JSON.stringify([lines, severities]);
+  if (list === listed) return;
+  listed = list;
+  $('problems').replaceChildren(...diagnostics.map((d, i) => {
+    const item = document.createElement('li');
+    item.textContent = lines[i];
+    item.className = d.severity === 1 ? 'error' : 'warning';
+    item.onclick = () => {
+      view.dispatch({ selection: { anchor: offset(view.state, d.range.start) }, scrollIntoView: true });
+      view.focus();
+    };
+    return item;
+  }));
+}
+
+// whether the editor already shows exactly these diagnostics, where they are
+function underlined(state, found) {
+  const key = (d, from, to) => JSON.stringify([from, to, d.severity, d.message, d.source]);
+  const shown = [];
+  forEachDiagnostic(state, (d, from, to) => shown.push(key(d, from, to)));
+  const wanted = found.map((d) => key(d, d.from, d.to));
+  return shown.length === wanted.length && shown.sort().join('\n') === wanted.sort().join('\n');
+}
 
 client.on('window/showMessage', (p) => showMessage(p.message));
 client.on('window/logMessage', (p) => {

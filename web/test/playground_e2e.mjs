@@ -1,17 +1,19 @@
 // The playground in Debian's Chromium, headless, through playwright-core: what a person does and
 // sees. Types a program with an error and sees its diagnostic, fixes it by typing, starts a
 // simulation, clicks an input and sees the output energized in the drawing and 1 in the values;
-// downloads the HEX; opens an .ld file and downloads it as a .ladder file; then opens a bigger
-// program and times one-character edits: from the keystroke to its diagnostics in the page.
+// downloads the HEX; opens an .ld file and downloads it as a .ladder file; then opens bigger
+// programs and times one-character edits: from the keystroke to its diagnostics in the page.
 //
-//   node playground_e2e.mjs --url URL --bad FILE --fixes JSON --input NAME --output NAME --ld FILE --big FILE
-//                           --edits JSON --out DIR
+//   node playground_e2e.mjs --url URL --bad FILE --fixes JSON --input NAME --output NAME --ld FILE
+//                           --timed JSON --out DIR
 //     --fixes: [[line, column, length, typed]...] turning --bad into a program without problems
 //     --input, --output: the input to click once the simulation runs, the output it drives
 //     --ld: an LDmicro file to open and download as a .ladder file
-//     --edits: [[line, column]...] characters of --big to type over, one edit each
+//     --timed: [[FILE, [[line, column]...], warmUpMs]...] programs to open, each with the characters
+//              to type over (one edit each) once warmUpMs have passed (lsp/warmup.py is then over)
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, "timings": {...}, "hex": PATH});
+// timings.timed has, for each --timed program, keyToShownMs and sentToReceivedMs of every edit.
 // exits 1 on failure, with a screenshot in --out.
 import fs from 'node:fs';
 import os from 'node:os';
@@ -35,6 +37,28 @@ async function select(page, line, column, length) {
 
 async function problems(page) {
   return page.locator('#problems li').allTextContents();
+}
+
+// opens `text` and types a letter over each of `edits` ([line, column]), one edit after the other's diagnostics
+async function timeEdits(page, text, edits, warmUpMs) {
+  await page.evaluate((t) => window.ladder.open('big.ladder', t, 'ladder'), text);
+  await page.waitForFunction(() => window.ladder.timings.firstDiagnosticsMs !== null);
+  await page.waitForTimeout(warmUpMs);
+  const typed = 'abcdefghijklmnopqrstuvwxyz';
+  await page.evaluate(() => { window.ladder.timings.edits.length = 0; });
+  for (let i = 0; i < edits.length; i++) {
+    const [line, column] = edits[i];
+    const count = await page.evaluate(() => window.ladder.timings.edits.length);
+    await select(page, line, column, 1);
+    await page.keyboard.type(typed[i % typed.length]);
+    await page.waitForFunction((n) => window.ladder.timings.edits.length > n, count);
+  }
+  const timed = await page.evaluate(() => window.ladder.timings.edits);
+  if (timed.some((edit) => edit.keyToShownMs === null)) throw new Error(`an edit not timed from its keystroke: ${JSON.stringify(timed)}`);
+  return {
+    keyToShownMs: timed.map((edit) => +edit.keyToShownMs.toFixed(1)),
+    sentToReceivedMs: timed.map((edit) => +edit.sentToReceivedMs.toFixed(1)),
+  };
 }
 
 async function main() {
@@ -106,24 +130,11 @@ async function main() {
     const ladder = path.join(args.out, converted.suggestedFilename());
     await converted.saveAs(ladder);
 
-    log('time edits on a bigger program');
-    await page.evaluate((text) => window.ladder.open('big.ladder', text, 'ladder'), fs.readFileSync(args.big, 'utf8'));
-    await page.waitForFunction(() => window.ladder.timings.firstDiagnosticsMs !== null);
-    await page.waitForTimeout(1500); // the warm-up of the document's answers (lsp/warmup.py) is over
-    const typed = 'abcdefghijklmnopqrstuvwxyz';
-    const edits = JSON.parse(args.edits);
-    await page.evaluate(() => { window.ladder.timings.edits.length = 0; });
-    for (let i = 0; i < edits.length; i++) {
-      const [line, column] = edits[i];
-      const count = await page.evaluate(() => window.ladder.timings.edits.length);
-      await select(page, line, column, 1);
-      await page.keyboard.type(typed[i % typed.length]);
-      await page.waitForFunction((n) => window.ladder.timings.edits.length > n, count);
+    timings.timed = [];
+    for (const [file, edits, warmUpMs] of JSON.parse(args.timed)) {
+      log(`time edits on ${path.basename(file)}`);
+      timings.timed.push(await timeEdits(page, fs.readFileSync(file, 'utf8'), edits, warmUpMs));
     }
-    const timed = await page.evaluate(() => window.ladder.timings.edits);
-    if (timed.some((edit) => edit.keyToShownMs === null)) throw new Error(`an edit not timed from its keystroke: ${JSON.stringify(timed)}`);
-    timings.keyToShownMs = timed.map((edit) => +edit.keyToShownMs.toFixed(1));
-    timings.sentToReceivedMs = timed.map((edit) => +edit.sentToReceivedMs.toFixed(1));
     console.log(JSON.stringify({ ok: errors.length === 0, errors, timings, bad, before, energized, hex, ldProblems, ladder }));
   } catch (error) {
     await page.screenshot({ path: path.join(args.out, 'playground-failure.png') }).catch(() => {});
