@@ -360,8 +360,21 @@ function workbench(page) {
     }, 15000);
   };
 
+  // a program whose Xlamp should be Ylamp, opened by `open`: LD102 in Problems (after the server's
+  // cold start), then Replace All fixes it and Problems empties; the screenshot shows the diagnostic
+  const diagnoseAndFix = async (timed, result, open, shot) => {
+    await timed('open the program with an error', open);
+    result.languageId = await languageMode();
+    result.problems = await timed('the diagnostic in the Problems panel', () => problems(/LD102/, 120000));
+    await page.screenshot({ path: shot });
+    result.fixed = await timed('fix it (Replace All Xlamp by Ylamp): the diagnostic goes', async () => {
+      await replaceAll('Xlamp', 'Ylamp');
+      return noProblems();
+    });
+  };
+
   return {
-    quickInput, openFile, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
+    quickInput, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
     startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, output,
   };
 }

@@ -122,15 +122,7 @@ async function main() {
       await welcome.waitFor({ state: 'detached', timeout: 15000 });
     });
 
-    await timed('open the program with an error', () => ui.openFromExplorer(args.bad));
-    result.languageId = await ui.languageMode();
-    // Pyodide's cold start comes first
-    result.problems = await timed('the diagnostic in the Problems panel', () => ui.problems(/LD102/, 120000));
-    await page.screenshot({ path: path.join(args.out, 'testweb-problems.png') });
-    result.fixed = await timed('fix it (Replace All Xlamp by Ylamp): the diagnostic goes', async () => {
-      await ui.replaceAll('Xlamp', 'Ylamp');
-      return ui.noProblems();
-    });
+    await ui.diagnoseAndFix(timed, result, () => ui.openFromExplorer(args.bad), path.join(args.out, 'testweb-problems.png'));
 
     await timed('open the program to simulate', () => ui.openFromExplorer(args.sim));
     await timed('start the simulation (command palette)', ui.startSimulation);

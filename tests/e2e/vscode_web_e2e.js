@@ -48,16 +48,7 @@ async function main() {
     const page = session.page;
     const ui = workbench(page);
 
-    await timed('open the program with an error', () => ui.openFile(args.bad));
-    result.languageId = await ui.languageMode();
-    // Pyodide's cold start comes first
-    result.problems = await timed('the diagnostic in the Problems panel', () => ui.problems(/LD102/, 120000));
-    await page.screenshot({ path: path.join(args.out, 'vscode-web-problems.png') });
-
-    result.fixed = await timed('fix it (Replace All Xlamp by Ylamp): the diagnostic goes', async () => {
-      await ui.replaceAll('Xlamp', 'Ylamp');
-      return ui.noProblems();
-    });
+    await ui.diagnoseAndFix(timed, result, () => ui.openFile(args.bad), path.join(args.out, 'vscode-web-problems.png'));
 
     const toast = (pattern) =>
       waitFor(`a notification matching ${pattern}`, async () => {
