@@ -20,10 +20,10 @@ each line to a thread, which lets handlers run between two messages), and
 `LadderProtocol` notes, as it reads a request, which revision of its
 document it was made on (`LadderServer.on` compares when it runs).
 
-Standard output is written by a thread of its own (`PipeWriter`): the
-outline of 18,000 rungs is 13 MB, which the client reads 64 KB at a time,
-and while the server's one thread waited for it (60-200 ms on a loaded
-machine) no message was read and no answer worked out.
+A big answer is written by a thread of its own (`PipeWriter`): the outline
+of 18,000 rungs is 13 MB, which the client reads 64 KB at a time, and while
+the server's one thread waited for it (60-200 ms on a loaded machine) no
+message was read and no answer worked out.
 """
 
 from __future__ import annotations
@@ -234,6 +234,7 @@ class PipeReader:
 
 
 PIPE_BYTES = 1 << 20  # Linux's largest pipe an unprivileged process may ask for
+SMALL_BYTES = 1 << 16  # an answer this small is written at once when none waits: a pipe's least room
 
 
 def widen_pipe(stream: IO[bytes]) -> None:
@@ -252,29 +253,47 @@ def widen_pipe(stream: IO[bytes]) -> None:
 
 
 class PipeWriter:
-    """pygls's writer interface over a stream written by a thread of its
-    own, in the order given: the event loop hands a message over and goes on
-    reading and answering while the client takes it. `close` waits until
+    """pygls's writer interface over a stream, for answers that may not fit
+    the pipe: a big answer is handed to a thread of its own, and the event
+    loop goes on reading and answering while the client takes it; what is
+    written after it waits its turn on that thread. A small answer with none
+    waiting is written at once, as before (through a thread, each would
+    cost two handovers of the interpreter's lock). `close` waits until
     everything handed over is written (the answer to shutdown before exit).
     Once the client is gone, what is left is dropped."""
 
     def __init__(self, stream: BinaryIO):
         self._stream = stream
         self._pending: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
+        self._lock = threading.Lock()
+        self._waiting = 0  # messages handed to the thread, not written yet
+        self._gone = False
         self._thread = threading.Thread(target=self._run, name="ladder-lsp-writer", daemon=True)
         self._thread.start()
 
     def write(self, data: bytes) -> None:
-        self._pending.put(data)
+        with self._lock:
+            if self._waiting or len(data) > SMALL_BYTES:
+                self._waiting += 1
+                self._pending.put(data)
+                return
+            self._send(data)
+
+    def _send(self, data: bytes) -> None:
+        if self._gone:
+            return
+        try:
+            self._stream.write(data)
+            self._stream.flush()
+        except (OSError, ValueError):  # a broken pipe, a closed stream: the client is gone
+            self._gone = True
+            log.error("the client closed the connection")
 
     def _run(self) -> None:
         while (data := self._pending.get()) is not None:
-            try:
-                self._stream.write(data)
-                self._stream.flush()
-            except (OSError, ValueError):  # a broken pipe, a closed stream: the client is gone
-                log.error("the client closed the connection")
-                break
+            self._send(data)
+            with self._lock:
+                self._waiting -= 1
 
     def close(self) -> None:
         self._pending.put(None)
