@@ -129,8 +129,10 @@ def dialect(path: Path) -> str:
 
 def converted(path: Path, rungs: int) -> str:
     """The `.ld` file converted to the text form, its rungs repeated up to
-    `rungs` with every name of the n-th copy ending in n (so DETAILS has a
-    line per renamed timer, after the renamed rungs), but for the names the
+    `rungs` with every drawn name of the n-th copy ending in n (so DETAILS has
+    a line per renamed timer, after the renamed rungs; a parameter the drawing
+    does not show, as an SPI element's mode `Master`, is no name and stays as
+    it is), but for the names the
     program gives a pin or a Modbus address: every copy reads and drives the
     same pins, as the original, instead of thousands of names without one
     (each an error). ValueError if the file does not read without problems."""
@@ -147,7 +149,7 @@ def converted(path: Path, rungs: int) -> str:
             for element in rung.elements():
                 for f in element.spec.fields:
                     value = element.args.get(f.name)
-                    if (f.kind in NAME_KINDS and isinstance(value, str) and IDENTIFIER.fullmatch(value)
+                    if (f.drawn and f.kind in NAME_KINDS and isinstance(value, str) and IDENTIFIER.fullmatch(value)
                             and not _pinned(value, kept)):
                         element.args[f.name] = f"{value}{copy_number}"
             program.rungs.append(rung)

@@ -58,7 +58,8 @@ class Publisher:
     def _run(self, uri: str) -> None:
         self.pending.pop(uri, None)
         try:
-            self.publish(uri, after_change=True)
+            with self.server.idle.reading():
+                self.publish(uri, after_change=True)
         except Exception as problem:
             self.server._failure("publishDiagnostics", problem)
 

@@ -18,13 +18,13 @@ from typing import TYPE_CHECKING, Any, BinaryIO, TypeVar, cast
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInternalError
-from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
+from pygls.io_ import StdinAsyncReader, run_async
 from pygls.lsp.server import LanguageServer
 
 from .documents import Documents
 from .protocol import Raw
 from .settings import Settings
-from .transport import LadderProtocol, PipeReader, ResyncReader
+from .transport import LadderProtocol, PipeReader, PipeWriter, ResyncReader, widen_pipe
 
 if TYPE_CHECKING:
     from .diagnostics import Publisher
@@ -104,7 +104,8 @@ class LadderServer(LanguageServer):
                 self.idle.touch()
                 try:
                     self._maybe_fail(method)
-                    return fn(self, params)
+                    with self.idle.reading():
+                        return fn(self, params)
                 except JsonRpcException:
                     raise
                 except Exception as problem:
@@ -215,20 +216,23 @@ class LadderServer(LanguageServer):
 
 
     def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
-        """pygls's stdio loop with the resynchronising reader."""
+        """pygls's stdio loop with the resynchronising reader and a writer
+        thread (lsp/transport.py)."""
         self._stop_event = threading.Event()
         stdin = stdin or sys.stdin.buffer
         self._reader = ResyncReader(PipeReader(stdin, StdinAsyncReader(stdin, self.thread_pool)))
-        self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+        stdout = stdout or sys.stdout.buffer
+        widen_pipe(stdout)
+        writer = PipeWriter(stdout)
+        self.protocol.set_writer(writer)
         try:
             asyncio.run(run_async(stop_event=self._stop_event, reader=self._reader, protocol=self.protocol,
                                   logger=log, error_handler=self.report_server_error))
-        except BrokenPipeError:
-            log.error("the client closed the connection")
         except (KeyboardInterrupt, SystemExit):
             pass
         finally:
             self.shutdown()  # type: ignore[no-untyped-call]  # pygls 2 does not annotate it
+            writer.close()
 
 
 def _about_a_document(method: str) -> bool:

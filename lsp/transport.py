@@ -19,6 +19,11 @@ one after the other, before any request's handler runs (pygls's reader hands
 each line to a thread, which lets handlers run between two messages), and
 `LadderProtocol` notes, as it reads a request, which revision of its
 document it was made on (`LadderServer.on` compares when it runs).
+
+A big answer is written by a thread of its own (`PipeWriter`): the outline
+of 18,000 rungs is 13 MB, which the client reads 64 KB at a time, and while
+the server's one thread waited for it (60-200 ms on a loaded machine) no
+message was read and no answer worked out.
 """
 
 from __future__ import annotations
@@ -29,9 +34,12 @@ import inspect
 import json
 import logging
 import os
+import queue
 import stat
+import sys
+import threading
 from collections.abc import Awaitable, Generator
-from typing import IO, TYPE_CHECKING, Any, cast
+from typing import IO, TYPE_CHECKING, Any, BinaryIO, cast
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcContentModified, JsonRpcException, JsonRpcInvalidRequest
@@ -223,3 +231,74 @@ class PipeReader:
             return await stream.readexactly(n)
         except asyncio.IncompleteReadError as cut:
             return cut.partial
+
+
+PIPE_BYTES = 1 << 20  # Linux's largest pipe an unprivileged process may ask for
+SMALL_BYTES = 1 << 16  # an answer this small is written at once when none waits: a pipe's least room
+
+
+def widen_pipe(stream: IO[bytes]) -> None:
+    """Asks for a 1 MB pipe rather than 64 KB (Linux), so that a big answer
+    crosses in a dozen turns of the client rather than 200; anything else
+    (a file, another system, a refusal) is left as it is."""
+    if sys.platform != "linux":
+        return
+    import fcntl  # POSIX only
+
+    try:
+        if stat.S_ISFIFO(os.fstat(stream.fileno()).st_mode):
+            fcntl.fcntl(stream.fileno(), fcntl.F_SETPIPE_SZ, PIPE_BYTES)
+    except (OSError, ValueError, AttributeError):  # no descriptor, or more than this user may have
+        log.debug("the pipe keeps its size", exc_info=True)
+
+
+class PipeWriter:
+    """pygls's writer interface over a stream, for answers that may not fit
+    the pipe: a big answer is handed to a thread of its own, and the event
+    loop goes on reading and answering while the client takes it; what is
+    written after it waits its turn on that thread. A small answer with none
+    waiting is written at once, as before (through a thread, each would
+    cost two handovers of the interpreter's lock). `close` waits until
+    everything handed over is written (the answer to shutdown before exit).
+    Once the client is gone, what is left is dropped."""
+
+    def __init__(self, stream: BinaryIO):
+        self._stream = stream
+        self._pending: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
+        self._lock = threading.Lock()
+        self._waiting = 0  # messages handed to the thread, not written yet
+        self._gone = False
+        self._thread = threading.Thread(target=self._run, name="ladder-lsp-writer", daemon=True)
+        self._thread.start()
+
+    def write(self, data: bytes) -> None:
+        with self._lock:
+            if self._waiting or len(data) > SMALL_BYTES:
+                self._waiting += 1
+                self._pending.put(data)
+                return
+            self._send(data)
+
+    def _send(self, data: bytes) -> None:
+        if self._gone:
+            return
+        try:
+            self._stream.write(data)
+            self._stream.flush()
+        except (OSError, ValueError):  # a broken pipe, a closed stream: the client is gone
+            self._gone = True
+            log.error("the client closed the connection")
+
+    def _run(self) -> None:
+        while (data := self._pending.get()) is not None:
+            self._send(data)
+            with self._lock:
+                self._waiting -= 1
+
+    def close(self) -> None:
+        self._pending.put(None)
+        self._thread.join()
+        try:
+            self._stream.close()
+        except (OSError, ValueError):
+            log.debug("standard output was closed already", exc_info=True)

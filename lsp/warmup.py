@@ -41,9 +41,10 @@ async def warm(server: LadderServer, uri: str) -> None:
         await asyncio.sleep(0)
         if server.documents.latest(uri) is None:
             return  # closed
-        for _, _, index in extents[done:done + SLICE]:
-            for part in PARTS:
-                part(opened, index)
+        with server.idle.reading():
+            for _, _, index in extents[done:done + SLICE]:
+                for part in PARTS:
+                    part(opened, index)
     await _join_runs(server, uri)
 
 

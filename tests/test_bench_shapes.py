@@ -73,6 +73,20 @@ def test_a_corpus_file_repeated_reads_clean_and_adds_no_kind_of_error(shape):
     assert errors[0] <= errors[1]
 
 
+def test_the_copies_keep_the_originals_parameters_the_drawing_does_not_show():
+    """Only drawn names are renamed: an SPI element's mode stays `Master`
+    (not `Master1`, `Master2`, ..., no mode at all, one DETAILS line per
+    copy), so the copies' details are the original's."""
+    shape = next(s for s in CORPUS_SHAPES if s.name.endswith("/test-spi.ld"))
+    original, _ = load_path(corpus_root() / shape.name.split("/", 1)[1])
+    undrawn = {(e.kind, f.name, e.args.get(f.name, f.default)) for _, e in original.elements()
+               for f in e.spec.fields if not f.drawn}
+    repeated = read(shape.text(RUNGS))
+    assert {(e.kind, f.name, e.args.get(f.name, f.default)) for _, e in repeated.elements()
+            for f in e.spec.fields if not f.drawn} == undrawn
+    assert ("SPI", "mode", "Master") in undrawn
+
+
 def test_the_cpu_mode_times_the_open_and_every_edit_of_a_shape():
     from lsp_bench import cpu_run
 

@@ -8,6 +8,7 @@ import time
 from types import SimpleNamespace
 
 from lsp.diagnostics import Publisher
+from lsp.idle import IdleCollector
 from lsp.settings import ADAPTIVE_DELAY_MS, QUICK_CHECK_MS, Settings
 
 
@@ -41,7 +42,8 @@ def test_edits_read_one_after_the_other_are_published_once():
             return SimpleNamespace(diagnostics=[], positions=SimpleNamespace(ascii=True), version=5)
 
     sent = []
-    server = SimpleNamespace(documents=Documents(), settings=Settings(), notify=lambda *args: sent.append(args))
+    server = SimpleNamespace(documents=Documents(), settings=Settings(), notify=lambda *args: sent.append(args),
+                             idle=IdleCollector())
     publisher = Publisher(server)
 
     async def burst():

@@ -86,7 +86,7 @@ def test_the_warm_up_works_every_rung_out_and_lets_messages_in_between():
     analysis = Analysis("file:///w.ladder", 1, LADDER, text, program, problems, PositionCodec())
     analysis.split = reader.split()
     open_ = {"file:///w.ladder": analysis}
-    server = SimpleNamespace(documents=SimpleNamespace(analysis=open_.get, latest=open_.get))
+    server = SimpleNamespace(documents=SimpleNamespace(analysis=open_.get, latest=open_.get), idle=IdleCollector())
     seen = []
 
     async def run():

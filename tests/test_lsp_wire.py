@@ -132,3 +132,34 @@ def test_shutdown_while_a_request_is_pending_is_answered_and_the_server_exits(wi
     assert wire.answers({2}).get(2) == "result"
     wire.send({"jsonrpc": "2.0", "method": "exit"})
     assert wire.process.wait(timeout=10) == 0
+
+
+def test_the_server_goes_on_while_the_client_has_not_read_a_big_answer():
+    """A big answer is written by a thread of its own: handing over answers
+    larger than the pipe (the outline of 18,000 rungs is 13 MB) returns at
+    once while the client reads nothing, the client then reads every answer
+    whole and in order, and a client that has gone costs the server nothing
+    but the answers dropped."""
+    from lsp.transport import PipeWriter
+
+    read_end, write_end = os.pipe()
+    writer = PipeWriter(os.fdopen(write_end, "wb"))
+    # 9 MB, the pipe holds 1 MB at most; a small answer after them waits its turn
+    answers = [bytes([65 + n]) * (3 << 20) for n in range(3)] + [b"small"]
+    start = time.monotonic()
+    for answer in answers:
+        writer.write(answer)
+    assert time.monotonic() - start < 0.5
+    received = bytearray()
+    with os.fdopen(read_end, "rb") as reader:
+        while len(received) < sum(map(len, answers)):
+            received += reader.read1(1 << 20)
+        writer.close()
+        assert bytes(received) == b"".join(answers) and reader.read() == b""
+
+    read_end, write_end = os.pipe()
+    writer = PipeWriter(os.fdopen(write_end, "wb"))
+    os.close(read_end)  # the client is gone
+    writer.write(b"x" * (1 << 20))
+    writer.write(b"y")
+    writer.close()
