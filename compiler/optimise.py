@@ -27,18 +27,29 @@ from lang.semantics import ir
 _ENDS = (ir.Jump, ir.Return, ir.Halt)
 
 
-def optimise(code: ir.Code) -> ir.Code:
-    ops = ir.flatten(code.scan)
+def optimise(code: ir.Code, rungs_by_jumps: bool = False) -> ir.Code:
+    ops = _settled(ir.flatten(code.scan), code.bits)
+    if rungs_by_jumps:
+        ops = _bits_as_jumps(ops, code.bits)
+        while True:
+            before = ops
+            ops = _settled(_decided_tests_copied(_jumps_over_jumps(ops), code.bits), code.bits)
+            if ops == before:
+                break
+        ops = _settled(_copies_refolded(ops), code.bits)
+    return replace(code, scan=ops, init=_fold_constants(code.init))
+
+
+def _settled(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
     while True:
         before = ops
         ops = _fold_constants(ops)
-        ops = _known_bits(ops, code.bits)
-        ops = _copies(ops, code.bits)
+        ops = _known_bits(ops, classes)
+        ops = _copies(ops, classes)
         ops = _jumps(ops)
-        ops = _dead_temporaries(ops, code.bits)
+        ops = _dead_temporaries(ops, classes)
         if ops == before:
-            break
-    return replace(code, scan=ops, init=_fold_constants(code.init))
+            return ops
 
 
 # --- control flow helpers ------------------------------------------------------------
@@ -374,3 +385,167 @@ def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> l
                 changed = True
     return live_in
 
+
+
+# --- rungs evaluated by jumps -------------------------------------------------------------------
+
+def _bits_as_jumps(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """Each bit operation on a temporary as a test of its source and jumps
+    around the writes, so that the known-bits pass threads every path to
+    where the rung's state decides it and the state bits die."""
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    out: list[ir.Op] = []
+    count = 0
+
+    def label() -> str:
+        nonlocal count
+        count += 1
+        return f"bj{count}"
+
+    for op in ops:
+        if isinstance(op, ir.AndBit) and op.dst.name in temps:
+            keep = label()
+            out += [ir.JumpIfBit(op.src, not op.invert, keep), ir.SetBit(op.dst, False), ir.Label(keep)]
+        elif isinstance(op, ir.OrBit) and op.dst.name in temps:
+            keep = label()
+            out += [ir.JumpIfBit(op.src, False, keep), ir.SetBit(op.dst, True), ir.Label(keep)]
+        elif isinstance(op, ir.CopyBit) and op.src != op.dst and temps & {op.src.name, op.dst.name}:
+            clear, end = label(), label()
+            out += [ir.JumpIfBit(op.src, op.invert, clear), ir.SetBit(op.dst, True), ir.Jump(end),
+                    ir.Label(clear), ir.SetBit(op.dst, False), ir.Label(end)]
+        else:
+            out.append(op)
+    return out
+
+
+def _copies_refolded(ops: list[ir.Op]) -> list[ir.Op]:
+    """A test that writes one bit either way, which no threading entered,
+    back to a copy (fewer words and no more cycles on every target)."""
+    uses: dict[str, int] = {}
+    for op in ops:
+        if (target := _target(op)) is not None:
+            uses[target] = uses.get(target, 0) + 1
+    out: list[ir.Op] = []
+    i = 0
+    while i < len(ops):
+        test, *rest = ops[i:i + 6]
+        if isinstance(test, ir.JumpIfBit) and len(rest) == 5:
+            first, jump, other, second, end = rest
+            if (isinstance(first, ir.SetBit) and isinstance(jump, ir.Jump) and isinstance(other, ir.Label)
+                    and isinstance(second, ir.SetBit) and isinstance(end, ir.Label)
+                    and other.name == test.target and end.name == jump.target
+                    and uses[other.name] == 1 and uses[end.name] == 1
+                    and first.dst == second.dst and first.value != second.value):
+                out.append(ir.CopyBit(first.dst, test.bit, test.value == first.value))
+                i += 6
+                continue
+        out.append(test)
+        i += 1
+    return out
+
+
+def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
+    """A conditional jump over a jump is the opposite condition's jump; one
+    to where the code after it goes anyway is none."""
+    positions = _label_positions(ops)
+
+    def leads(i: int) -> str | None:
+        while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
+            i += 1
+        return ops[i].target if i < len(ops) and isinstance(ops[i], ir.Jump) else None
+
+    out: list[ir.Op] = []
+    i = 0
+    while i < len(ops):
+        op = ops[i]
+        if isinstance(op, ir.JumpIfBit | ir.JumpIf | ir.JumpIfBitOf):
+            following = leads(i + 1)
+            if following is not None and following in (op.target, leads(positions[op.target])):
+                i += 1
+                continue
+            after = next(j for j in range(i + 1, len(ops)) if not isinstance(ops[j], ir.Note))
+            jump = ops[after]
+            if isinstance(jump, ir.Jump) and _falls_to(ops, after + 1, op.target):
+                out += [_opposite(op, jump.target), *ops[i + 1:after]]
+                i = after + 1
+                continue
+        out.append(op)
+        i += 1
+    return out
+
+
+def _opposite(op: ir.JumpIfBit | ir.JumpIf | ir.JumpIfBitOf, target: str) -> ir.Op:
+    if isinstance(op, ir.JumpIf):
+        return replace(op, rel=ir.NEGATED[op.rel], target=target)
+    return replace(op, value=not op.value, target=target)
+
+
+# the longest stretch of code copied to a jump that knows the test at its end
+_COPIED_OPS = 24
+_QUIET = (ir.Label, ir.Note, ir.Jump, ir.JumpIfBit, ir.JumpIf, ir.JumpIfBitOf, ir.SetBit, ir.CopyBit, ir.AndBit,
+          ir.OrBit)
+
+
+def _decided_tests_copied(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """A jump after which a temporary's value is known (or a fall-through
+    into a label), to code that only tests and writes temporaries before it
+    tests that one, is replaced by a copy of that code (tail duplication):
+    the known-bits pass then decides the test in the copy, the rest of it
+    dies, and a rung's parallel branch that already holds goes straight to
+    its coil."""
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    ops = _labels_after_bit_tests(ops)
+    positions = _label_positions(ops)
+    copies = max((int(name[4:]) for name in positions if name.startswith("copy")), default=0)
+    out: list[ir.Op] = []
+    known: dict[str, bool] = {}
+    for i, op in enumerate(ops):
+        start = positions[op.target] if isinstance(op, ir.Jump) else i if isinstance(op, ir.Label) else None
+        region = _region(ops, start, known, temps) if known and start is not None and start >= i else None
+        if region is not None:
+            renamed = {}
+            for label in region:
+                if isinstance(label, ir.Label):
+                    copies += 1
+                    renamed[label.name] = f"copy{copies}"
+            out += [ir.Label(renamed[copied.name]) if isinstance(copied, ir.Label)
+                    else replace(copied, target=renamed[copied.target])
+                    if isinstance(copied, ir.JUMPS) and copied.target in renamed else copied for copied in region]
+            after = ops[start + len(region)]
+            assert isinstance(after, ir.Label)  # _region ends before a label
+            out.append(ir.Jump(after.name))
+            known = {}
+            if isinstance(op, ir.Jump):
+                continue
+        if isinstance(op, (ir.Label, ir.Call, *ir.JUMPS)):
+            known = {}
+        elif isinstance(op, ir.SetBit) and op.dst.name in temps:
+            known[op.dst.name] = op.value
+        else:
+            for bit in op.writes():
+                known.pop(bit.name, None)
+        out.append(op)
+    return out
+
+
+def _region(ops: list[ir.Op], start: int, known: dict[str, bool], temps: set[str]) -> list[ir.Op] | None:
+    """The code from `start` up to and including the first test of a bit in
+    `known`, when it has no side effect but on temporaries, jumps only
+    forward within or past itself, and writes no bit of `known` first."""
+    labels: set[str] = set()
+    for end in range(start, min(len(ops), start + _COPIED_OPS)):
+        op = ops[end]
+        if not isinstance(op, _QUIET):
+            return None
+        if isinstance(op, ir.Label):
+            if op.name.startswith("rung"):
+                return None
+            labels.add(op.name)
+        if isinstance(op, ir.JUMPS) and op.target in labels:
+            return None
+        if isinstance(op, ir.JumpIfBit) and op.bit.name in known:
+            return ops[start:end + 1] if end + 1 < len(ops) and isinstance(ops[end + 1], ir.Label) else None
+        written = {bit.name for bit in op.writes()}
+        if written - temps or written & known.keys():
+            return None
+    return None
