@@ -36,7 +36,6 @@ def optimise(code: ir.Code, rungs_by_jumps: bool = False) -> ir.Code:
             ops = _settled(_decided_tests_copied(_jumps_over_jumps(ops), code.bits), code.bits)
             if ops == before:
                 break
-        ops = _settled(_copies_refolded(ops), code.bits)
     return replace(code, scan=ops, init=_fold_constants(code.init))
 
 
@@ -418,53 +417,32 @@ def _bits_as_jumps(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
     return out
 
 
-def _copies_refolded(ops: list[ir.Op]) -> list[ir.Op]:
-    """A test that writes one bit either way, which no threading entered,
-    back to a copy (fewer words and no more cycles on every target)."""
-    uses: dict[str, int] = {}
-    for op in ops:
-        if (target := _target(op)) is not None:
-            uses[target] = uses.get(target, 0) + 1
-    out: list[ir.Op] = []
-    i = 0
-    while i < len(ops):
-        test, *rest = ops[i:i + 6]
-        if isinstance(test, ir.JumpIfBit) and len(rest) == 5:
-            first, jump, other, second, end = rest
-            if (isinstance(first, ir.SetBit) and isinstance(jump, ir.Jump) and isinstance(other, ir.Label)
-                    and isinstance(second, ir.SetBit) and isinstance(end, ir.Label)
-                    and other.name == test.target and end.name == jump.target
-                    and uses[other.name] == 1 and uses[end.name] == 1
-                    and first.dst == second.dst and first.value != second.value):
-                out.append(ir.CopyBit(first.dst, test.bit, test.value == first.value))
-                i += 6
-                continue
-        out.append(test)
-        i += 1
-    return out
-
-
 def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
     """A conditional jump over a jump is the opposite condition's jump; one
     to where the code after it goes anyway is none."""
     positions = _label_positions(ops)
 
-    def leads(i: int) -> str | None:
+    def code_at(i: int) -> int:
+        """The first op at or after i that is not a label or a note."""
         while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
             i += 1
-        return ops[i].target if i < len(ops) and isinstance(ops[i], ir.Jump) else None
+        return i
+
+    def goes(i: int) -> int:
+        """Where the code from i goes first: past a jump too."""
+        i = code_at(i)
+        return code_at(positions[ops[i].target]) if i < len(ops) and isinstance(ops[i], ir.Jump) else i
 
     out: list[ir.Op] = []
     i = 0
     while i < len(ops):
         op = ops[i]
         if isinstance(op, ir.JumpIfBit | ir.JumpIf | ir.JumpIfBitOf):
-            following = leads(i + 1)
-            if following is not None and following in (op.target, leads(positions[op.target])):
+            if goes(i + 1) == goes(positions[op.target]):
                 i += 1
                 continue
-            after = next(j for j in range(i + 1, len(ops)) if not isinstance(ops[j], ir.Note))
-            jump = ops[after]
+            after = code_at(i + 1)
+            jump = ops[after] if after < len(ops) else None
             if isinstance(jump, ir.Jump) and _falls_to(ops, after + 1, op.target):
                 out += [_opposite(op, jump.target), *ops[i + 1:after]]
                 i = after + 1
