@@ -488,7 +488,8 @@ def _decided_tests_copied(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.
                     renamed[label.name] = f"copy{copies}"
             out += [ir.Label(renamed[copied.name]) if isinstance(copied, ir.Label)
                     else replace(copied, target=renamed[copied.target])
-                    if isinstance(copied, ir.JUMPS) and copied.target in renamed else copied for copied in region]
+                    if isinstance(copied, ir.JUMPS) and copied.target in renamed else copied
+                    for copied in region if not isinstance(copied, ir.Note)]  # a note marks its rung's one place
             after = ops[start + len(region)]
             assert isinstance(after, ir.Label)  # _region ends before a label
             out.append(ir.Jump(after.name))
