@@ -431,7 +431,8 @@ def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
     def goes(i: int) -> int:
         """Where the code from i goes first: past a jump too."""
         i = code_at(i)
-        return code_at(positions[ops[i].target]) if i < len(ops) and isinstance(ops[i], ir.Jump) else i
+        jump = ops[i] if i < len(ops) else None
+        return code_at(positions[jump.target]) if isinstance(jump, ir.Jump) else i
 
     out: list[ir.Op] = []
     i = 0
@@ -480,7 +481,7 @@ def _decided_tests_copied(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.
     for i, op in enumerate(ops):
         start = positions[op.target] if isinstance(op, ir.Jump) else i if isinstance(op, ir.Label) else None
         region = _region(ops, start, known, temps) if known and start is not None and start >= i else None
-        if region is not None:
+        if start is not None and region is not None:
             renamed = {}
             for label in region:
                 if isinstance(label, ir.Label):
