@@ -28,23 +28,20 @@ _ENDS = (ir.Jump, ir.Return, ir.Halt)
 
 
 def optimise(code: ir.Code, rungs_by_jumps: bool = False) -> ir.Code:
-    ops = _settled(ir.flatten(code.scan), code.bits)
+    ops = _settled(ir.flatten(code.scan), code.bits, False)
     if rungs_by_jumps:
-        ops = _bits_as_jumps(ops, code.bits)
-        while True:
-            before = ops
-            ops = _settled(_decided_tests_copied(_jumps_over_jumps(ops), code.bits), code.bits)
-            if ops == before:
-                break
+        ops = _settled(_bits_as_jumps(ops, code.bits), code.bits, True)
     return replace(code, scan=ops, init=_fold_constants(code.init))
 
 
-def _settled(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+def _settled(ops: list[ir.Op], classes: dict[str, str], by_jumps: bool) -> list[ir.Op]:
     while True:
         before = ops
         ops = _fold_constants(ops)
         ops = _known_bits(ops, classes)
         ops = _copies(ops, classes)
+        if by_jumps:
+            ops = _decided_tests_copied(_jumps_over_jumps(ops), classes)
         ops = _jumps(ops)
         ops = _dead_temporaries(ops, classes)
         if ops == before:
@@ -421,6 +418,7 @@ def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
     """A conditional jump over a jump is the opposite condition's jump; one
     to where the code after it goes anyway is none."""
     positions = _label_positions(ops)
+    targets = {_target(op) for op in ops} | {op.target for op in ops if isinstance(op, ir.Call)}
 
     def code_at(i: int) -> int:
         """The first op at or after i that is not a label or a note."""
@@ -444,7 +442,9 @@ def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
                 continue
             after = code_at(i + 1)
             jump = ops[after] if after < len(ops) else None
-            if isinstance(jump, ir.Jump) and _falls_to(ops, after + 1, op.target):
+            entered = any(isinstance(between, ir.Label) and (between.name in targets or between.name.startswith("rung"))
+                          for between in ops[i + 1:after])  # other code jumps to the jump
+            if isinstance(jump, ir.Jump) and not entered and _falls_to(ops, after + 1, op.target):
                 out += [_opposite(op, jump.target), *ops[i + 1:after]]
                 i = after + 1
                 continue

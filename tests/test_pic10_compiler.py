@@ -219,6 +219,8 @@ def _branches(mcu: str):
                                                                                [contact("Yb"), coil("Rc")])],
         [par([contact("Rc")], [contact("Xb")]), par([contact("Ya", 1), el("NEQ", op1="c", op2="6")], [contact("Xa")]),
          coil("Ra", "R")],
+        # a branch's one-shot whose edge bit is written on the path to the coil (a jump there is a target)
+        [par([contact("Rd")], [el("OSR")]), coil("Rd")],
         mcu=mcu, pins=PINS, sizes={"c": 1}, crystal_hz=4_000_000)
 
 
