@@ -364,23 +364,23 @@ def _successors(ops: list[ir.Op], i: int, positions: dict[str, int]) -> list[int
 
 def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> list[frozenset[str]]:
     """live_in[i]: the temporaries op i or a later one reads before writing."""
+    # each op's successors, reads and writes once: the sweeps below repeat until nothing changes
+    successors = [_successors(ops, i, positions) for i in range(len(ops))]
+    reads = [frozenset(b.name for b in op.reads()) & temps for op in ops]
+    # AndBit and OrBit read their destination too
+    writes = [frozenset() if isinstance(op, ir.AndBit | ir.OrBit) else frozenset(b.name for b in op.writes()) & temps
+              for op in ops]
     live_in: list[frozenset[str]] = [frozenset()] * len(ops)
     changed = True
     while changed:
         changed = False
         for i in range(len(ops) - 1, -1, -1):
-            op = ops[i]
-            out = frozenset().union(*(live_in[j] for j in _successors(ops, i, positions)))
-            reads = {b.name for b in op.reads()} & temps
-            writes = {b.name for b in op.writes()} & temps
-            if isinstance(op, ir.AndBit | ir.OrBit):
-                writes = set()  # they read their destination too
-            new = frozenset((out - writes) | reads)
+            out = frozenset().union(*(live_in[j] for j in successors[i]))
+            new = (out - writes[i]) | reads[i]
             if new != live_in[i]:
                 live_in[i] = new
                 changed = True
     return live_in
-
 
 
 # --- rungs evaluated by jumps -------------------------------------------------------------------
