@@ -363,7 +363,7 @@ def test_worst_case_covers_a_division(tmp_path):
 # --- random programs ------------------------------------------------------------------------------------
 
 # three rungs at most and 8- and 16-bit variables, so that more of the programs drawn fit 16 or 24 bytes
-# of RAM: the same 300 passing programs with 1,742 left out instead of 3,336, in 0.42 of the CPU time
+# of RAM: 300 passing programs with 1,742 left out instead of 3,336, in 0.42 of the CPU time
 BOARDS = tuple(Board(part, "pic10", f"Microchip {part.upper()} 6-SOT", ("GP3", "GP0"), ("GP1", "GP2"), uart=False,
                      crystal_hz=4_000_000, cycle_us=10_000, left_out=PIC16_PERIPHERALS, rungs=3, widest=2)
                for part in PARTS)
