@@ -108,7 +108,7 @@ def _image(program: Program, device: Device, backend: Backend):
     """The back end's image of the checked program; flash and RAM the part
     lacks are placed on where the program names the part (the compiler
     names no element for them)."""
-    code = optimise(_lower(program, device, backend.delay_loop_cycles))
+    code = optimise(_lower(program, device, backend.delay_loop_cycles), backend.rungs_by_jumps)
     try:
         return backend.compile(code, machine_for(program, device))
     except CompileError as problem:

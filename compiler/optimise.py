@@ -27,18 +27,25 @@ from lang.semantics import ir
 _ENDS = (ir.Jump, ir.Return, ir.Halt)
 
 
-def optimise(code: ir.Code) -> ir.Code:
-    ops = ir.flatten(code.scan)
+def optimise(code: ir.Code, rungs_by_jumps: bool = False) -> ir.Code:
+    ops = _settled(ir.flatten(code.scan), code.bits, False)
+    if rungs_by_jumps:
+        ops = _settled(_bits_as_jumps(ops, code.bits), code.bits, True)
+    return replace(code, scan=ops, init=_fold_constants(code.init))
+
+
+def _settled(ops: list[ir.Op], classes: dict[str, str], by_jumps: bool) -> list[ir.Op]:
     while True:
         before = ops
         ops = _fold_constants(ops)
-        ops = _known_bits(ops, code.bits)
-        ops = _copies(ops, code.bits)
+        ops = _known_bits(ops, classes)
+        ops = _copies(ops, classes)
+        if by_jumps:
+            ops = _decided_tests_copied(_jumps_over_jumps(ops), classes)
         ops = _jumps(ops)
-        ops = _dead_temporaries(ops, code.bits)
+        ops = _dead_temporaries(ops, classes)
         if ops == before:
-            break
-    return replace(code, scan=ops, init=_fold_constants(code.init))
+            return ops
 
 
 # --- control flow helpers ------------------------------------------------------------
@@ -357,20 +364,168 @@ def _successors(ops: list[ir.Op], i: int, positions: dict[str, int]) -> list[int
 
 def _liveness(ops: list[ir.Op], temps: set[str], positions: dict[str, int]) -> list[frozenset[str]]:
     """live_in[i]: the temporaries op i or a later one reads before writing."""
+    # each op's successors, reads and writes once: the sweeps below repeat until nothing changes
+    successors = [_successors(ops, i, positions) for i in range(len(ops))]
+    reads = [frozenset(b.name for b in op.reads()) & temps for op in ops]
+    # AndBit and OrBit read their destination too
+    writes = [frozenset() if isinstance(op, ir.AndBit | ir.OrBit) else frozenset(b.name for b in op.writes()) & temps
+              for op in ops]
     live_in: list[frozenset[str]] = [frozenset()] * len(ops)
     changed = True
     while changed:
         changed = False
         for i in range(len(ops) - 1, -1, -1):
-            op = ops[i]
-            out = frozenset().union(*(live_in[j] for j in _successors(ops, i, positions)))
-            reads = {b.name for b in op.reads()} & temps
-            writes = {b.name for b in op.writes()} & temps
-            if isinstance(op, ir.AndBit | ir.OrBit):
-                writes = set()  # they read their destination too
-            new = frozenset((out - writes) | reads)
+            out = frozenset().union(*(live_in[j] for j in successors[i]))
+            new = (out - writes[i]) | reads[i]
             if new != live_in[i]:
                 live_in[i] = new
                 changed = True
     return live_in
 
+
+# --- rungs evaluated by jumps -------------------------------------------------------------------
+
+def _bits_as_jumps(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """Each bit operation on a temporary as a test of its source and jumps
+    around the writes, so that the known-bits pass threads every path to
+    where the rung's state decides it and the state bits die."""
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    out: list[ir.Op] = []
+    count = 0
+
+    def label() -> str:
+        nonlocal count
+        count += 1
+        return f"bj{count}"
+
+    for op in ops:
+        if isinstance(op, ir.AndBit) and op.dst.name in temps:
+            keep = label()
+            out += [ir.JumpIfBit(op.src, not op.invert, keep), ir.SetBit(op.dst, False), ir.Label(keep)]
+        elif isinstance(op, ir.OrBit) and op.dst.name in temps:
+            keep = label()
+            out += [ir.JumpIfBit(op.src, False, keep), ir.SetBit(op.dst, True), ir.Label(keep)]
+        elif isinstance(op, ir.CopyBit) and op.src != op.dst and temps & {op.src.name, op.dst.name}:
+            clear, end = label(), label()
+            out += [ir.JumpIfBit(op.src, op.invert, clear), ir.SetBit(op.dst, True), ir.Jump(end),
+                    ir.Label(clear), ir.SetBit(op.dst, False), ir.Label(end)]
+        else:
+            out.append(op)
+    return out
+
+
+def _jumps_over_jumps(ops: list[ir.Op]) -> list[ir.Op]:
+    """A conditional jump over a jump is the opposite condition's jump; one
+    to where the code after it goes anyway is none."""
+    positions = _label_positions(ops)
+    targets = {_target(op) for op in ops} | {op.target for op in ops if isinstance(op, ir.Call)}
+
+    def code_at(i: int) -> int:
+        """The first op at or after i that is not a label or a note."""
+        while i < len(ops) and isinstance(ops[i], (ir.Label, ir.Note)):
+            i += 1
+        return i
+
+    def goes(i: int) -> int:
+        """Where the code from i goes first: past a jump too."""
+        i = code_at(i)
+        jump = ops[i] if i < len(ops) else None
+        return code_at(positions[jump.target]) if isinstance(jump, ir.Jump) else i
+
+    out: list[ir.Op] = []
+    i = 0
+    while i < len(ops):
+        op = ops[i]
+        if isinstance(op, ir.JumpIfBit | ir.JumpIf | ir.JumpIfBitOf):
+            if goes(i + 1) == goes(positions[op.target]):
+                i += 1
+                continue
+            after = code_at(i + 1)
+            jump = ops[after] if after < len(ops) else None
+            entered = any(isinstance(between, ir.Label) and (between.name in targets or between.name.startswith("rung"))
+                          for between in ops[i + 1:after])  # other code jumps to the jump
+            if isinstance(jump, ir.Jump) and not entered and _falls_to(ops, after + 1, op.target):
+                out += [_opposite(op, jump.target), *ops[i + 1:after]]
+                i = after + 1
+                continue
+        out.append(op)
+        i += 1
+    return out
+
+
+def _opposite(op: ir.JumpIfBit | ir.JumpIf | ir.JumpIfBitOf, target: str) -> ir.Op:
+    if isinstance(op, ir.JumpIf):
+        return replace(op, rel=ir.NEGATED[op.rel], target=target)
+    return replace(op, value=not op.value, target=target)
+
+
+# the longest stretch of code copied to a jump that knows the test at its end
+_COPIED_OPS = 24
+_QUIET = (ir.Label, ir.Note, ir.Jump, ir.JumpIfBit, ir.JumpIf, ir.JumpIfBitOf, ir.SetBit, ir.CopyBit, ir.AndBit,
+          ir.OrBit)
+
+
+def _decided_tests_copied(ops: list[ir.Op], classes: dict[str, str]) -> list[ir.Op]:
+    """A jump after which a temporary's value is known (or a fall-through
+    into a label), to code that only tests and writes temporaries before it
+    tests that one, is replaced by a copy of that code (tail duplication):
+    the known-bits pass then decides the test in the copy, the rest of it
+    dies, and a rung's parallel branch that already holds goes straight to
+    its coil."""
+    temps = {name for name, kind in classes.items() if kind == ir.TEMP}
+    ops = _labels_after_bit_tests(ops)
+    positions = _label_positions(ops)
+    copies = max((int(name[4:]) for name in positions if name.startswith("copy")), default=0)
+    out: list[ir.Op] = []
+    known: dict[str, bool] = {}
+    for i, op in enumerate(ops):
+        start = positions[op.target] if isinstance(op, ir.Jump) else i if isinstance(op, ir.Label) else None
+        region = _region(ops, start, known, temps) if known and start is not None and start >= i else None
+        if start is not None and region is not None:
+            renamed = {}
+            for label in region:
+                if isinstance(label, ir.Label):
+                    copies += 1
+                    renamed[label.name] = f"copy{copies}"
+            out += [ir.Label(renamed[copied.name]) if isinstance(copied, ir.Label)
+                    else replace(copied, target=renamed[copied.target])
+                    if isinstance(copied, ir.JUMPS) and copied.target in renamed else copied
+                    for copied in region if not isinstance(copied, ir.Note)]  # a note marks its rung's one place
+            after = ops[start + len(region)]
+            assert isinstance(after, ir.Label)  # _region ends before a label
+            out.append(ir.Jump(after.name))
+            known = {}
+            if isinstance(op, ir.Jump):
+                continue
+        if isinstance(op, (ir.Label, ir.Call, *ir.JUMPS)):
+            known = {}
+        elif isinstance(op, ir.SetBit) and op.dst.name in temps:
+            known[op.dst.name] = op.value
+        else:
+            for bit in op.writes():
+                known.pop(bit.name, None)
+        out.append(op)
+    return out
+
+
+def _region(ops: list[ir.Op], start: int, known: dict[str, bool], temps: set[str]) -> list[ir.Op] | None:
+    """The code from `start` up to and including the first test of a bit in
+    `known`, when it has no side effect but on temporaries, jumps only
+    forward within or past itself, and writes no bit of `known` first."""
+    labels: set[str] = set()
+    for end in range(start, min(len(ops), start + _COPIED_OPS)):
+        op = ops[end]
+        if not isinstance(op, _QUIET):
+            return None
+        if isinstance(op, ir.Label):
+            if op.name.startswith("rung"):
+                return None
+            labels.add(op.name)
+        if isinstance(op, ir.JUMPS) and op.target in labels:
+            return None
+        if isinstance(op, ir.JumpIfBit) and op.bit.name in known:
+            return ops[start:end + 1] if end + 1 < len(ops) and isinstance(ops[end + 1], ir.Label) else None
+        written = {bit.name for bit in op.writes()}
+        if written - temps or written & known.keys():
+            return None
+    return None

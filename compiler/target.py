@@ -42,6 +42,7 @@ class Machine:
 class Backend(Protocol):
     family: str  # its key in lang.targets.FAMILIES
     delay_loop_cycles: int  # CPU cycles one count of a variable DELAY takes (T2DLY converts with it)
+    rungs_by_jumps: bool  # the optimiser evaluates rungs by tests and jumps (compiler.optimise) for it
 
     @property
     def flow(self) -> Decoder:

@@ -64,6 +64,8 @@ class Board:
     # at most this many 4-byte variables allocated first and never used, so
     # that the program's own land in other RAM banks (PIC16)
     ballast: int = 0
+    rungs: int = 8  # at most this many rungs drawn (besides the jumps' and relays')
+    widest: int = 4  # the widest variable drawn, in bytes: a small part's draws fit it more often
 
     def draws(self, kind: str) -> bool:
         if kind == "QUAD_ENCOD" and len(self.inputs) < 2:
@@ -450,7 +452,7 @@ class Case:
 def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     board = draw(st.sampled_from(boards))
     d = Drawing(board)
-    rungs = [Rung(rung_circuit(draw(_series(2, True, d)))) for _ in range(draw(st.integers(1, 8)))]
+    rungs = [Rung(rung_circuit(draw(_series(2, True, d)))) for _ in range(draw(st.integers(1, board.rungs)))]
     _add_jumps(draw, rungs, d)
     pads = draw(st.integers(0, board.ballast))
     if pads:
@@ -473,8 +475,8 @@ def cases(draw, boards: tuple[Board, ...] = BOARDS) -> Case:
     if "Pa" in used:
         program.pins["Pa"] = PinAssignment("Pa", board.pwm)
     for name in INTS + tuple(f"sr{i}" for i in range(4)):
-        program.var_sizes[name] = draw(st.integers(1, 4))
-    program.var_sizes["vr"] = 4
+        program.var_sizes[name] = draw(st.integers(1, board.widest))
+    program.var_sizes["vr"] = board.widest
     program.var_sizes.update((f"pad{i}", 4) for i in range(pads))
     scans = draw(st.integers(40, 120))
     events = [Event(0, x, draw(st.integers(0, 1))) for x in board.input_names if x in program.pins]

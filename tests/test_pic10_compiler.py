@@ -201,22 +201,49 @@ def _comparisons(mcu: str):
         mcu=mcu, pins=PINS, sizes={"b": 1, "s": 2, "n": 1, "m": 1}, crystal_hz=4_000_000)
 
 
+def _branches(mcu: str):
+    """Rungs of nested parallel branches, contacts and comparisons, which the
+    optimiser evaluates by jumps (compiler/optimise.py: the rung-state bits
+    become tests, a branch that holds goes straight to the coil): the
+    count c runs through 0..7 at every other scan while Xa and Xb change at
+    every third and every scan, so every path of each rung is taken."""
+    return program(
+        [contact("Xb"), el("OSR"), el("ADD", dest="c", op1="c", op2="1")],
+        [el("GEQ", op1="c", op2="8"), move_zero("c")],
+        [par([contact("Xa"), contact("Rb", 1)], [el("EQU", op1="c", op2="3"), par([contact("Xb")],
+                                                                                [el("GRT", op1="c", op2="5")])]),
+         contact("Ra", 1), coil("Ya")],
+        [par([contact("Ya")], [contact("Xa", 1), el("LES", op1="c", op2="2")]), contact("Xb", 1),
+         par([coil("Yb")], [coil("Rb", "/")])],
+        [contact("Xa"), par([contact("Rb")], [el("LES", op1="c", op2="4")]), par([coil("Ra", "S")],
+                                                                               [contact("Yb"), coil("Rc")])],
+        [par([contact("Rc")], [contact("Xb")]), par([contact("Ya", 1), el("NEQ", op1="c", op2="6")], [contact("Xa")]),
+         coil("Ra", "R")],
+        # a branch's one-shot whose edge bit is written on the path to the coil (a jump there is a target)
+        [par([contact("Rd")], [el("OSR")]), coil("Rd")],
+        mcu=mcu, pins=PINS, sizes={"c": 1}, crystal_hz=4_000_000)
+
+
 def move_zero(name: str):
     return el("MOVE", dest=name, src="0")
 
 
 PROGRAMS = {"logic": _logic, "arithmetic": _arithmetic, "table and gosub": _table_and_gosub,
-            "comparisons": _comparisons}
+            "comparisons": _comparisons, "branches": _branches}
 # the arithmetic's division needs 9 scratch bytes beside its 10: more than the PIC10F200's 16
 CASES = [(name, part) for name in sorted(PROGRAMS) for part in PARTS if (name, part) != ("arithmetic", "pic10f200")]
 STIMULUS = [Event(0, "Xa", 1), *(Event(s, "Xb", s % 2) for s in range(1, 70)), Event(40, "Xa", 0),
             Event(55, "Xa", 1)]
+# the branches' every combination of Xa, Xb and c: Xa changes at every third scan
+STIMULI = {"branches": ([*(Event(s, "Xa", s // 3 % 2) for s in range(0, 100, 3)),
+                         *(Event(s, "Xb", s % 2) for s in range(1, 100))], 100)}
 
 
 @needs_gpsim
 @pytest.mark.parametrize("name, part", CASES)
 def test_program_follows_the_simulator(name, part, tmp_path):
-    assert differential(PROGRAMS[name](part), STIMULUS, 70, tmp_path) == []
+    events, scans = STIMULI.get(name, (STIMULUS, 70))
+    assert differential(PROGRAMS[name](part), events, scans, tmp_path) == []
 
 
 @needs_gputils
@@ -335,8 +362,11 @@ def test_worst_case_covers_a_division(tmp_path):
 
 # --- random programs ------------------------------------------------------------------------------------
 
+# three rungs at most and 8- and 16-bit variables, so that more of the programs drawn fit 16 or 24 bytes
+# of RAM: 300 passing programs with 1,742 left out instead of 3,336, in 0.42 of the CPU time
 BOARDS = tuple(Board(part, "pic10", f"Microchip {part.upper()} 6-SOT", ("GP3", "GP0"), ("GP1", "GP2"), uart=False,
-                     crystal_hz=4_000_000, cycle_us=10_000, left_out=PIC16_PERIPHERALS) for part in PARTS)
+                     crystal_hz=4_000_000, cycle_us=10_000, left_out=PIC16_PERIPHERALS, rungs=3, widest=2)
+               for part in PARTS)
 
 
 def _follows(case, folder: Path) -> None:

@@ -25,6 +25,7 @@ from .select import DELAY_LOOP_CYCLES, Context
 class AvrBackend:
     family = "avr"
     delay_loop_cycles = DELAY_LOOP_CYCLES
+    rungs_by_jumps = False
     flow = avr_flow
 
     def compile(self, code: ir.Code, machine: Machine) -> Image:

@@ -104,6 +104,7 @@ def _routines_first(items: list, split: int, kept: set[str]) -> None:
 class Pic10Backend:
     family = "pic10"
     delay_loop_cycles = DELAY_LOOP_CYCLES
+    rungs_by_jumps = True
     flow = pic10_flow
 
     def compile(self, code: ir.Code, machine) -> Image:

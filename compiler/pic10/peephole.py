@@ -9,7 +9,8 @@ register a later instruction reads:
 * A signed comparison's fix-up of C followed by a skip on C is a chain
   of two skips (`sign_fixes_folded`).
 * W kept: after `MOVF f,W` (f a byte of RAM) and XORLWs, W is f XOR k
-  until a label, a write of W or a write of f. A later `MOVF f,W; XORLW
+  until a label, an unconditional jump, a write of W or a write of f
+  (a GOTO a skip passes over keeps it on the way on). A later `MOVF f,W; XORLW
   k2` (an equality test of f against another constant) is `XORLW k^k2`:
   the same W and Z, one word and one cycle less.
 """
@@ -67,14 +68,14 @@ def w_kept(items: list) -> list:
     while at < len(items):
         item = items[at]
         at += 1
-        if isinstance(item, Comment):
-            out.append(item)
+        guarded = _is_skip(next((x for x in reversed(out) if not isinstance(x, Comment)), None))
+        if isinstance(item, Comment) or (isinstance(item, Goto) and guarded):
+            out.append(item)  # a GOTO a skip passes over leaves W as it was on the way on
             continue
         if not isinstance(item, Ins):
             held = None
             out.append(item)
             continue
-        guarded = _is_skip(next((x for x in reversed(out) if not isinstance(x, Comment)), None))
         after = items[at] if at < len(items) else None
         if (not guarded and held is not None and item.op == "movf" and item.args == (held[0], W)
                 and isinstance(after, Ins) and after.op == "xorlw"):

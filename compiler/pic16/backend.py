@@ -63,6 +63,7 @@ def _write_tables(cx: Context) -> None:
 class Pic16Backend:
     family = "pic16"
     delay_loop_cycles = DELAY_LOOP_CYCLES
+    rungs_by_jumps = False
     flow = pic16_flow
 
     def __init__(self, enhanced: Callable[[ir.Code, object], Image]):

@@ -61,6 +61,7 @@ class Pic18Backend:
     family = "pic18"
     # the PIC16's loop, whose closing test and jump are one BNZ here: 18 instruction cycles a count
     delay_loop_cycles = DELAY_LOOP_CYCLES - 4
+    rungs_by_jumps = False
     flow = pic18_flow
 
     def compile(self, code: ir.Code, machine) -> Image:
