@@ -7,7 +7,7 @@ from __future__ import annotations
 import re
 from bisect import bisect_right
 from dataclasses import dataclass, replace
-from functools import cache
+from functools import cache, lru_cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
@@ -144,7 +144,6 @@ class _RungReader:
         self.junctions: dict[tuple[int, int], int] = {}
         self.claimed: set[tuple[int, int]] = set()
         self._folded: dict[int, list] = {}
-        self._token_cache: dict[int, list[tuple[str, int, int, str]]] = {}
         self._owners: dict[int, dict[tuple[int, int], list[tuple[int, int]]]] = {}
 
     def problem(self, code: str, message: str, line: int, start: int, end: int | None = None) -> None:
@@ -182,22 +181,17 @@ class _RungReader:
             return None
         return self._circuit()
 
-    def _tokens(self, row: int) -> list[tuple[str, int, int, str]]:
-        cache = self._token_cache
-        if row in cache:
-            return cache[row]
+    def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
-        # every alternative is a named group: lastgroup is never None
-        found: list[tuple[str, int, int, str]] = [
-            (match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
-            for match in SYMBOL_TOKEN.finditer(line.text, line.start, line.end)]
-        cache[row] = found
-        return found
+        return _row_tokens(line.text, line.start, line.end)
 
     def _connect_verticals(self, tokens) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
         lines = self.lines
         for row in self.symbol_rows:
+            line = lines[row]
+            if line.text.find("+", line.left + 1, line.end) < 0:
+                continue
             for kind, start, _, _ in tokens[row]:
                 if kind != "plus":
                     continue
@@ -213,7 +207,6 @@ class _RungReader:
                                      "this vertical connector meets no `+` junction on the next symbol line",
                                      where, start)
             # the left rail joins every branch drawn from it (`|+`)
-            line = self.lines[row]
             if line.text[line.left + 1:line.left + 2] == "+":
                 self.nodes.union(LEFT, self._junction(row, line.left + 1))
 
@@ -284,7 +277,7 @@ class _RungReader:
                 self.edges.append(Edge(current, output, element, (line.number, start), span))
                 current, current_is_junction = output, False
             elif kind == "gap":
-                rest = tokens[index + 1:]
+                rest = index + 1 < len(tokens)
                 if current is not None and not current_is_junction and rest:
                     self.problem(codes.BROKEN_WIRE,
                                  "this branch stops before reaching a junction", row, start, end)
@@ -308,6 +301,9 @@ class _RungReader:
 
     def _fold_short_open(self, row: int, tokens):
         """`+------+` and `+      +` without connectors are SHORT and OPEN."""
+        line = self.lines[row]
+        if line.text.find("+", line.start, line.end) < 0:
+            return tokens  # most rows: nothing to fold
         folded = []
         index = 0
         while index < len(tokens):
@@ -332,26 +328,42 @@ class _RungReader:
     def _element(self, row: int, kind: str, start: int, end: int, glyph: str) -> Element | None:
         line = self.lines[row]
         top_text, top_span = self._top_text(row, start, end)
-        if kind in ("short", "open"):
-            if top_span is not None and top_text.strip():
-                self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
-                             top_span[0], top_span[1])
-                return None
-            key, drawn = kind.upper(), {}
+        if kind in ("short", "open") and top_span is not None and top_text.strip():
+            self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
+                         top_span[0], top_span[1])
+            return None
+        text = line.text
+        glyph_edges = (text[start - 1:start] if start else "", text[end:end + 1])
+        top_edges = ("", "")
+        if top_span is not None:
+            name_text = self.lines[row - 1].text
+            first, last = top_span
+            top_edges = (name_text[first - 1:first] if first else "", name_text[last:last + 1])
+        try:
+            plan = _element_plan(kind, glyph, top_text, glyph_edges, top_edges)
+        except ValueError as bad:  # a value of the right shape but not a valid one
+            self.problem(codes.BAD_VALUE, str(bad), row, start, end)
+            return None
+        if plan is None:
+            self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
+            return None
+        key, args, places = plan
+        number = line.number
+        if top_span is None:
+            span = Span(number, start, number, end)
         else:
-            try:
-                found = recognise(glyph, top_text)
-            except ValueError as bad:  # a value of the right shape but not a valid one
-                self.problem(codes.BAD_VALUE, str(bad), row, start, end)
-                return None
-            if found is None:
-                self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
-                return None
-            key, values = found
-            drawn = dict(values)
-        span = Span(line.number if top_span is None else self.lines[row - 1].number,
-                    start if top_span is None else min(start, top_span[0]), line.number, end)
-        return Element(key, complete_args(key, drawn), span, self._arg_spans(row, start, end, top_span, key, drawn))
+            top_number = self.lines[row - 1].number
+            span = Span(top_number, min(start, top_span[0]), number, end)
+        spans = {}
+        for name, on_top, col, width in places:
+            if on_top:
+                assert top_span is not None  # a place on top only when there is text on top
+                at = top_span[0] + col
+                spans[name] = Span(top_number, at, top_number, at + width)
+            else:
+                at = start + col
+                spans[name] = Span(number, at, number, at + width)
+        return Element(key, dict(args), span, spans)
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
         """The text on the name line above this glyph: every word of that line
@@ -425,23 +437,6 @@ class _RungReader:
         finally:
             self.problems = saved
 
-    def _arg_spans(self, row, start, end, top_span, key, drawn) -> dict[str, Span]:
-        spans = {}
-        places = []
-        if top_span is not None:
-            places.append((self.lines[row - 1], top_span[0], top_span[1]))
-        places.append((self.lines[row], start, end))
-        for name in _placed_fields(key):
-            value = drawn.get(name)
-            if not isinstance(value, str) or not value:
-                continue
-            for line, lo, hi in places:
-                found = _find_word(line.text, value, lo, hi)
-                if found >= 0:
-                    spans[name] = Span(line.number, found, line.number, found + len(value))
-                    break
-        return spans
-
     # --- the circuit ------------------------------------------------------------------
 
     def _circuit(self):
@@ -463,6 +458,56 @@ class _RungReader:
             code = codes.EMPTY_BRANCH if "bare wire" in str(failure) else codes.NOT_SERIES_PARALLEL
             self.problems.append(error(code, str(failure), failure.span))
             return None
+
+
+Tokens = tuple[tuple[str, int, int, str], ...]
+
+
+@lru_cache(maxsize=16384)
+def _row_tokens(text: str, start: int, end: int) -> Tokens:
+    """The tokens of a symbol line between its rails. Cached by text: a
+    program repeats its symbol lines (the names stand on the line above),
+    and this is the reader's hottest loop."""
+    # every alternative is a named group: lastgroup is never None
+    return tuple([(match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
+                  for match in SYMBOL_TOKEN.finditer(text, start, end)])
+
+
+ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
+
+
+@lru_cache(maxsize=65536)
+def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, str],
+                  top_edges: tuple[str, str]) -> ElementPlan | None:
+    """What an element drawn so reads to: its instruction, all its operands
+    and where each drawn operand stands, (name, in the text on top, column
+    from the start of that text or of the glyph, width); None when no
+    instruction draws so; ValueError for a value of the right shape but not
+    a valid one. An operand stands where it is a whole word, so the
+    characters either side of the glyph and of the text on top take part.
+    Cached: a program repeats its elements, under other names too."""
+    if kind in ("short", "open"):
+        key, drawn = kind.upper(), {}
+    else:
+        found = recognise(glyph, top_text)
+        if found is None:
+            return None
+        key, values = found
+        drawn = dict(values)
+    places = [(False, glyph_edges[0] + glyph + glyph_edges[1], len(glyph_edges[0]), len(glyph))]
+    if top_text:
+        places.insert(0, (True, top_edges[0] + top_text + top_edges[1], len(top_edges[0]), len(top_text)))
+    spans = []
+    for name in _placed_fields(key):
+        value = drawn.get(name)
+        if not isinstance(value, str) or not value:
+            continue
+        for on_top, text, lo, width in places:
+            found_at = _find_word(text, value, lo, lo + width)
+            if found_at >= 0:
+                spans.append((name, on_top, found_at - lo, len(value)))
+                break
+    return key, complete_args(key, drawn), tuple(spans)
 
 
 @cache
