@@ -18,13 +18,14 @@ class Nodes:
 
     def __init__(self) -> None:
         self.parent = [LEFT, RIGHT]
-        self.where: dict[int, Span] = {}
+        # (line, column) of each node's cell: a Span only for the error that names one
+        self.where: dict[int, tuple[int, int]] = {}
 
-    def new(self, where: Span | None = None) -> int:
-        self.parent.append(len(self.parent))
-        if where is not None:
-            self.where[len(self.parent) - 1] = where
-        return len(self.parent) - 1
+    def new(self, line: int, col: int) -> int:
+        node = len(self.parent)
+        self.parent.append(node)
+        self.where[node] = (line, col)
+        return node
 
     def find(self, node: int) -> int:
         while self.parent[node] != node:
@@ -42,7 +43,7 @@ class Nodes:
         self.parent[b] = a
 
 
-@dataclass
+@dataclass(slots=True)
 class Edge:
     start: int
     end: int
@@ -252,7 +253,7 @@ def _culprit(edges: list[Edge], nodes: Nodes) -> Span:
         degree[edge.end] = degree.get(edge.end, 0) + 1
     for node, _ in sorted(degree.items(), key=lambda item: -item[1]):
         if node not in (LEFT, RIGHT):
-            for member, span in nodes.where.items():
+            for member, (line, col) in nodes.where.items():
                 if nodes.find(member) == node:
-                    return span
+                    return Span.at(line, col)
     return min(edges, key=lambda e: e.order).span

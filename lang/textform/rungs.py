@@ -170,11 +170,10 @@ class _RungReader:
         return Series(found, found[0].span.union(found[-1].span) if found and found[0].span else None)
 
     def read(self):
-        tokens = {row: self._tokens(row) for row in self.symbol_rows}
-        self._connect_verticals(tokens)
+        self._connect_verticals()
         self._check_stray_connectors()
         for row in self.symbol_rows:
-            self._walk_row(row, tokens[row])
+            self._walk_row(row, self._tokens(row))
             self._top_owners(row)  # text above no element is an error even where no element is
         self._check_spacers()
         if self.problems:
@@ -185,16 +184,12 @@ class _RungReader:
         line = self.lines[row]
         return _row_tokens(line.text, line.start, line.end)
 
-    def _connect_verticals(self, tokens) -> None:
+    def _connect_verticals(self) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
         lines = self.lines
         for row in self.symbol_rows:
             line = lines[row]
-            if line.text.find("+", line.left + 1, line.end) < 0:
-                continue
-            for kind, start, _, _ in tokens[row]:
-                if kind != "plus":
-                    continue
+            for start in _row_pluses(line.text, line.start, line.end):
                 node = self._junction(row, start)
                 if row + 2 < len(lines) and lines[row + 1].char(start) == "|" and lines[row + 2].char(start) == "|":
                     target = row + 3
@@ -213,7 +208,7 @@ class _RungReader:
     def _junction(self, row: int, col: int) -> int:
         key = (row, col)
         if key not in self.junctions:
-            self.junctions[key] = self.nodes.new(Span.at(self.lines[row].number, col))
+            self.junctions[key] = self.nodes.new(self.lines[row].number, col)
         return self.junctions[key]
 
     def _is_junction(self, row: int, col: int) -> bool:
@@ -271,7 +266,7 @@ class _RungReader:
                 element = self._element(row, kind, start, end, text)
                 if element is None:
                     return
-                output = self.nodes.new(Span.at(line.number, end - 1))
+                output = self.nodes.new(line.number, end - 1)
                 span = element.span
                 assert span is not None  # _element places what it reads
                 self.edges.append(Edge(current, output, element, (line.number, start), span))
@@ -302,7 +297,7 @@ class _RungReader:
     def _fold_short_open(self, row: int, tokens):
         """`+------+` and `+      +` without connectors are SHORT and OPEN."""
         line = self.lines[row]
-        if line.text.find("+", line.start, line.end) < 0:
+        if not _row_pluses(line.text, line.start, line.end):
             return tokens  # most rows: nothing to fold
         folded = []
         index = 0
@@ -508,6 +503,13 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
                 spans.append((name, on_top, found_at - lo, len(value)))
                 break
     return key, complete_args(key, drawn), tuple(spans)
+
+
+@lru_cache(maxsize=16384)
+def _row_pluses(text: str, start: int, end: int) -> tuple[int, ...]:
+    """The columns of a symbol line's `+` tokens (junctions, or the ends of a
+    SHORT or OPEN)."""
+    return tuple(token[1] for token in _row_tokens(text, start, end) if token[0] == "plus")
 
 
 @cache
