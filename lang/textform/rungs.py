@@ -14,7 +14,7 @@ from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
-from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
+from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, Plan, build, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
 
 
@@ -140,6 +140,7 @@ class _RungReader:
         self.symbol_rows = range(symbol_index, len(lines), 3)
         self.nodes = Nodes()
         self.edges: list[Edge] = []
+        self.cells: list[Cell] = []  # each edge's element as drawn, for the rung's recipe
         self.problems: list[Diagnostic] = []
         self.junctions: dict[tuple[int, int], int] = {}
         self.claimed: set[tuple[int, int]] = set()
@@ -170,6 +171,12 @@ class _RungReader:
         return Series(found, found[0].span.union(found[-1].span) if found and found[0].span else None)
 
     def read(self):
+        skeleton = _skeleton(self.lines, self.first)
+        recipe = _RECIPES.get(skeleton)
+        if recipe is not None:
+            circuit = self._cooked(recipe)
+            if circuit is not None:
+                return circuit
         self._connect_verticals()
         self._check_stray_connectors()
         for row in self.symbol_rows:
@@ -178,7 +185,27 @@ class _RungReader:
         self._check_spacers()
         if self.problems:
             return None
-        return self._circuit()
+        circuit = self._circuit()
+        if circuit is not None and self.edges and not self.problems:
+            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)})))
+        return circuit
+
+    def _cooked(self, recipe: Recipe) -> Node | None:
+        """The circuit of a rung whose skeleton was read before, from that
+        read's recipe with this rung's own elements (None: an element this
+        rung draws is no instruction: read it in full, for its error)."""
+        cells, plan = recipe
+        elements: list[Node] = []
+        for row, kind, start, end, glyph, top_span in cells:
+            top_text = "" if top_span is None else self.lines[row - 1].text[top_span[0]:top_span[1]]
+            try:
+                element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+            except ValueError:
+                return None
+            if element is None:
+                return None
+            elements.append(element)
+        return build(plan, elements)
 
     def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
@@ -266,6 +293,7 @@ class _RungReader:
                 element = self._element(row, kind, start, end, text)
                 if element is None:
                     return
+                self.cells.append((row, kind, start, end, text, self._top_text(row, start, end)[1]))
                 output = self.nodes.new(line.number, end - 1)
                 span = element.span
                 assert span is not None  # _element places what it reads
@@ -321,12 +349,25 @@ class _RungReader:
     # --- elements -------------------------------------------------------------
 
     def _element(self, row: int, kind: str, start: int, end: int, glyph: str) -> Element | None:
-        line = self.lines[row]
         top_text, top_span = self._top_text(row, start, end)
         if kind in ("short", "open") and top_span is not None and top_text.strip():
             self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
                          top_span[0], top_span[1])
             return None
+        try:
+            element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+        except ValueError as bad:  # a value of the right shape but not a valid one
+            self.problem(codes.BAD_VALUE, str(bad), row, start, end)
+            return None
+        if element is None:
+            self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
+        return element
+
+    def _placed(self, row: int, kind: str, start: int, end: int, glyph: str, top_text: str,
+                top_span: tuple[int, int] | None) -> Element | None:
+        """The element drawn here, at its place; None when no instruction
+        draws so, ValueError for a value of the right shape but not a valid one."""
+        line = self.lines[row]
         text = line.text
         glyph_edges = (text[start - 1:start] if start else "", text[end:end + 1])
         top_edges = ("", "")
@@ -334,13 +375,8 @@ class _RungReader:
             name_text = self.lines[row - 1].text
             first, last = top_span
             top_edges = (name_text[first - 1:first] if first else "", name_text[last:last + 1])
-        try:
-            plan = _element_plan(kind, glyph, top_text, glyph_edges, top_edges)
-        except ValueError as bad:  # a value of the right shape but not a valid one
-            self.problem(codes.BAD_VALUE, str(bad), row, start, end)
-            return None
+        plan = _element_plan(kind, glyph, top_text, glyph_edges, top_edges)
         if plan is None:
-            self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
             return None
         key, args, places = plan
         number = line.number
@@ -456,6 +492,60 @@ class _RungReader:
 
 
 Tokens = tuple[tuple[str, int, int, str], ...]
+# an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, text on top
+Cell = tuple[int, str, int, int, str, "tuple[int, int] | None"]
+Recipe = tuple[tuple[Cell, ...], Plan]
+
+# A rung's skeleton is all its reading depends on but the text above its
+# elements: its symbol lines as drawn, and of every other line its
+# connectors and where its words stand. A converted program repeats a few
+# rungs with other names: a rung whose skeleton was read before without a
+# problem is made from that read's recipe, its elements read from its own
+# cells, rather than walked, joined and reduced again. Bounded like the
+# circuit plans (lang/textform/circuit.py), the oldest out first.
+_RECIPES: dict[tuple, Recipe] = {}
+_MAX_RECIPES = 4096
+
+
+def _remember(skeleton: tuple, recipe: Recipe) -> None:
+    if len(_RECIPES) >= _MAX_RECIPES:
+        _RECIPES.pop(next(iter(_RECIPES)), None)
+    _RECIPES[skeleton] = recipe
+
+
+def _skeleton(lines: list[Line], first: int) -> tuple:
+    """The rung's skeleton (above). A word on a line that is not a symbol
+    line is found as the reader finds the text above a glyph, with the
+    connectors between two junctions blanked out."""
+    count = len(lines)
+    claimed: set[tuple[int, int]] = set()
+    for row in range(first, count - 3, 3):
+        line = lines[row]
+        for col in _row_pluses(line.text, line.start, line.end):
+            if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
+                claimed.add((row + 1, col))
+                claimed.add((row + 2, col))
+    parts: list[object] = [first, count]
+    for index, line in enumerate(lines):
+        left, end, text = line.left, line.end, line.text
+        if index >= first and (index - first) % 3 == 0:
+            parts.append((left, end, text[left:end]))
+            continue
+        start = left + 2
+        bars = []
+        col = text.find("|", start, end)
+        while col >= 0:
+            bars.append(col)
+            col = text.find("|", col + 1, end)
+        text = text[:end]
+        blanked = [col for col in bars if (index, col) in claimed]
+        if blanked:
+            chars = list(text)
+            for col in blanked:
+                chars[col] = " "
+            text = "".join(chars)
+        parts.append((left, end, tuple(bars), tuple(match.span() for match in TOP_TOKEN.finditer(text, start))))
+    return tuple(parts)
 
 
 @lru_cache(maxsize=16384)
