@@ -51,6 +51,7 @@ SYMBOL_TOKEN = re.compile(
 )
 TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
+_match_span = re.Match.span
 
 
 @dataclass(slots=True)
@@ -544,7 +545,7 @@ def _skeleton(lines: list[Line], first: int) -> tuple:
             for col in blanked:
                 chars[col] = " "
             text = "".join(chars)
-        parts.append((left, end, tuple(bars), tuple(match.span() for match in TOP_TOKEN.finditer(text, start))))
+        parts.append((left, end, tuple(bars), tuple(map(_match_span, TOP_TOKEN.finditer(text, start)))))
     return tuple(parts)
 
 
