@@ -431,9 +431,9 @@ class TextReader:
         circuits = list(map(_rung_circuit, rungs))
         changed_groups: set[tuple[str, str]] = set()
         if len(circuits) != len(self._circuits):
-            names = [details.element_names(rung) for rung in rungs]
-            self._groups = details.element_groups(names)
-            self._names = {id(circuit): rung_names for circuit, rung_names in zip(circuits, names)}
+            every = [details.element_names(rung) for rung in rungs]
+            self._groups = details.element_groups(every)
+            self._names = {id(circuit): names for circuit, names in zip(circuits, every)}
             self._circuits = circuits
             return self._groups, None
         else:
