@@ -210,14 +210,14 @@ class _RungReader:
 
     def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
-        return _row_tokens(line.text, line.start, line.end)
+        return _row_tokens(line.text[line.left:line.end], line.left)
 
     def _connect_verticals(self) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
         lines = self.lines
         for row in self.symbol_rows:
             line = lines[row]
-            for start in _row_pluses(line.text, line.start, line.end):
+            for start in _row_pluses(line.text[line.left:line.end], line.left):
                 node = self._junction(row, start)
                 if row + 2 < len(lines) and lines[row + 1].char(start) == "|" and lines[row + 2].char(start) == "|":
                     target = row + 3
@@ -326,7 +326,7 @@ class _RungReader:
     def _fold_short_open(self, row: int, tokens):
         """`+------+` and `+      +` without connectors are SHORT and OPEN."""
         line = self.lines[row]
-        if not _row_pluses(line.text, line.start, line.end):
+        if not _row_pluses(line.text[line.left:line.end], line.left):
             return tokens  # most rows: nothing to fold
         folded = []
         index = 0
@@ -522,7 +522,7 @@ def _skeleton(lines: list[Line], first: int) -> tuple:
     claimed: set[tuple[int, int]] = set()
     for row in range(first, count - 3, 3):
         line = lines[row]
-        for col in _row_pluses(line.text, line.start, line.end):
+        for col in _row_pluses(line.text[line.left:line.end], line.left):
             if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
                 claimed.add((row + 1, col))
                 claimed.add((row + 2, col))
@@ -550,13 +550,15 @@ def _skeleton(lines: list[Line], first: int) -> tuple:
 
 
 @lru_cache(maxsize=16384)
-def _row_tokens(text: str, start: int, end: int) -> Tokens:
-    """The tokens of a symbol line between its rails. Cached by text: a
+def _row_tokens(drawn: str, left: int) -> Tokens:
+    """The tokens of a symbol line between its rails: `drawn` is the line
+    from its left rail (at column `left`) to where the drawing stops.
+    Cached by what is drawn, the rung number before the rail left out: a
     program repeats its symbol lines (the names stand on the line above),
     and this is the reader's hottest loop."""
     # every alternative is a named group: lastgroup is never None
-    return tuple([(match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
-                  for match in SYMBOL_TOKEN.finditer(text, start, end)])
+    return tuple([(match.lastgroup, match.start() + left, match.end() + left, match.group())  # type: ignore[misc]
+                  for match in SYMBOL_TOKEN.finditer(drawn, 2)])
 
 
 ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
@@ -597,10 +599,10 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
 
 
 @lru_cache(maxsize=16384)
-def _row_pluses(text: str, start: int, end: int) -> tuple[int, ...]:
+def _row_pluses(drawn: str, left: int) -> tuple[int, ...]:
     """The columns of a symbol line's `+` tokens (junctions, or the ends of a
     SHORT or OPEN)."""
-    return tuple(token[1] for token in _row_tokens(text, start, end) if token[0] == "plus")
+    return tuple(token[1] for token in _row_tokens(drawn, left) if token[0] == "plus")
 
 
 @cache
