@@ -172,8 +172,8 @@ class _RungReader:
         return Series(found, found[0].span.union(found[-1].span) if found and found[0].span else None)
 
     def read(self):
-        skeleton = _skeleton(self.lines, self.first)
-        recipe = _RECIPES.get(skeleton)
+        skeleton = _skeleton(self.lines, self.first) if len(self.lines) <= _MAX_SKELETON_LINES else None
+        recipe = _RECIPES.get(skeleton) if skeleton is not None else None
         if recipe is not None:
             circuit = self._cooked(recipe)
             if circuit is not None:
@@ -187,7 +187,7 @@ class _RungReader:
         if self.problems:
             return None
         circuit = self._circuit()
-        if circuit is not None and self.edges and not self.problems:
+        if skeleton is not None and circuit is not None and self.edges and not self.problems:
             _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)})))
         return circuit
 
@@ -503,9 +503,11 @@ Recipe = tuple[tuple[Cell, ...], Plan]
 # rungs with other names: a rung whose skeleton was read before without a
 # problem is made from that read's recipe, its elements read from its own
 # cells, rather than walked, joined and reduced again. Bounded like the
-# circuit plans (lang/textform/circuit.py), the oldest out first.
+# circuit plans (lang/textform/circuit.py), the oldest out first, and
+# taller rungs are not kept (one of a kind, their skeletons large).
 _RECIPES: dict[tuple, Recipe] = {}
 _MAX_RECIPES = 4096
+_MAX_SKELETON_LINES = 3 * 64
 
 
 def _remember(skeleton: tuple, recipe: Recipe) -> None:
