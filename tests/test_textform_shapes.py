@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ide.incremental import IncrementalReader
 from lang.model import Element, Parallel, Program, Rung, Series, Settings
+from lang.textform import rungs
 from lang.textform.elements import complete_args
 from lang.textform.reader import read_text
 from lang.textform.writer import render_program
@@ -65,3 +66,26 @@ def test_an_edit_of_one_rung_of_a_shape_leaves_the_others_as_they_were():
     assert names(after.rungs[5]) == ["Xa5", "Xq5", "Xc5", "Ya5", "Yb5"]
     assert [names(rung) for n, rung in enumerate(after.rungs) if n not in (3, 5)] == \
         [kept[n] for n in range(12) if n not in (3, 5)]
+
+
+def placed(program: Program) -> list[list[tuple]]:
+    return [[(e.kind, e.args, e.span, e.arg_spans) for e in rung.elements()] for rung in program.rungs]
+
+
+def test_a_copy_that_names_no_instruction_or_moves_a_name_reads_as_if_alone(monkeypatch):
+    """A rung whose skeleton was read before is made from that read's recipe
+    (lang/textform/rungs.py): a copy whose name makes no instruction still
+    gets its error at its glyph, and a name moved over its glyph its place."""
+    text = program_text(6)
+    text = text.replace(" Xb3 ", " X-3 ", 1)  # no contact is named so
+    text = text.replace("       Xc4", "     Xc4  ", 1)  # two columns left, still over its contact
+    program, problems = read_text(text)
+    lines = text.splitlines()
+    assert [(p.code, lines[p.span.line][p.span.col:p.span.end_col]) for p in problems] == [("LD003", "] [")]
+    assert problems[0].span.line == next(n for n, line in enumerate(lines) if line.startswith("0004"))
+    moved = next(e for e in program.rungs[4].elements() if e.args["name"] == "Xc4")
+    at = moved.arg_spans["name"]
+    assert lines[at.line][at.col:at.end_col] == "Xc4" and moved.span is not None and moved.span.col == at.col
+    monkeypatch.setattr(rungs, "_RECIPES", {})  # every rung read in full
+    alone, alone_problems = read_text(text)
+    assert placed(program) == placed(alone) and problems == alone_problems

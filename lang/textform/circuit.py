@@ -18,13 +18,14 @@ class Nodes:
 
     def __init__(self) -> None:
         self.parent = [LEFT, RIGHT]
-        self.where: dict[int, Span] = {}
+        # (line, column) of each node's cell: a Span only for the error that names one
+        self.where: dict[int, tuple[int, int]] = {}
 
-    def new(self, where: Span | None = None) -> int:
-        self.parent.append(len(self.parent))
-        if where is not None:
-            self.where[len(self.parent) - 1] = where
-        return len(self.parent) - 1
+    def new(self, line: int, col: int) -> int:
+        node = len(self.parent)
+        self.parent.append(node)
+        self.where[node] = (line, col)
+        return node
 
     def find(self, node: int) -> int:
         while self.parent[node] != node:
@@ -42,7 +43,7 @@ class Nodes:
         self.parent[b] = a
 
 
-@dataclass
+@dataclass(slots=True)
 class Edge:
     start: int
     end: int
@@ -76,11 +77,11 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
     shape = _shape(ordered)
     plan = _PLANS.get(shape) if ordered else None
     if plan is not None:
-        return _build(plan, [edge.node for edge in ordered])
+        return build(plan, [edge.node for edge in ordered])
     left = _Reduction(edges).run()
     if len(left) == 1 and (left[0].start, left[0].end) == (LEFT, RIGHT):
         if ordered:
-            _remember(shape, _plan(left[0].node, {id(edge.node): index for index, edge in enumerate(ordered)}))
+            _remember(shape, plan_of(left[0].node, {id(edge.node): index for index, edge in enumerate(ordered)}))
         return left[0].node
     raise NotSeriesParallel("the branches do not form series and parallel blocks", _culprit(left, nodes))
 
@@ -94,7 +95,8 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
 # Bounded, as the plans live as long as the process: a few shapes of a
 # program's size are what repeats (a tall rung of thousands of rows is
 # one of a kind and reduces in linear time).
-_PLANS: dict[tuple[int, ...], tuple[tuple[int, int], ...]] = {}
+Plan = tuple[tuple[int, int], ...]  # see plan_of
+_PLANS: dict[tuple[int, ...], Plan] = {}
 _MAX_PLANS = 1024
 _MAX_PLANNED_EDGES = 128
 _LEAF, _SERIES, _PARALLEL = 0, 1, 2
@@ -109,13 +111,13 @@ def _shape(ordered: list[Edge]) -> tuple[int, ...]:
     return tuple(shape)
 
 
-def _remember(shape: tuple[int, ...], plan: tuple[tuple[int, int], ...]) -> None:
+def _remember(shape: tuple[int, ...], plan: Plan) -> None:
     if len(_PLANS) >= _MAX_PLANS:
         _PLANS.pop(next(iter(_PLANS)), None)  # the oldest: enough for the shapes of one program
     _PLANS[shape] = plan
 
 
-def _plan(root: Node, index: dict[int, int]) -> tuple[tuple[int, int], ...]:
+def plan_of(root: Node, index: dict[int, int]) -> Plan:
     """The circuit as steps in post-order: (_LEAF, the element's index among
     the edges), (_SERIES or _PARALLEL, how many nodes built before it are its
     children). A loop, not recursion: blocks may nest a thousand deep."""
@@ -135,7 +137,7 @@ def _plan(root: Node, index: dict[int, int]) -> tuple[tuple[int, int], ...]:
     return tuple(steps)
 
 
-def _build(plan: tuple[tuple[int, int], ...], leaves: list[Node]) -> Node:
+def build(plan: Plan, leaves: list[Node]) -> Node:
     """The circuit a plan describes over these elements: new blocks, each
     spanning its children, as the reduction would have made them."""
     built: list[Node] = []
@@ -252,7 +254,7 @@ def _culprit(edges: list[Edge], nodes: Nodes) -> Span:
         degree[edge.end] = degree.get(edge.end, 0) + 1
     for node, _ in sorted(degree.items(), key=lambda item: -item[1]):
         if node not in (LEFT, RIGHT):
-            for member, span in nodes.where.items():
+            for member, (line, col) in nodes.where.items():
                 if nodes.find(member) == node:
-                    return span
+                    return Span.at(line, col)
     return min(edges, key=lambda e: e.order).span

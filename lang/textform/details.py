@@ -7,6 +7,7 @@ LDmicro's defaults is written, so most programs have neither section."""
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import fields as dataclass_fields
 from functools import lru_cache
 from typing import Any
@@ -193,11 +194,12 @@ def element_names(rung: Rung) -> ElementNames:
     return [((element.kind, identity(element)), position) for position, element in enumerate(rung.elements())]
 
 
-def element_groups(rungs: list[Rung]) -> Groups:
-    """(rung index, position in the rung) of each element, by what a DETAILS line names it."""
+def element_groups(names: Iterable[ElementNames]) -> Groups:
+    """(rung index, position in the rung) of each element, by what a DETAILS
+    line names it, from each rung's `element_names`."""
     groups: Groups = {}
-    for index, rung in enumerate(rungs):
-        for key, position in element_names(rung):
+    for index, rung_names in enumerate(names):
+        for key, position in rung_names:
             groups.setdefault(key, []).append((index, position))
     return groups
 

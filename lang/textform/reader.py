@@ -431,8 +431,9 @@ class TextReader:
         circuits = list(map(_rung_circuit, rungs))
         changed_groups: set[tuple[str, str]] = set()
         if len(circuits) != len(self._circuits):
-            self._groups = details.element_groups(rungs)
-            self._names = {id(rung.circuit): details.element_names(rung) for rung in rungs}
+            every = [details.element_names(rung) for rung in rungs]
+            self._groups = details.element_groups(every)
+            self._names = {id(circuit): names for circuit, names in zip(circuits, every)}
             self._circuits = circuits
             return self._groups, None
         else:
@@ -725,10 +726,12 @@ _new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands 
 
 
 def shift_span(span: Span | None, delta: int) -> Span | None:
-    return None if span is None else _new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
+    return span if span is None or not delta else _new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
 
 
 def _shift_element(node: Element, delta: int) -> Element:
+    if not delta:  # a copy in place (DETAILS sets values on it): spans are immutable, shared
+        return Element(node.kind, dict(node.args), node.span, dict(node.arg_spans))
     return Element(node.kind, dict(node.args), shift_span(node.span, delta),
                    {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3])) for k, v in node.arg_spans.items()})
 

@@ -7,14 +7,14 @@ from __future__ import annotations
 import re
 from bisect import bisect_right
 from dataclasses import dataclass, replace
-from functools import cache
+from functools import cache, lru_cache
 
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
-from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, reduce
+from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, Plan, build, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
 
 
@@ -51,6 +51,7 @@ SYMBOL_TOKEN = re.compile(
 )
 TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
+_match_span = re.Match.span
 
 
 @dataclass(slots=True)
@@ -140,11 +141,11 @@ class _RungReader:
         self.symbol_rows = range(symbol_index, len(lines), 3)
         self.nodes = Nodes()
         self.edges: list[Edge] = []
+        self.cells: list[Cell] = []  # each edge's element as drawn, for the rung's recipe
         self.problems: list[Diagnostic] = []
         self.junctions: dict[tuple[int, int], int] = {}
         self.claimed: set[tuple[int, int]] = set()
         self._folded: dict[int, list] = {}
-        self._token_cache: dict[int, list[tuple[str, int, int, str]]] = {}
         self._owners: dict[int, dict[tuple[int, int], list[tuple[int, int]]]] = {}
 
     def problem(self, code: str, message: str, line: int, start: int, end: int | None = None) -> None:
@@ -171,36 +172,52 @@ class _RungReader:
         return Series(found, found[0].span.union(found[-1].span) if found and found[0].span else None)
 
     def read(self):
-        tokens = {row: self._tokens(row) for row in self.symbol_rows}
-        self._connect_verticals(tokens)
+        skeleton = _skeleton(self.lines, self.first) if len(self.lines) <= _MAX_SKELETON_LINES else None
+        recipe = _RECIPES.get(skeleton) if skeleton is not None else None
+        if recipe is not None:
+            circuit = self._cooked(recipe)
+            if circuit is not None:
+                return circuit
+        self._connect_verticals()
         self._check_stray_connectors()
         for row in self.symbol_rows:
-            self._walk_row(row, tokens[row])
+            self._walk_row(row, self._tokens(row))
             self._top_owners(row)  # text above no element is an error even where no element is
         self._check_spacers()
         if self.problems:
             return None
-        return self._circuit()
+        circuit = self._circuit()
+        if skeleton is not None and circuit is not None and self.edges and not self.problems:
+            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)})))
+        return circuit
 
-    def _tokens(self, row: int) -> list[tuple[str, int, int, str]]:
-        cache = self._token_cache
-        if row in cache:
-            return cache[row]
+    def _cooked(self, recipe: Recipe) -> Node | None:
+        """The circuit of a rung whose skeleton was read before, from that
+        read's recipe with this rung's own elements (None: an element this
+        rung draws is no instruction: read it in full, for its error)."""
+        cells, plan = recipe
+        elements: list[Node] = []
+        for row, kind, start, end, glyph, top_span in cells:
+            top_text = "" if top_span is None else self.lines[row - 1].text[top_span[0]:top_span[1]]
+            try:
+                element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+            except ValueError:
+                return None
+            if element is None:
+                return None
+            elements.append(element)
+        return build(plan, elements)
+
+    def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
-        # every alternative is a named group: lastgroup is never None
-        found: list[tuple[str, int, int, str]] = [
-            (match.lastgroup, match.start(), match.end(), match.group())  # type: ignore[misc]
-            for match in SYMBOL_TOKEN.finditer(line.text, line.start, line.end)]
-        cache[row] = found
-        return found
+        return _row_tokens(line.text[line.left:line.end], line.left)
 
-    def _connect_verticals(self, tokens) -> None:
+    def _connect_verticals(self) -> None:
         """Join every `+` that has a `|` below it to the `+` three lines down."""
         lines = self.lines
         for row in self.symbol_rows:
-            for kind, start, _, _ in tokens[row]:
-                if kind != "plus":
-                    continue
+            line = lines[row]
+            for start in _row_pluses(line.text[line.left:line.end], line.left):
                 node = self._junction(row, start)
                 if row + 2 < len(lines) and lines[row + 1].char(start) == "|" and lines[row + 2].char(start) == "|":
                     target = row + 3
@@ -213,14 +230,13 @@ class _RungReader:
                                      "this vertical connector meets no `+` junction on the next symbol line",
                                      where, start)
             # the left rail joins every branch drawn from it (`|+`)
-            line = self.lines[row]
             if line.text[line.left + 1:line.left + 2] == "+":
                 self.nodes.union(LEFT, self._junction(row, line.left + 1))
 
     def _junction(self, row: int, col: int) -> int:
         key = (row, col)
         if key not in self.junctions:
-            self.junctions[key] = self.nodes.new(Span.at(self.lines[row].number, col))
+            self.junctions[key] = self.nodes.new(self.lines[row].number, col)
         return self.junctions[key]
 
     def _is_junction(self, row: int, col: int) -> bool:
@@ -278,13 +294,14 @@ class _RungReader:
                 element = self._element(row, kind, start, end, text)
                 if element is None:
                     return
-                output = self.nodes.new(Span.at(line.number, end - 1))
+                self.cells.append((row, kind, start, end, text, self._top_text(row, start, end)[1]))
+                output = self.nodes.new(line.number, end - 1)
                 span = element.span
                 assert span is not None  # _element places what it reads
                 self.edges.append(Edge(current, output, element, (line.number, start), span))
                 current, current_is_junction = output, False
             elif kind == "gap":
-                rest = tokens[index + 1:]
+                rest = index + 1 < len(tokens)
                 if current is not None and not current_is_junction and rest:
                     self.problem(codes.BROKEN_WIRE,
                                  "this branch stops before reaching a junction", row, start, end)
@@ -308,6 +325,9 @@ class _RungReader:
 
     def _fold_short_open(self, row: int, tokens):
         """`+------+` and `+      +` without connectors are SHORT and OPEN."""
+        line = self.lines[row]
+        if not _row_pluses(line.text[line.left:line.end], line.left):
+            return tokens  # most rows: nothing to fold
         folded = []
         index = 0
         while index < len(tokens):
@@ -330,28 +350,52 @@ class _RungReader:
     # --- elements -------------------------------------------------------------
 
     def _element(self, row: int, kind: str, start: int, end: int, glyph: str) -> Element | None:
-        line = self.lines[row]
         top_text, top_span = self._top_text(row, start, end)
-        if kind in ("short", "open"):
-            if top_span is not None and top_text.strip():
-                self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
-                             top_span[0], top_span[1])
-                return None
-            key, drawn = kind.upper(), {}
+        if kind in ("short", "open") and top_span is not None and top_text.strip():
+            self.problem(codes.STRAY_TEXT, f"{top_text.strip()!r} stands above a {kind} circuit", row - 1,
+                         top_span[0], top_span[1])
+            return None
+        try:
+            element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+        except ValueError as bad:  # a value of the right shape but not a valid one
+            self.problem(codes.BAD_VALUE, str(bad), row, start, end)
+            return None
+        if element is None:
+            self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
+        return element
+
+    def _placed(self, row: int, kind: str, start: int, end: int, glyph: str, top_text: str,
+                top_span: tuple[int, int] | None) -> Element | None:
+        """The element drawn here, at its place; None when no instruction
+        draws so, ValueError for a value of the right shape but not a valid one."""
+        line = self.lines[row]
+        text = line.text
+        glyph_edges = (text[start - 1:start] if start else "", text[end:end + 1])
+        top_edges = ("", "")
+        if top_span is not None:
+            name_text = self.lines[row - 1].text
+            first, last = top_span
+            top_edges = (name_text[first - 1:first] if first else "", name_text[last:last + 1])
+        plan = _element_plan(kind, glyph, top_text, glyph_edges, top_edges)
+        if plan is None:
+            return None
+        key, args, places = plan
+        number = line.number
+        if top_span is None:
+            span = Span(number, start, number, end)
         else:
-            try:
-                found = recognise(glyph, top_text)
-            except ValueError as bad:  # a value of the right shape but not a valid one
-                self.problem(codes.BAD_VALUE, str(bad), row, start, end)
-                return None
-            if found is None:
-                self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
-                return None
-            key, values = found
-            drawn = dict(values)
-        span = Span(line.number if top_span is None else self.lines[row - 1].number,
-                    start if top_span is None else min(start, top_span[0]), line.number, end)
-        return Element(key, complete_args(key, drawn), span, self._arg_spans(row, start, end, top_span, key, drawn))
+            top_number = self.lines[row - 1].number
+            span = Span(top_number, min(start, top_span[0]), number, end)
+        spans = {}
+        for name, on_top, col, width in places:
+            if on_top:
+                assert top_span is not None  # a place on top only when there is text on top
+                at = top_span[0] + col
+                spans[name] = Span(top_number, at, top_number, at + width)
+            else:
+                at = start + col
+                spans[name] = Span(number, at, number, at + width)
+        return Element(key, dict(args), span, spans)
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
         """The text on the name line above this glyph: every word of that line
@@ -425,23 +469,6 @@ class _RungReader:
         finally:
             self.problems = saved
 
-    def _arg_spans(self, row, start, end, top_span, key, drawn) -> dict[str, Span]:
-        spans = {}
-        places = []
-        if top_span is not None:
-            places.append((self.lines[row - 1], top_span[0], top_span[1]))
-        places.append((self.lines[row], start, end))
-        for name in _placed_fields(key):
-            value = drawn.get(name)
-            if not isinstance(value, str) or not value:
-                continue
-            for line, lo, hi in places:
-                found = _find_word(line.text, value, lo, hi)
-                if found >= 0:
-                    spans[name] = Span(line.number, found, line.number, found + len(value))
-                    break
-        return spans
-
     # --- the circuit ------------------------------------------------------------------
 
     def _circuit(self):
@@ -463,6 +490,121 @@ class _RungReader:
             code = codes.EMPTY_BRANCH if "bare wire" in str(failure) else codes.NOT_SERIES_PARALLEL
             self.problems.append(error(code, str(failure), failure.span))
             return None
+
+
+Tokens = tuple[tuple[str, int, int, str], ...]
+# an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, text on top
+Cell = tuple[int, str, int, int, str, "tuple[int, int] | None"]
+Recipe = tuple[tuple[Cell, ...], Plan]
+
+# A rung's skeleton is all its reading depends on but the text above its
+# elements: its symbol lines as drawn, and of every other line its
+# connectors and where its words stand. A converted program repeats a few
+# rungs with other names: a rung whose skeleton was read before without a
+# problem is made from that read's recipe, its elements read from its own
+# cells, rather than walked, joined and reduced again. Bounded like the
+# circuit plans (lang/textform/circuit.py), the oldest out first, and
+# taller rungs are not kept (one of a kind, their skeletons large).
+_RECIPES: dict[tuple, Recipe] = {}
+_MAX_RECIPES = 4096
+_MAX_SKELETON_LINES = 3 * 64
+
+
+def _remember(skeleton: tuple, recipe: Recipe) -> None:
+    if len(_RECIPES) >= _MAX_RECIPES:
+        _RECIPES.pop(next(iter(_RECIPES)), None)
+    _RECIPES[skeleton] = recipe
+
+
+def _skeleton(lines: list[Line], first: int) -> tuple:
+    """The rung's skeleton (above). A word on a line that is not a symbol
+    line is found as the reader finds the text above a glyph, with the
+    connectors between two junctions blanked out."""
+    count = len(lines)
+    claimed: set[tuple[int, int]] = set()
+    for row in range(first, count - 3, 3):
+        line = lines[row]
+        for col in _row_pluses(line.text[line.left:line.end], line.left):
+            if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
+                claimed.add((row + 1, col))
+                claimed.add((row + 2, col))
+    parts: list[object] = [first, count]
+    for index, line in enumerate(lines):
+        left, end, text = line.left, line.end, line.text
+        if index >= first and (index - first) % 3 == 0:
+            parts.append((left, end, text[left:end]))
+            continue
+        start = left + 2
+        bars = []
+        col = text.find("|", start, end)
+        while col >= 0:
+            bars.append(col)
+            col = text.find("|", col + 1, end)
+        text = text[:end]
+        blanked = [col for col in bars if (index, col) in claimed]
+        if blanked:
+            chars = list(text)
+            for col in blanked:
+                chars[col] = " "
+            text = "".join(chars)
+        parts.append((left, end, tuple(bars), tuple(map(_match_span, TOP_TOKEN.finditer(text, start)))))
+    return tuple(parts)
+
+
+@lru_cache(maxsize=16384)
+def _row_tokens(drawn: str, left: int) -> Tokens:
+    """The tokens of a symbol line between its rails: `drawn` is the line
+    from its left rail (at column `left`) to where the drawing stops.
+    Cached by what is drawn, the rung number before the rail left out: a
+    program repeats its symbol lines (the names stand on the line above),
+    and this is the reader's hottest loop."""
+    # every alternative is a named group: lastgroup is never None
+    return tuple([(match.lastgroup, match.start() + left, match.end() + left, match.group())  # type: ignore[misc]
+                  for match in SYMBOL_TOKEN.finditer(drawn, 2)])
+
+
+ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
+
+
+@lru_cache(maxsize=65536)
+def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, str],
+                  top_edges: tuple[str, str]) -> ElementPlan | None:
+    """What an element drawn so reads to: its instruction, all its operands
+    and where each drawn operand stands, (name, in the text on top, column
+    from the start of that text or of the glyph, width); None when no
+    instruction draws so; ValueError for a value of the right shape but not
+    a valid one. An operand stands where it is a whole word, so the
+    characters either side of the glyph and of the text on top take part.
+    Cached: a program repeats its elements, under other names too."""
+    if kind in ("short", "open"):
+        key, drawn = kind.upper(), {}
+    else:
+        found = recognise(glyph, top_text)
+        if found is None:
+            return None
+        key, values = found
+        drawn = dict(values)
+    places = [(False, glyph_edges[0] + glyph + glyph_edges[1], len(glyph_edges[0]), len(glyph))]
+    if top_text:
+        places.insert(0, (True, top_edges[0] + top_text + top_edges[1], len(top_edges[0]), len(top_text)))
+    spans = []
+    for name in _placed_fields(key):
+        value = drawn.get(name)
+        if not isinstance(value, str) or not value:
+            continue
+        for on_top, text, lo, width in places:
+            found_at = _find_word(text, value, lo, lo + width)
+            if found_at >= 0:
+                spans.append((name, on_top, found_at - lo, len(value)))
+                break
+    return key, complete_args(key, drawn), tuple(spans)
+
+
+@lru_cache(maxsize=16384)
+def _row_pluses(drawn: str, left: int) -> tuple[int, ...]:
+    """The columns of a symbol line's `+` tokens (junctions, or the ends of a
+    SHORT or OPEN)."""
+    return tuple(token[1] for token in _row_tokens(drawn, left) if token[0] == "plus")
 
 
 @cache

@@ -31,6 +31,11 @@ def split_sections(lines: list[str]) -> list[Section]:
     sections = [Section("header", -1)]
     current = sections[0]
     for number, text in enumerate(lines):
+        # a title has no indent and no rail and ends in a colon: this test, inline, keeps the
+        # hundreds of thousands of drawing lines of a big program from a call each
+        if text[:1].isspace() or "|" in text or not text.rstrip().endswith(":"):
+            current.lines.append((number, text))
+            continue
         title = _title(text, lines, number, current)
         if title is not None:
             current = Section(title, number)
@@ -41,8 +46,6 @@ def split_sections(lines: list[str]) -> list[Section]:
 
 
 def _title(text: str, lines: list[str], number: int, current: Section) -> str | None:
-    if text[:1].isspace() or "|" in text or not text.rstrip().endswith(":"):
-        return None
     match = _TITLE_RE.match(text)
     if not match:
         return None
