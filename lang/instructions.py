@@ -529,7 +529,7 @@ define("SLEEP", "sleep", (Field("name", "token", access="", default="", drawn=Fa
                           Field("delay", "token", access="", default="", drawn=False)),
        None, text("{{SLEEP}}"),
        "When its input is 1, puts the microcontroller into power-down sleep.",
-       "flow", eol=True, ld_form="sleep", support=frozenset({"parse", "check", "avr", "pic16", "pic18"}))
+       "flow", eol=True, ld_form="sleep", support=frozenset({"parse", "check", "avr", "pic10", "pic16", "pic18"}))
 define("PLACEHOLDER", "empty rung", (), None, text("--"),
        "Marks an empty rung; a program with one cannot be compiled.", "flow",
        support=frozenset({"parse", "check"}), label='empty rung')

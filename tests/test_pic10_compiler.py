@@ -260,6 +260,87 @@ def test_listing_reassembles_to_the_same_words_and_every_word_decodes(name, part
     assert all(flow.instruction_at(words, address, build.device) is not None for address in range(len(words)))
 
 
+# --- SLEEP ---------------------------------------------------------------------------------------------
+
+SLEEP_LD = """LDmicro0.2
+MICRO=Microchip PIC10F200 6-SOT
+CYCLE=10000 us at Timer0, YPlcCycleDuty:0{config}
+CRYSTAL=4000000 Hz
+BAUD=2400 Hz
+
+IO LIST
+    Xsleep at 1 0 0
+    Yalive at 4 0 0
+END
+
+PROGRAM
+RUNG
+    OSC
+    COIL Yalive 0 0 0 0
+END
+RUNG
+    CONTACTS Xsleep 0 0
+    SLEEP
+END
+"""
+WATCHDOG_ON = ", ConfigurationWord(s):0xFEF"  # LDmicro's word 0xFEB with WDTE set
+
+
+def _sleep_hex(folder: Path, config: str = "") -> Path:
+    from lang.loader import LD_KIND, parse
+
+    prog, diagnostics = parse(SLEEP_LD.format(config=config), LD_KIND)
+    assert not [d for d in diagnostics if d.severity == "error"], diagnostics
+    compiler.build(prog).write(folder / "sleep.hex")
+    return folder / "sleep.hex"
+
+
+def _scans_at(edges: list[float], start: float) -> bool:
+    return all(abs(t - start - 10 * k) < 0.2 for k, t in enumerate(edges))
+
+
+@needs_gpsim
+def test_sleep_ends_the_scans_until_a_pin_change_restarts_the_program(tmp_path):
+    """Yalive (GP2) toggles every scan until the scan that sees Xsleep (GP0)
+    at 60 ms; then nothing while the pin stays high; its fall at 120 ms wakes
+    the part with a reset: the start-up clears the outputs and the scans
+    start again from there."""
+    run = gpsim.run_pic(_sleep_hex(tmp_path), "p10f200", 4_000_000,
+                        inputs=[(0, "GP0", 0), (55, "GP0", 1), (120, "GP0", 0)], watch=["GP2"],
+                        until_ms=200, timeout=60)
+    edges = run.pin_edges("GP2")
+    before = [t for t, _ in edges if t < 120]
+    assert len(before) == 7 and _scans_at(before, 0)  # the scans at 0 .. 60 ms
+    reset, *after = [(t, level) for t, level in edges if t >= 120]
+    assert reset[1] == 0 and reset[0] < 120.02  # the reset's start-up clears GPIO
+    assert len(after) == 8 and _scans_at([t for t, _ in after], 120)
+
+
+@needs_gpsim
+def test_a_watchdog_reset_in_sleep_sleeps_again(tmp_path):
+    """With the watchdog on, its time-out in SLEEP resets the part and the
+    start-up sends it back to sleep (LDmicro's "SLEEP trap"): after the
+    sleep at 60 ms, only each reset's start-up writes GPIO (outputs low), no
+    scan runs. gpsim
+    starts the p10f200 with TO and PD cleared (the part sets both at
+    power-on), as after a watchdog wake-up: the script sets them first. A
+    gpsim run ends at a watchdog reset, so the script runs on after each."""
+    hex_path = _sleep_hex(tmp_path, WATCHDOG_ON)
+    script = "\n".join([
+        "processor p10f200", f"load {hex_path}", "frequency 4000000", "module library libgpsim_modules",
+        "module load pullup xsleep", "xsleep.resistance = 100", "node n_xsleep", "attach n_xsleep xsleep.pin gpio0",
+        "status = 0x18", f"log on {tmp_path / 'run.log'}", "log w gpio", "xsleep.voltage = 0",
+        "break c 55000", "run", "xsleep.voltage = 5", "break c 300000", *["run"] * 9, "quit", ""])
+    (tmp_path / "script.stc").write_text(script)
+    out = subprocess.run(["gpsim", "-i", "-I", str(tmp_path / "script.stc")], stdin=subprocess.DEVNULL,
+                         capture_output=True, text=True, errors="replace", timeout=60).stdout
+    writes = [(cycle / 1000, value) for cycle, register, value in gpsim.parse_log((tmp_path / "run.log").read_text())
+              if register == "gpio"]
+    asleep = [(t, value) for t, value in writes if 61 < t < 300]
+    assert out.count("Reset on Watch Dog Timer expire") >= len(asleep) >= 5  # one each 36 ms or so
+    assert not any(value & 0b100 for _, value in asleep)  # only the start-up's CLRF GPIO: no scan sets Yalive
+
+
 # --- what does not fit ---------------------------------------------------------------------------------
 
 

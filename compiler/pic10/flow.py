@@ -6,7 +6,8 @@ can be timed too).
 Cycles are instruction cycles (4 clocks): 1, or 2 for GOTO, CALL, RETLW and
 the instructions that write PCL; a skip (BTFSC, BTFSS, DECFSZ, INCFSZ) takes
 2 when it skips. GOTO carries 9 bits of the target, CALL 8 (bit 8 of the PC
-cleared): one page of 512 words holds all of a PIC10F20x's memory. A write
+cleared): one page of 512 words holds all of a PIC10F20x's memory. SLEEP
+jumps to itself: the wake-up is a reset, nothing after it runs. A write
 to PCL is a table lookup: it may go to any RETLW of the run that follows it.
 """
 
@@ -16,6 +17,7 @@ from ..budget import CALL, COMPUTED, JUMP, NEXT, RETURN, SKIP, Instruction
 
 CLOCKS_PER_CYCLE = 4
 PCL = 0x02
+SLEEP = 0x003
 
 
 def _is_skip(word: int) -> bool:
@@ -59,6 +61,8 @@ def instruction_at(words: list[int], address: int, device) -> Instruction | None
         return Instruction(address, 1, 2, CALL, word & 0xFF, text="call")
     if _is_skip(word):
         return Instruction(address, 1, 1, SKIP, address + 2, 2, text="skip")
+    if word == SLEEP:  # the part stays here: its wake-up is a reset
+        return Instruction(address, 1, 1, JUMP, address, text="sleep")
     if _writes_pcl(word):
         return Instruction(address, 1, 2, COMPUTED, targets=_table(words, address), text="write to PCL")
     return Instruction(address, 1, 1, NEXT) if _known(word) else None

@@ -5,8 +5,10 @@
             the clock's output); the RAM in use cleared; OPTION:
             Timer0 on the instruction clock (T0CS = 0, which frees GP2 for
             output), its prescaler, the weak pull-ups of GP0, GP1 and GP3 on
-            when an input wants one, wake-up on change off; outputs low, TRIS;
-            start values; TMR0 and the cycle's bytes cleared, to the wait
+            when an input wants one, wake-up on change on only when the
+            program has a SLEEP; outputs low, TRIS; with SLEEP and the
+            watchdog on, back to sleep when the watchdog woke the part (LDmicro's
+            "SLEEP trap"); start values; TMR0 and the cycle's bytes cleared, to the wait
     scan:   [YPlcCycleDuty high] the rungs [YPlcCycleDuty low]
     wait:   until the cycle's ticks have passed (clearing the watchdog when the
             configuration word turns it on), scan
@@ -63,16 +65,33 @@ def _clear(cx: Context, addresses: list[int]) -> None:
     e.goto(top)
 
 
-def option_value(cx: Context, prescaler_bits: int) -> int:
-    """OPTION: wake-up on change off, the pull-ups, Timer0 on Fosc/4, its prescaler."""
+def _sleeps(code: ir.Code) -> bool:
+    return any(isinstance(op, ir.Sleep) for op in code.scan)
+
+
+def option_value(cx: Context, prescaler_bits: int, wake_on_change: bool) -> int:
+    """OPTION: wake-up on change (GP0, GP1, GP3) when SLEEP wants it, the pull-ups,
+    Timer0 on Fosc/4, its prescaler."""
     part = cx.part
-    value = 1 << part.bit("OPTION_REG", "NOT_GPWU") | prescaler_bits
+    value = prescaler_bits
+    if not wake_on_change:
+        value |= 1 << part.bit("OPTION_REG", "NOT_GPWU")
     if not pulled_up(cx):
         value |= 1 << part.bit("OPTION_REG", "NOT_GPPU")
     return value
 
 
-def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
+def _back_to_sleep(cx: Context) -> None:
+    """After a reset by the watchdog in sleep (TO and PD both cleared), sleep
+    again, as LDmicro's image does: only a pin change ends SLEEP."""
+    e, status = cx.e, cx.part.reg("STATUS")
+    for flag in ("NOT_TO", "NOT_PD"):
+        bits.jump_if(e, FileBit(status, cx.part.bit("STATUS", flag)), True, "awake")
+    select(cx, [ir.Sleep()])
+    e.label("awake")
+
+
+def _start(cx: Context, code: ir.Code, prescaler_bits: int, watchdog: bool) -> None:
     e, part = cx.e, cx.part
     e.store(part.reg("OSCCAL"))
     # FOSC4 would put the clock on GP2: a calibration word erased to XORLW 0xFF leaves it set
@@ -81,12 +100,14 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int) -> None:
     clock = cx.layout.clock
     cycle = set(range(clock, clock + CYCLE_BYTES)) if clock is not None else set()
     _clear(cx, sorted(e.ram - set(cx.layout.scratch) - cycle))
-    e.load_constant(option_value(cx, prescaler_bits))
+    e.load_constant(option_value(cx, prescaler_bits, _sleeps(code)))
     e.ins("option")
     outputs = output_masks(cx).get("P", 0)
     e.ins("clrf", part.port("P"))
     e.load_constant(~outputs & 0x0F)
     e.ins("tris", TRIS_GPIO)
+    if watchdog and _sleeps(code):
+        _back_to_sleep(cx)
     select(cx, code.init)
 
 
@@ -127,7 +148,7 @@ def write_runtime(cx: Context, code: ir.Code, crystal_hz: int, watchdog: bool) -
     setting = cycle_setting(cx.part.device, crystal_hz, cx.machine.cycle_us, free=True)
     assert setting is not None  # the back end refuses a cycle Timer0 cannot make first
     prescaler_bits, ticks = setting
-    _start(cx, code, prescaler_bits)
+    _start(cx, code, prescaler_bits, watchdog)
     assert cx.layout.clock is not None  # the layout always has the cycle's bytes here
     # a write to TMR0 clears the prescaler, which counted for the watchdog until OPTION gave it to
     # Timer0 (gpsim holds Timer0 until its old count wraps, up to 2,048 cycles). With TMR0 at the

@@ -13,7 +13,7 @@ from lang.semantics import ir
 from ..analysis import loop_labels
 from ..image import LoopBound
 from . import bits, integers, peripherals
-from .emit import Emitter
+from .emit import W, Emitter
 from .memory import FileBit, Layout
 from .part import Part
 
@@ -68,12 +68,22 @@ def _halt(cx: Context, op: ir.Halt) -> None:
 
 
 def _sleep(cx: Context, op: ir.Sleep) -> None:
-    """SLEEP as LDmicro's PIC code has it: the external interrupt pin (RB0/INT,
+    """SLEEP as LDmicro's PIC code has it. On the baseline (no INTCON: the
+    PIC10F20x) a change on GP0, GP1 or GP3 from the level GPIO read last
+    wakes the part with a reset, so the port is read just before SLEEP and
+    nothing follows it (the program starts again; OPTION enables the wake-up,
+    compiler/pic10/runtime.py). Elsewhere the external interrupt pin (RB0/INT,
     GP2/INT; INT0 on the PIC18) enabled as the wake-up source with the global
     enable off, so an edge on it wakes the MCU without a jump to the interrupt
     vector and the scan goes on after SLEEP; a watchdog time-out (TO cleared)
     sends it back to sleep."""
     e, part = cx.e, cx.part
+    if not part.has("INTCON"):
+        e.ins("movf", part.port("P"), W)
+        e.label(e.new_label("sleep"), loop=True, bound=LoopBound(None, "SLEEP until a pin change resets the MCU"))
+        e.ins("sleep")
+        e.end_path()
+        return
     intcon = part.bits("INTCON")
     enable, flag = intcon.get("INTE", intcon.get("INT0IE")), intcon.get("INTF", intcon.get("INT0IF"))
     assert enable is not None and flag is not None  # SLEEP is offered only on parts with an INT pin
