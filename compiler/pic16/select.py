@@ -13,7 +13,7 @@ from lang.semantics import ir
 from ..analysis import loop_labels
 from ..image import LoopBound
 from . import bits, integers, peripherals
-from .emit import W, Emitter
+from .emit import Emitter, W
 from .memory import FileBit, Layout
 from .part import Part
 
