@@ -106,7 +106,7 @@ def _start(cx: Context, code: ir.Code, prescaler_bits: int, watchdog: bool) -> N
     e.ins("clrf", part.port("P"))
     e.load_constant(~outputs & 0x0F)
     e.ins("tris", TRIS_GPIO)
-    if watchdog and _sleeps(code):
+    if watchdog and _sleeps(code):  # only a watchdog time-out clears TO: without it LDmicro's check never acts
         _back_to_sleep(cx)
     select(cx, code.init)
 
