@@ -51,6 +51,7 @@ SYMBOL_TOKEN = re.compile(
 )
 TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
+_new_span = tuple.__new__  # a Span without its Python-level __new__: an open places every element, an edit moves rungs
 
 
 @dataclass(slots=True)
@@ -382,20 +383,21 @@ class _RungReader:
             return None
         key, args, places = plan
         number = line.number
+        new = _new_span
         if top_span is None:
-            span = Span(number, start, number, end)
+            span = new(Span, (number, start, number, end))
         else:
             top_number = self.lines[row - 1].number
-            span = Span(top_number, min(start, top_span[0]), number, end)
+            span = new(Span, (top_number, min(start, top_span[0]), number, end))
         spans = {}
         for name, on_top, col, width in places:
             if on_top:
                 assert top_span is not None  # a place on top only when there is text on top
                 at = top_span[0] + col
-                spans[name] = Span(top_number, at, top_number, at + width)
+                spans[name] = new(Span, (top_number, at, top_number, at + width))
             else:
                 at = start + col
-                spans[name] = Span(number, at, number, at + width)
+                spans[name] = new(Span, (number, at, number, at + width))
         return Element(key, dict(args), span, spans)
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
