@@ -25,6 +25,7 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     if not isinstance(flow, _Flow):
         flow = whole.cache["flow"] = _Flow(whole)
     found = []
+    reads: dict[int, set[str]] = {}  # a rung's read names, walked once for every name it holds
     for name, uses in index.uses.items():
         if not _lags(name):
             continue
@@ -35,7 +36,7 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
         if read.rung >= first_write.rung or not read.reads:
             continue
         if flow.reorders(uses, read.rung, first_write.rung) or _only_set(uses) or \
-                _edge_memory(program, name, read, uses):
+                _edge_memory(program, name, read, uses, reads):
             continue
         found.append(report(
             CODE,
@@ -61,14 +62,19 @@ def _only_set(uses: list[Use]) -> bool:
     return all(use.element.kind == "COIL" and use.element.args.get("type") == "S" for use in uses if use.writes)
 
 
-def _edge_memory(program: Program, name: str, read: Use, uses: list[Use]) -> bool:
+def _edge_memory(program: Program, name: str, read: Use, uses: list[Use], reads: dict[int, set[str]]) -> bool:
     """The reading rung also reads a name that the rungs writing `name` read:
     it compares a signal with its copy of the previous scan (an edge memory,
     the idiom this lag is for)."""
-    written_in = {use.rung for use in uses if use.writes}
-    sources = {token(v) for rung in written_in for element in program.rungs[rung].elements()
-               for v in _read_names(element)} - {name}
-    return any(token(v) in sources for element in program.rungs[read.rung].elements() for v in _read_names(element))
+    sources = set().union(*(_rung_reads(program, use.rung, reads) for use in uses if use.writes)) - {name}
+    return not _rung_reads(program, read.rung, reads).isdisjoint(sources)
+
+
+def _rung_reads(program: Program, rung: int, reads: dict[int, set[str]]) -> set[str]:
+    found = reads.get(rung)
+    if found is None:
+        found = reads[rung] = {token(v) for element in program.rungs[rung].elements() for v in _read_names(element)}
+    return found
 
 
 def _read_names(element) -> list[str]:

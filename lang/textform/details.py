@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 from dataclasses import fields as dataclass_fields
-from functools import lru_cache
+from functools import cache, lru_cache
 from typing import Any
 
 from .. import codes
@@ -130,12 +130,19 @@ _SETTINGS = {f.name for f in dataclass_fields(Settings)}
 def identity(element: Element) -> str:
     """What names an element in DETAILS: its first drawn name (none for a
     comment: `COMMENT #3` is the third)."""
-    instruction = element.spec
-    drawn = [f for f in instruction.fields if f.drawn]
+    name = _identity_field(element.kind)
+    return "" if name is None else str(element.args[name])
+
+
+@cache
+def _identity_field(kind: str) -> str | None:
+    """The field `identity` reads, looked up once an instruction (an open
+    names every element of the program)."""
+    drawn = [f for f in INSTRUCTIONS[kind].fields if f.drawn]
     for f in drawn:
         if f.kind in NAME_KINDS:
-            return str(element.args[f.name])
-    return str(element.args[drawn[0].name]) if drawn and drawn[0].kind != "text" else ""
+            return f.name
+    return drawn[0].name if drawn and drawn[0].kind != "text" else None
 
 
 def undrawn(element: Element) -> dict[str, object]:

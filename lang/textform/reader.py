@@ -20,7 +20,7 @@ from ..diagnostics import Diagnostic, error
 from ..model import Element, Node, Origin, Parallel, PinAssignment, Program, PropertyLine, Rung, Series, Settings, Span, children
 from . import details
 from .alignment import shifted
-from .rungs import Line, read_rung
+from .rungs import Line, _new_span, read_rung
 from .sections import DETAILS, DIAGRAM, IO, PROPERTIES, SETTINGS, VARS, Section, split_sections
 
 HEADER_RE = re.compile(
@@ -722,7 +722,6 @@ def _end_line(lines: list[tuple[int, str]]) -> int | None:
 
 # --- moving a rung up or down ---------------------------------------------------------
 
-_new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands of rungs move)
 
 
 def shift_span(span: Span | None, delta: int) -> Span | None:

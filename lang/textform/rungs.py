@@ -51,7 +51,7 @@ SYMBOL_TOKEN = re.compile(
 )
 TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
-_match_span = re.Match.span
+_new_span = tuple.__new__  # a Span without its Python-level __new__: an open places every element, an edit moves rungs
 
 
 @dataclass(slots=True)
@@ -121,6 +121,8 @@ def _move_error(move: Move, lines: list[Line]) -> Diagnostic:
 
 
 def _read_comment(lines: list[Line]) -> tuple[str, Span] | None:
+    if not any(";" in line.text for line in lines):  # most rungs: no line to walk
+        return None
     texts = [line for line in lines if not line.blank]
     if not texts or not all(line.content.lstrip().startswith(";") for line in texts):
         return None
@@ -381,20 +383,21 @@ class _RungReader:
             return None
         key, args, places = plan
         number = line.number
+        new = _new_span
         if top_span is None:
-            span = Span(number, start, number, end)
+            span = new(Span, (number, start, number, end))
         else:
             top_number = self.lines[row - 1].number
-            span = Span(top_number, min(start, top_span[0]), number, end)
+            span = new(Span, (top_number, min(start, top_span[0]), number, end))
         spans = {}
         for name, on_top, col, width in places:
             if on_top:
                 assert top_span is not None  # a place on top only when there is text on top
                 at = top_span[0] + col
-                spans[name] = Span(top_number, at, top_number, at + width)
+                spans[name] = new(Span, (top_number, at, top_number, at + width))
             else:
                 at = start + col
-                spans[name] = Span(number, at, number, at + width)
+                spans[name] = new(Span, (number, at, number, at + width))
         return Element(key, dict(args), span, spans)
 
     def _top_text(self, row: int, start: int, end: int) -> tuple[str, tuple[int, int] | None]:
@@ -517,17 +520,20 @@ def _remember(skeleton: tuple, recipe: Recipe) -> None:
 
 
 def _skeleton(lines: list[Line], first: int) -> tuple:
-    """The rung's skeleton (above). A word on a line that is not a symbol
-    line is found as the reader finds the text above a glyph, with the
-    connectors between two junctions blanked out."""
+    """The rung's skeleton (above). A line that is not a symbol line stands
+    in it masked: every character the reader's word pattern (TOP_TOKEN) and
+    its connector search do not tell apart becomes `x`, so its words and
+    its connectors stand where they stood, and the connectors between two
+    junctions are blanked out, as the reader finds the text above a glyph.
+    One translation a line rather than a walk of its words."""
     count = len(lines)
-    claimed: set[tuple[int, int]] = set()
+    claimed: dict[int, list[int]] = {}
     for row in range(first, count - 3, 3):
         line = lines[row]
         for col in _row_pluses(line.text[line.left:line.end], line.left):
             if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
-                claimed.add((row + 1, col))
-                claimed.add((row + 2, col))
+                claimed.setdefault(row + 1, []).append(col)
+                claimed.setdefault(row + 2, []).append(col)
     parts: list[object] = [first, count]
     for index, line in enumerate(lines):
         left, end, text = line.left, line.end, line.text
@@ -535,20 +541,19 @@ def _skeleton(lines: list[Line], first: int) -> tuple:
             parts.append((left, end, text[left:end]))
             continue
         start = left + 2
-        bars = []
-        col = text.find("|", start, end)
-        while col >= 0:
-            bars.append(col)
-            col = text.find("|", col + 1, end)
-        text = text[:end]
-        blanked = [col for col in bars if (index, col) in claimed]
+        masked = text[start:end].translate(_MASK)
+        blanked = claimed.get(index)
         if blanked:
-            chars = list(text)
+            chars = list(masked)
             for col in blanked:
-                chars[col] = " "
-            text = "".join(chars)
-        parts.append((left, end, tuple(bars), tuple(map(_match_span, TOP_TOKEN.finditer(text, start)))))
+                chars[col - start] = " "
+            masked = "".join(chars)
+        parts.append((left, end, masked))
     return tuple(parts)
+
+
+# what TOP_TOKEN and the search for `|` tell apart: whitespace, `~[]{}?|`; the rest is `x`
+_MASK = {code: "x" for code in range(128) if not chr(code).isspace() and chr(code) not in "~[]{}?|"}
 
 
 @lru_cache(maxsize=16384)
