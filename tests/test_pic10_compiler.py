@@ -22,6 +22,7 @@ from pic16_harness import differential
 from test_compiler_budget import _sound, measure_pic
 from test_compiler_harness import IN_CI, Event
 from test_compiler_random import PIC16_PERIPHERALS, Board, cases
+from test_pic16_compiler import SLEEP_LD
 from test_pic16_parts import GPUTILS, hex_words, needs_gputils
 
 import compiler
@@ -262,34 +263,14 @@ def test_listing_reassembles_to_the_same_words_and_every_word_decodes(name, part
 
 # --- SLEEP ---------------------------------------------------------------------------------------------
 
-SLEEP_LD = """LDmicro0.2
-MICRO=Microchip PIC10F200 6-SOT
-CYCLE=10000 us at Timer0, YPlcCycleDuty:0{config}
-CRYSTAL=4000000 Hz
-BAUD=2400 Hz
-
-IO LIST
-    Xsleep at 1 0 0
-    Yalive at 4 0 0
-END
-
-PROGRAM
-RUNG
-    OSC
-    COIL Yalive 0 0 0 0
-END
-RUNG
-    CONTACTS Xsleep 0 0
-    SLEEP
-END
-"""
 WATCHDOG_ON = ", ConfigurationWord(s):0xFEF"  # LDmicro's word 0xFEB with WDTE set
 
 
 def _sleep_hex(folder: Path, config: str = "") -> Path:
     from lang.loader import LD_KIND, parse
 
-    prog, diagnostics = parse(SLEEP_LD.format(config=config), LD_KIND)
+    text = SLEEP_LD.format(micro="Microchip PIC10F200 6-SOT", sleep=1, alive=4, timer="Timer0", config=config)
+    prog, diagnostics = parse(text, LD_KIND)
     assert not [d for d in diagnostics if d.severity == "error"], diagnostics
     compiler.build(prog).write(folder / "sleep.hex")
     return folder / "sleep.hex"

@@ -349,9 +349,10 @@ def test_blink_runs_on_the_other_parts(part, tmp_path):
     assert differential(program, BLINK, 200, tmp_path, part) == []
 
 
+# a program that sleeps while Xsleep is 1, and shows by Yalive whether it scans (the PIC10 tests too)
 SLEEP_LD = """LDmicro0.2
 MICRO={micro}
-CYCLE=10000 us at Timer1, YPlcCycleDuty:0
+CYCLE=10000 us at {timer}, YPlcCycleDuty:0{config}
 CRYSTAL=4000000 Hz
 BAUD=2400 Hz
 
@@ -381,7 +382,7 @@ def test_sleep_stops_the_scans(micro, part, sleep, alive, tmp_path):
     never again: the MCU sleeps (its only wake-up source is the INT pin,
     which gpsim does not model waking on; p16f877_sleep against LDmicro's
     image in test_pic16_oracle.py)."""
-    program = _program(SLEEP_LD.format(micro=micro, sleep=sleep[1], alive=alive[1]))
+    program = _program(SLEEP_LD.format(micro=micro, sleep=sleep[1], alive=alive[1], timer="Timer1", config=""))
     compiler.build(program).write(tmp_path / "sleep.hex")
     run = gpsim.run_pic(tmp_path / "sleep.hex", part, 4_000_000, inputs=[(0, sleep[0], 0), (55, sleep[0], 1)],
                         watch=[alive[0]], until_ms=200, timeout=60)

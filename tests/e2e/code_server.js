@@ -403,4 +403,14 @@ async function report(result, steps, { out, shot, log, total }) {
   process.exit(result.ok ? 0 : 1);
 }
 
-module.exports = { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, openCodeServer, workbench, report };
+/** Runs a driver's `main`: an error thrown outside `report` (before the session opened) is printed
+ * as the same JSON line, with `extra()`'s fields, and the exit status 1. */
+function runDriver(main, extra = () => ({})) {
+  main().catch((err) => {
+    process.stderr.write(`${err && err.stack ? err.stack : err}\n`);
+    process.stdout.write(JSON.stringify({ ok: false, error: String(err), ...extra() }) + '\n');
+    process.exit(1);
+  });
+}
+
+module.exports = { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, openCodeServer, workbench, report, runDriver };

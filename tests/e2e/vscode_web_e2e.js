@@ -19,7 +19,7 @@
 
 const fs = require('fs');
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench, report } = require('./code_server');
+const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver } = require('./code_server');
 
 function parseArgs(argv) {
   const args = {};
@@ -111,8 +111,4 @@ async function main() {
   }, { out: args.out, shot: 'vscode-web-failure.png', log, total });
 }
 
-main().catch((err) => {
-  process.stderr.write(`${err && err.stack ? err.stack : err}\n`);
-  process.stdout.write(JSON.stringify({ ok: false, error: String(err) }) + '\n');
-  process.exit(1);
-});
+runDriver(main);
