@@ -85,6 +85,26 @@ def test_ladder_sim_sets_a_register(tmp_path, capsys):
     assert capsys.readouterr().out.splitlines() == ["10 v 4"]  # changes only
 
 
+def test_ladder_sim_watches_a_register(tmp_path, capsys):
+    path = tmp_path / "write.ld"
+    path.write_bytes(write_ld(program([contact("Xa"), sfr("WSFR", PORTB, 0x20)], mcu=M328)).encode("cp1252"))
+    assert main(["sim", str(path), "--for", "30ms", "--set", "Xa=1@10ms", "--watch", "#0x25"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["10 #0x25 32"]
+
+
+def test_a_scenario_sets_and_expects_registers(tmp_path, capsys):
+    (tmp_path / "copy.ld").write_bytes(write_ld(program(
+        [sfr("RSFR", "v", PIND)], [contact("Xa"), sfr("WSFR", PORTB, "v")], mcu=M328)).encode("cp1252"))
+    (tmp_path / "copy.scn").write_text(
+        "# `#` before a digit names a register, elsewhere it starts a comment\n"
+        "program copy.ld\n"
+        "at 0 set #0x29 = 5  # PIND\n"
+        "at 20 ms set Xa = 1\n"
+        "at 10 ms expect #0x25 = 0\n"
+        "at 30 ms expect #0x25 = 5 and v = 5\n")
+    assert main(["test", str(tmp_path / "copy.scn")]) == 0, capsys.readouterr().out
+
+
 def test_the_editors_simulation_sets_a_register():
     from ide.analysis import Analysis
     from ide.session import Simulation

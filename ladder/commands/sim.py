@@ -58,7 +58,6 @@ def run(args) -> int:
     from lang.diagnostics import ERROR
     from lang.loader import load_path
     from lang.sim import SimulationError, Simulator
-    from lang.sim.runtime import register_address
     from lang.sim.scenario import parse_time
     from lang.sim.trace import UART, Trace, diagram
     from lang.sim.vcd import write_vcd
@@ -92,10 +91,8 @@ def run(args) -> int:
     named = [n.strip() for group in args.watch for n in group.split(",") if n.strip()]
     uart = UART in named if named else sim.compiled.sends_uart
     watched = [n for n in named if n != UART]
-    known = sim.variables()
     # a `#0x23` name the program has no variable of is a register of its raw register access
-    unknown = [n for n in watched if n not in known] + [
-        s[1] for s in settings if s[1] not in known and register_address(s[1]) is None]
+    unknown = [n for n in watched + [s[1] for s in settings] if not sim.knows(n)]
     if unknown:
         print(f"ladder sim: error: {args.file} has no signal named {', '.join(sorted(set(unknown)))}",
               file=sys.stderr)

@@ -187,8 +187,26 @@ class Simulator:
         self.peripherals.uart.received.extend(data)
 
     def value(self, name: str) -> int:
+        """A variable's or bit's value, or the byte of a register of the raw
+        register access (`#0x25`, an address the program has no variable of)."""
+        address = register_address(name)
+        if address is not None and name not in self._compiled.index:
+            return self.register(address)
         index = self._slot(name)
         return int(self._state[index])
+
+    def width(self, name: str) -> int:
+        """The bits `value(name)` holds: 1 for a bit, 8 for a register."""
+        if name not in self._compiled.index and register_address(name) is not None:
+            return 8
+        slot = self._compiled.slots[self._slot(name)]
+        return 1 if slot.kind == "bit" else 8 * slot.size
+
+    def knows(self, name: str) -> bool:
+        """Whether `name` is a signal to set, watch or expect: a variable or
+        bit of the program, or a register of the raw register access."""
+        return name in self.variables() or (register_address(name) is not None
+                                            and name not in self._compiled.index)
 
     def variables(self) -> dict[str, int]:
         """Every bit and integer of the program (not the hidden ones)."""

@@ -461,7 +461,7 @@ def _strip_comment_outside_quotes(raw: str) -> str:
     for i, ch in enumerate(raw):
         if ch == '"' and (i == 0 or raw[i - 1] != "\\"):
             quoted = not quoted
-        elif ch == "#" and not quoted:
+        elif ch == "#" and not quoted and not raw[i + 1:i + 2].isdigit():  # `#0x25` names a register
             return raw[:i]
     return raw
 
@@ -591,9 +591,8 @@ def _last_due(check: Check, cycle: int) -> int:
 
 
 def _signals(scenario: Scenario, sim: Simulator) -> list[str]:
-    known = sim.variables()
     wanted = [a.name for a in scenario.actions if a.kind == "set"] + [n for c in scenario.checks for n in c.signals()]
-    return sorted({n for n in wanted if n in known})
+    return sorted({n for n in wanted if sim.knows(n)})
 
 
 def _apply(sim: Simulator, action: Action, cycle: int) -> Failure | None:

@@ -38,9 +38,7 @@ class Trace:
 
     @classmethod
     def watching(cls, sim: Simulator, names: list[str], uart: bool = False) -> Trace:
-        slots = sim.compiled.slots
-        index = sim.compiled.index
-        widths = {n: 1 if slots[index[n]].kind == "bit" else 8 * slots[index[n]].size for n in names}
+        widths = {n: sim.width(n) for n in names}
         return cls(sim.cycle_us, list(names), widths, {n: [] for n in names}, uart=[] if uart else None,
                    byte_time_us=sim.peripherals.uart.byte_time_us)
 
