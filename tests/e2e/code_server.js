@@ -403,6 +403,27 @@ async function report(result, steps, { out, shot, log, total }) {
   process.exit(result.ok ? 0 : 1);
 }
 
+/** A driver's `--name value` arguments (and the bare `--flag`s named in `flags`, true when given);
+ * each name of `required` must be given. */
+function parseArgs(argv, required, flags = []) {
+  const args = {};
+  for (let i = 0; i < argv.length; i++) {
+    const m = /^--([a-z-]+)$/.exec(argv[i]);
+    if (!m) throw new Error(`unexpected argument ${argv[i]}`);
+    if (flags.includes(m[1])) {
+      args[m[1]] = true;
+    } else if (argv[i + 1] === undefined) {
+      throw new Error(`--${m[1]} needs a value`);
+    } else {
+      args[m[1]] = argv[++i];
+    }
+  }
+  for (const k of required) {
+    if (!args[k]) throw new Error(`missing --${k}`);
+  }
+  return args;
+}
+
 /** Runs a driver's `main`: an error thrown outside `report` (before the session opened) is printed
  * as the same JSON line, with `extra()`'s fields, and the exit status 1. */
 function runDriver(main, extra = () => ({})) {
@@ -413,4 +434,4 @@ function runDriver(main, extra = () => ({})) {
   });
 }
 
-module.exports = { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, openCodeServer, workbench, report, runDriver };
+module.exports = { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, openCodeServer, workbench, report, runDriver, parseArgs };

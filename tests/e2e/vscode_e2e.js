@@ -20,29 +20,12 @@
 'use strict';
 
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver } = require('./code_server');
-
-function parseArgs(argv) {
-  const args = {};
-  for (let i = 0; i < argv.length; i++) {
-    const m = /^--([a-z-]+)$/.exec(argv[i]);
-    if (!m) throw new Error(`unexpected argument ${argv[i]}`);
-    if (m[1] === 'no-sim' || m[1] === 'no-hover' || m[1] === 'no-python') {
-      args[m[1]] = true;
-      continue;
-    }
-    args[m[1]] = argv[++i];
-  }
-  for (const k of ['vsix', 'workspace', 'bad', 'sim', 'out']) {
-    if (!args[k]) throw new Error(`missing --${k}`);
-  }
-  return args;
-}
+const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver, parseArgs } = require('./code_server');
 
 const { log, timed, timings, total } = stopwatch();
 
 async function main() {
-  const args = parseArgs(process.argv.slice(2));
+  const args = parseArgs(process.argv.slice(2), ['vsix', 'workspace', 'bad', 'sim', 'out'], ['no-sim', 'no-hover', 'no-python']);
   const result = { ok: false, timings };
   await report(result, async (opened) => {
     const session = opened.session = await openCodeServer({

