@@ -62,12 +62,16 @@ under cProfile (benchmarks/bench_server.py), one profile per phase, and
 prints the project's functions that took the most time per event.
 
 Run on demand: `python benchmarks/lsp_bench.py [--shape NAME|all|corpus|corpus:GLOB]...
-[--rungs 2000] [--runs 3] [--edits 30] [--storm-seconds 30] [--delay-ms N] [--profile DIR] [--cpu]`:
+[--rungs 2000] [--runs 3] [--edits 30] [--storm-seconds 30] [--delay-ms N] [--profile DIR] [--cpu]
+[--baseline CHECKOUT]`:
 a run of several corpus files does 10 edits and a 5 s storm a run for each
 unless --edits and --storm-seconds say otherwise. `--cpu` starts no server:
 it prints, for each shape, the CPU time the read and the check of each
 version take in process (robust on a loaded machine, where the times at the
-wire are not)."""
+wire are not). `--baseline CHECKOUT` runs a second server from another
+checkout (`git worktree add --detach ../base <commit>`), its runs alternated
+with this checkout's on the same texts, so that the table has a before row
+above each shape's row from one run of the machine."""
 
 from __future__ import annotations
 
@@ -87,7 +91,7 @@ import tempfile
 import time
 import uuid
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -220,7 +224,9 @@ def stats(samples: list[float]) -> dict[str, float]:
 class Session:
     """One fresh server with the document open; times edits and requests."""
 
-    def __init__(self, text: str, profile: Path | None = None, max_chars: int | None = None):
+    def __init__(self, text: str, profile: Path | None = None, max_chars: int | None = None,
+                 checkout: Path = ROOT):
+        self.checkout = checkout  # whose code the server runs: `python -m ladder` imports from its cwd first
         self.lines = text.splitlines(keepends=True)
         self.client = make_test_lsp_client()
         self.version = 0
@@ -254,7 +260,7 @@ class Session:
         if self.profile is not None or self.max_chars is not None:
             server = [str(BENCH_SERVER), *(["--profile", str(self.profile)] if self.profile else []),
                       *(["--max-chars", str(self.max_chars)] if self.max_chars else [])]
-        await self.client.start_io(sys.executable, str(WIRETAP), self.tap_log, sys.executable, *server, cwd=ROOT)
+        await self.client.start_io(sys.executable, str(WIRETAP), self.tap_log, sys.executable, *server, cwd=self.checkout)
         self.skip_big_replies()
         result = await self.client.initialize_session(
             types.InitializeParams(capabilities=client_capabilities("visual-studio-code")))
@@ -432,9 +438,9 @@ def alternating(original: str) -> Callable[[int], str]:
 
 
 async def one_run(text: str, rungs: int, edits: int, storm_seconds: float, delay_ms: int | None,
-                  seed: int, profile: Path | None = None, max_chars: int | None = None
-                  ) -> tuple[dict[str, list[float]], dict]:
-    session = Session(text, profile, max_chars)
+                  seed: int, profile: Path | None = None, max_chars: int | None = None,
+                  checkout: Path = ROOT) -> tuple[dict[str, list[float]], dict]:
+    session = Session(text, profile, max_chars, checkout)
     try:
         samples, extra = await measured(session, rungs, edits, storm_seconds, delay_ms, random.Random(seed))
     finally:
@@ -613,7 +619,8 @@ class Row:
     failure: str = ""
 
 
-async def bench_shape(shape: Shape, args, many_corpus: bool) -> Row:
+async def bench_shape(shape: Shape, args, many_corpus: bool) -> list[Row]:
+    """The shape's row; with --baseline, the baseline's row first, their runs alternated."""
     rungs = shape.rungs or args.rungs
     edits = args.edits or (10 if many_corpus and shape.corpus else 30)
     storm_seconds = args.storm_seconds if args.storm_seconds is not None else 5 if many_corpus and shape.corpus else 30
@@ -621,25 +628,40 @@ async def bench_shape(shape: Shape, args, many_corpus: bool) -> Row:
         text = shape.text(rungs)
     except Exception as problem:  # a corpus file the converter cannot take: a row of the table, not the end of it
         print(f"\n{shape.name}: FAILED to convert: {type(problem).__name__}: {problem}")
-        return Row(shape.name, failure=f"FAILED to convert: {type(problem).__name__}: {problem}")
+        return [Row(shape.name, failure=f"FAILED to convert: {type(problem).__name__}: {problem}")]
     program, _ = parse(text, TEXT_KIND)
     delay = "shipped default (adaptive)" if args.delay_ms is None else f"{args.delay_ms} ms"
     limit = "" if args.max_chars is None else f", the server's size limit set to {args.max_chars} characters"
-    row = Row(shape.name, len(program.rungs), len(text.encode()) / 1e6)
-    print(f"\n{shape.name}: {len(text.splitlines())} lines, {row.megabytes:.2f} MB, {row.rungs} rungs; "
+    megabytes = len(text.encode()) / 1e6
+    checkouts = {shape.name: ROOT}
+    if args.baseline is not None:
+        checkouts = {f"{shape.name} [baseline]": args.baseline, shape.name: ROOT}
+    print(f"\n{shape.name}: {len(text.splitlines())} lines, {megabytes:.2f} MB, {len(program.rungs)} rungs; "
           f"diagnosticsDelayMs {delay}{limit}, {args.runs} run(s) of {edits} edits, storm {storm_seconds:g} s"
+          + (f"; runs alternated with the baseline's, {args.baseline}" if args.baseline else "")
           + (" (PROFILED: slower by the profiler's overhead)" if args.profile else ""))
-    stem = re.sub(r"[^\w.-]+", "_", shape.name)  # the profiles' file names
+    results: dict[str, list[tuple[dict[str, list[float]], dict]]] = {name: [] for name in checkouts}
     try:
-        results = [await one_run(text, rungs, edits, storm_seconds, args.delay_ms, seed,
-                                 None if args.profile is None else args.profile / f"{stem}-{seed + 1}",
-                                 args.max_chars)
-                   for seed in range(args.runs)]
+        for seed in range(args.runs):
+            for name, checkout in checkouts.items():
+                stem = re.sub(r"[^\w.-]+", "_", name)  # the profiles' file names
+                results[name].append(await one_run(
+                    text, rungs, edits, storm_seconds, args.delay_ms, seed,
+                    None if args.profile is None else args.profile / f"{stem}-{seed + 1}", args.max_chars, checkout))
     except Exception as problem:  # a server that stopped answering, a shape with no name to edit
         print(f"  FAILED: {type(problem).__name__}: {problem}")
-        return replace(row, failure=f"FAILED during a run: {type(problem).__name__}: {problem}")
+        return [Row(name, len(program.rungs), megabytes, failure=f"FAILED during a run: {type(problem).__name__}: "
+                    f"{problem}") for name in checkouts]
     print("  load average of the machine after the runs (1, 5, 15 min): " + ", ".join(f"{load:.1f}" for load in os.getloadavg())
           + f" on {os.cpu_count()} CPUs")
+    return [shape_row(Row(name, len(program.rungs), megabytes), shape, runs, args, len(checkouts) > 1)
+            for name, runs in results.items()]
+
+
+def shape_row(row: Row, shape: Shape, results: list[tuple[dict[str, list[float]], dict]], args, named: bool) -> Row:
+    """Prints the figures of one server's runs of a shape; its row."""
+    if named:
+        print(f" {row.shape}:")
     codes = results[0][1]["codes at open"]
     row.diagnostics = len(codes)
     print(f"  {row.diagnostics} diagnostics at open")
@@ -792,6 +814,9 @@ def main() -> None:
     parser.add_argument("--max-chars", type=int, default=None, metavar="N",
                         help="set the server's size limit (lsp.documents.MAX_CHARS, over which it does not analyse a "
                              "document) to N in the server's process, to see how it would fare on a bigger one")
+    parser.add_argument("--baseline", type=Path, default=None, metavar="CHECKOUT",
+                        help="also run the server of another checkout of this project (a git worktree of an "
+                             "earlier commit), its runs alternated with this one's: a before/after table in one run")
     parser.add_argument("--cpu", action="store_true",
                         help="no server: the CPU time of the read and the check of each version in this process, "
                              "median ms of the open, the edit, the line added or removed and the I/O table edit")
@@ -808,7 +833,7 @@ def main() -> None:
         parser.error("--edits times --runs must be at least 20 (but for a profile): a p90 of fewer is the worst")
     if args.profile is not None:
         args.profile.mkdir(parents=True, exist_ok=True)
-    rows = [asyncio.run(bench_shape(shape, args, many_corpus)) for shape in chosen]
+    rows = [row for shape in chosen for row in asyncio.run(bench_shape(shape, args, many_corpus))]
     print_table(rows, notes)
 
 
