@@ -82,9 +82,27 @@ function sendChanges(transactions) {
   if (!changes.length) return;
   doc.version += 1;
   const sent = performance.now();
-  editStarted.set(doc.version, { key: keyAt, sent });
+  const edit = { key: keyAt, sent, firstTask: null };
+  editStarted.set(doc.version, edit);
+  firstTaskProbe(edit);
   keyAt = null;
   client.notify('textDocument/didChange', { textDocument: { uri: doc.uri, version: doc.version }, contentChanges: changes });
+}
+
+// When the page can first run a task after the keystroke. After a key press Chromium runs none of
+// the page's tasks (the worker's reply is one) before the frame that draws the typed letter
+// (DeferRendererTasksAfterInput, docs/browser.md "The frame after a keystroke"): a message the
+// page posts to itself with the change arrives then, the earliest any reply could be handled.
+const probe = new MessageChannel();
+const probed = [];
+probe.port1.onmessage = () => {
+  const edit = probed.shift();
+  if (edit) edit.firstTask = performance.now();
+};
+
+function firstTaskProbe(edit) {
+  probed.push(edit);
+  probe.port2.postMessage(null);
 }
 
 function changesOf(tr) {
@@ -129,7 +147,10 @@ client.on('textDocument/publishDiagnostics', (published) => {
     // the diagnostics are in the page (the next frame paints them); from the keystroke, as the
     // person typing sees it, and from the change sent, which is what the native figure's wire measures
     const shown = performance.now();
-    timings.edits.push({ keyToShownMs: edit.key === null ? null : shown - edit.key, sentToReceivedMs: now - edit.sent });
+    timings.edits.push({
+      keyToShownMs: edit.key === null ? null : shown - edit.key, sentToReceivedMs: now - edit.sent,
+      keyToFirstTaskMs: edit.key === null || edit.firstTask === null ? null : edit.firstTask - edit.key,
+    });
   }
 });
 

@@ -1,23 +1,28 @@
 // The language server's worker entry (lsp/worker.py, started by src/server.js as the Web Worker
 // starts it) on Pyodide under Node, from the built web/dist: a program with an error gets its
 // diagnostic, the fixed program none; a simulation starts and an input toggled drives its output;
-// ladder.export gives the HEX; ladder.build says what the browser cannot do.
+// ladder.export gives the HEX; ladder.build says what the browser cannot do. Then, with TIMED, the
+// server's own time for edits on Pyodide, without a page: from each change taken to its diagnostics
+// posted (docs/browser.md, "The frame after a keystroke").
 //
-//   node node_worker.mjs BAD.ladder FIXED.ladder INPUT OUTPUT
+//   node node_worker.mjs BAD.ladder FIXED.ladder INPUT OUTPUT [TIMED.json]
+//     TIMED.json: {"open": [messages], "uri": URI, "warmUpMs": N, "edits": [didChange messages]}
 //
-// Prints one JSON object on its last line of stdout: {"ok": true, "timings": {...}, "hex": "..."}.
+// Prints one JSON object on its last line of stdout: {"ok": true, "timings": {...}, "hex": "..."};
+// timings.editsMs has the milliseconds of each timed edit.
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { startServer } from '../src/server.js';
 
 const DIST = path.join(path.dirname(fileURLToPath(import.meta.url)), '..', 'dist');
-const [badFile, fixedFile, input, output] = process.argv.slice(2);
+const [badFile, fixedFile, input, output, timedFile] = process.argv.slice(2);
 const URI = 'untitled:Untitled-1';
 const t0 = performance.now();
 const timings = {};
 const waiting = new Map();
 const notifications = [];
+const published = new Map(); // "uri version" -> when its diagnostics were posted
 let nextId = 1;
 let take = null;
 
@@ -28,6 +33,7 @@ function received(text) {
     waiting.delete(message.id);
   } else if (message.method) {
     notifications.push(message);
+    if (message.method === 'textDocument/publishDiagnostics') published.set(`${message.params.uri} ${message.params.version}`, performance.now());
   }
 }
 
@@ -42,9 +48,9 @@ function notify(method, params) {
   take(JSON.stringify({ jsonrpc: '2.0', method, params }));
 }
 
-async function diagnostics(version) {
+async function diagnostics(version, uri = URI) {
   for (let i = 0; i < 2000; i++) {
-    const found = notifications.find((m) => m.method === 'textDocument/publishDiagnostics' && m.params.version === version);
+    const found = notifications.find((m) => m.method === 'textDocument/publishDiagnostics' && m.params.uri === uri && m.params.version === version);
     if (found) return found.params.diagnostics;
     await new Promise((resolve) => setTimeout(resolve, 5));
   }
@@ -53,6 +59,22 @@ async function diagnostics(version) {
 
 function check(condition, what) {
   if (!condition) throw new Error(what);
+}
+
+// each edit from its message taken to its diagnostics posted, one after the other's diagnostics
+async function timeEdits({ open, uri, warmUpMs, edits }) {
+  for (const message of open) take(JSON.stringify(message));
+  await diagnostics(1, uri);
+  await new Promise((resolve) => setTimeout(resolve, warmUpMs));
+  const times = [];
+  for (const edit of edits) {
+    const version = edit.params.textDocument.version;
+    const start = performance.now();
+    take(JSON.stringify(edit));
+    await diagnostics(version, uri);
+    times.push(+(published.get(`${uri} ${version}`) - start).toFixed(2));
+  }
+  return times;
 }
 
 async function main() {
@@ -81,6 +103,7 @@ async function main() {
   check(exported.result && exported.result.files.length === 1, `ladder.export: ${JSON.stringify(exported)}`);
   const build = await command('ladder.build');
   check(build.error && /in the browser/.test(build.error.message), `ladder.build: ${JSON.stringify(build)}`);
+  if (timedFile) timings.editsMs = await timeEdits(JSON.parse(fs.readFileSync(timedFile, 'utf8')));
   const hex = Buffer.from(exported.result.files[0].data, 'base64').toString('ascii');
   console.log(JSON.stringify({ ok: true, timings, hex, buildMessage: build.error.message }));
   process.exit(0); // the server's timers (the idle collector) would keep Node running

@@ -13,7 +13,8 @@
 //              to type over (one edit each) once warmUpMs have passed (lsp/warmup.py is then over)
 //
 // Prints one JSON object on its last line of stdout ({"ok": true, "timings": {...}, "hex": PATH});
-// timings.timed has, for each --timed program, keyToShownMs and sentToReceivedMs of every edit.
+// timings.timed has, for each --timed program, keyToShownMs, sentToReceivedMs and keyToFirstTaskMs
+// (main.js: when the page could first run a task after the keystroke) of every edit.
 // exits 1 on failure, with a screenshot in --out.
 import fs from 'node:fs';
 import os from 'node:os';
@@ -58,6 +59,7 @@ async function timeEdits(page, text, edits, warmUpMs) {
   return {
     keyToShownMs: timed.map((edit) => +edit.keyToShownMs.toFixed(1)),
     sentToReceivedMs: timed.map((edit) => +edit.sentToReceivedMs.toFixed(1)),
+    keyToFirstTaskMs: timed.map((edit) => (edit.keyToFirstTaskMs === null ? null : +edit.keyToFirstTaskMs.toFixed(1))),
   };
 }
 
