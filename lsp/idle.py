@@ -9,7 +9,9 @@ counting, collected or not.
 
 So the server never walks the whole heap while the user may be typing:
 
-* the automatic full collections are off; young generations are still
+* the automatic full collections are off (the third threshold; Python 3.14's
+  incremental collector, Pyodide's in the browser, ignores it and collects
+  the old generation a slice at a time); young generations are still
   collected automatically (they hold only what was made lately);
 * nothing is collected while a document is read and checked, or a request
   answered, and what exists then is frozen (`gc.freeze`: moved out of the
