@@ -134,6 +134,26 @@ def test_the_formatter_gives_an_inserted_rung_its_own_number_and_keeps_the_detai
     assert spi_details(clean(formatted)) == spi_details(clean(edited))
 
 
+def test_an_editor_action_redraws_a_rung_with_the_number_it_has(text):
+    """Renaming through the editor draws the rungs again: each keeps its
+    drawn number (here 10, 20, ...), so the DETAILS lines naming it still do."""
+    from ide.edits import rename
+    from ide.locate import Locator
+
+    renumbered = NUMBERED.sub(lambda m: f"{int(m.group(1)) * 10:04d}|", text)
+    renumbered = re.sub(r" in rung (\d+):", lambda m: f" in rung {int(m.group(1)) * 10}:", renumbered)
+    program = clean(renumbered)
+    lines = renumbered.splitlines()
+    line_edits, text_edits = rename(program, Locator(program, lines), renumbered, "recv0", "answer")
+    assert line_edits and not text_edits
+    for edit in sorted(line_edits, key=lambda edit: edit.first, reverse=True):
+        lines[edit.first:edit.last] = edit.lines
+    renamed = clean("\n".join(lines) + "\n")
+    assert any(line.startswith("0020||{->answer send->}") for line in lines)
+    assert spi_details(renamed) == [[("send", "answer" if recv == "recv0" else recv, details)
+                                     for _, recv, details in rung] for rung in spi_details(program)]
+
+
 @pytest.mark.parametrize("detail", ["SPI SPI in rung 1: bitrate 5", "SPI SPI in rung 99: bitrate 5",
                                     "SPI SPI in rung 2 #2: bitrate 5", "SPI SPI #99: bitrate 5"])
 def test_a_detail_naming_no_element_is_an_error_at_its_line(text, detail):
