@@ -6,12 +6,13 @@ SPI elements on one bus with two sets of details, alternating."""
 
 from __future__ import annotations
 
+import random
 import re
 import sys
 from pathlib import Path
 
 import pytest
-from test_lsp_incremental import fresh, snapshot
+from test_lsp_incremental import EDIT_CHARS, apply, fresh, snapshot
 
 from lang import codes
 from lang.diagnostics import ERROR
@@ -200,3 +201,30 @@ def test_a_rung_repeated_in_the_middle_sets_no_other_rungs_details_again(big):
     before, after, copied, _ = read_twice(big, "".join(lines[:first] + lines[first:end] + lines[first:]))
     assert copied <= 2  # the rungs the reader read again around the new lines: the copy and its neighbour
     assert spi_details(after) == spi_details(before)[:BIG // 2] + spi_details(before)[BIG // 2 - 1:]
+
+
+def renumber(text: str, rng: random.Random) -> str:
+    """One rung drawn with another number (often one that another rung has), or
+    one DETAILS line naming another rung."""
+    if rng.random() < 0.5:
+        found = list(NUMBERED.finditer(text))
+        at = rng.choice(found)
+        return text[:at.start()] + f"{rng.randrange(1, 16):04d}|" + text[at.end():]
+    found = list(re.finditer(r" in rung (\d+)", text))
+    at = rng.choice(found)
+    return text[:at.start()] + f" in rung {rng.randrange(1, 16)}" + text[at.end():]
+
+
+def test_random_edits_of_rungs_and_their_numbers_read_as_a_fresh_reader_does():
+    rng = random.Random(12)
+    start = converted(TEST_SPI, 15)
+    for _ in range(30):
+        text, reader = start, TextReader()
+        reader.read(text)
+        for _ in range(6):
+            if rng.random() < 0.4:
+                text = renumber(text, rng)
+            else:
+                text = apply(text, (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]),
+                                    rng.randrange(10**6), rng.randrange(10**6), rng.choice(EDIT_CHARS)))
+            assert snapshot(reader.read(text)) == snapshot(fresh(text))
