@@ -278,7 +278,6 @@ class ElementIndex:
                 self.numbered[number].remove(index)
                 if not self.numbered[number]:
                     del self.numbered[number]
-        for index in at:
             self.names[index] = names = element_names(rungs[index])
             for key, position in names:
                 changed.add(key)
