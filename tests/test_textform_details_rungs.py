@@ -196,10 +196,14 @@ def test_an_edit_of_one_rung_looks_up_the_lines_naming_it_alone(big):
 
 
 def test_a_rung_repeated_in_the_middle_sets_no_other_rungs_details_again(big):
+    """Rungs added move the rungs below to other indexes, not their details:
+    no other DETAILS line is looked up again, no other rung detailed again."""
     lines = big.splitlines(keepends=True)
     first, end = rung_lines(big, BIG // 2)
-    before, after, copied, _ = read_twice(big, "".join(lines[:first] + lines[first:end] + lines[first:]))
+    before, after, copied, looked_up = read_twice(big, "".join(lines[:first] + lines[first:end] + lines[first:]))
     assert copied <= 2  # the rungs the reader read again around the new lines: the copy and its neighbour
+    # the lines naming the rungs read again: by their number, or (`SPI_WR SPI:`) by instruction and name alone
+    assert looked_up <= 3
     assert spi_details(after) == spi_details(before)[:BIG // 2] + spi_details(before)[BIG // 2 - 1:]
 
 

@@ -7,8 +7,6 @@ LDmicro's defaults is written, so most programs have neither section."""
 from __future__ import annotations
 
 import re
-from bisect import insort
-from collections.abc import Iterable
 from dataclasses import fields as dataclass_fields
 from functools import cache, lru_cache
 from itertools import compress, count
@@ -212,9 +210,11 @@ _DETAIL_RE = re.compile(
 
 
 ElementNames = list[tuple[tuple[str, str], int]]
-Groups = dict[tuple[str, str], list[tuple[int, int]]]
 # where DETAILS puts values in one rung: (element's position in the rung, (field, value) pairs), in DETAILS order
 Placed = tuple[tuple[int, tuple[tuple[str, object], ...]], ...]
+# an element a DETAILS line names: (id of its rung's circuit, its position in the rung); a
+# circuit keeps its identity when its rung moves, so a rung added above changes no target
+Target = tuple[int, int]
 
 
 def element_names(rung: Rung) -> ElementNames:
@@ -222,114 +222,118 @@ def element_names(rung: Rung) -> ElementNames:
     return [((element.kind, identity(element)), position) for position, element in enumerate(rung.elements())]
 
 
-def element_groups(names: Iterable[ElementNames]) -> Groups:
-    """(rung index, position in the rung) of each element, by what a DETAILS
-    line names it, from each rung's `element_names`."""
-    groups: Groups = {}
-    for index, rung_names in enumerate(names):
-        for key, position in rung_names:
-            groups.setdefault(key, []).append((index, position))
-    return groups
-
-
 _rung_circuit = attrgetter("circuit")
 
 
 class ElementIndex:
     """The elements a DETAILS line can name, kept from one read to the next
-    and brought up to date for the rungs whose circuit changed: each rung's
-    `element_names` and drawn number (None: unnumbered), by rung index, the
-    `element_groups`, and the indexes of the rungs drawn with each number."""
+    and brought up to date for the rungs whose circuit changed, by
+    id(circuit): each rung's `element_names` and drawn number (None:
+    unnumbered), the elements of each (instruction, name) and the rungs drawn
+    with each number; and each circuit's rung index."""
 
     def __init__(self) -> None:
-        self.circuits: list[Series] = []
-        self.numbers: list[int | None] = []
-        self.names: list[ElementNames] = []
-        self.groups: Groups = {}
-        self.numbered: dict[int, list[int]] = {}
+        self.circuits: list[Series] = []  # by rung index (they stay alive while compared: ids stay theirs)
+        self.where: dict[int, int] = {}  # id(circuit) -> rung index
+        self._names: dict[int, ElementNames] = {}
+        self._numbers: dict[int, int | None] = {}
+        self._groups: dict[tuple[str, str], set[Target]] = {}
+        self._numbered: dict[int, set[int]] = {}
 
-    def update(self, rungs: list[Rung], numbers: list[int | None]) -> set[object] | None:
-        """Brings the index up to the rungs, `numbers` their drawn numbers; the
-        groups and rung numbers that changed (None: any may have, when rungs
-        were added or removed)."""
+    def update(self, rungs: list[Rung], numbers: list[int | None]) -> set[object]:
+        """Brings the index up to the rungs, `numbers` their drawn numbers;
+        the (instruction, name) groups and rung numbers that changed."""
         circuits = list(map(_rung_circuit, rungs))
-        if len(circuits) != len(self.circuits):
-            self.circuits, self.numbers = circuits, list(numbers)
-            self.names = [element_names(rung) for rung in rungs]
-            self.groups = element_groups(self.names)
-            self.numbered = {}
-            for index, number in enumerate(numbers):
-                if number is not None:
-                    self.numbered.setdefault(number, []).append(index)
-            return None
+        old = self.circuits
+        if len(circuits) == len(old):
+            at = list(compress(count(), map(is_not, old, circuits)))
+            gone, came = [old[index] for index in at], at
+        else:
+            # rungs added or removed: the rungs between the first and the last that differ
+            # (those above and below keep their circuits, moved)
+            shorter = min(len(old), len(circuits))
+            first = next(compress(count(), map(is_not, old, circuits)), shorter)
+            last = next(compress(count(), map(is_not, reversed(old), reversed(circuits))), shorter)
+            last = min(last, shorter - first)
+            gone, came = old[first:len(old) - last], list(range(first, len(circuits) - last))
         changed: set[object] = set()
-        # a circuit is replaced when its rung's text changes, its number with it
-        at = list(compress(count(), map(is_not, self.circuits, circuits)))
-        for index in at:
-            for key, position in self.names[index]:
-                changed.add(key)
-                group = self.groups[key]
-                group.remove((index, position))
+        for circuit in gone:
+            key = id(circuit)
+            for name, position in self._names.pop(key):
+                changed.add(name)
+                group = self._groups[name]
+                group.discard((key, position))
                 if not group:
-                    del self.groups[key]
-            number = self.numbers[index]
+                    del self._groups[name]
+            number = self._numbers.pop(key)
             if number is not None:
                 changed.add(number)
-                self.numbered[number].remove(index)
-                if not self.numbered[number]:
-                    del self.numbered[number]
-            self.names[index] = names = element_names(rungs[index])
-            for key, position in names:
-                changed.add(key)
-                insort(self.groups.setdefault(key, []), (index, position))
-            number = self.numbers[index] = numbers[index]
+                self._numbered[number].discard(key)
+                if not self._numbered[number]:
+                    del self._numbered[number]
+        for index in came:
+            key = id(circuits[index])
+            self._names[key] = names = element_names(rungs[index])
+            for name, position in names:
+                changed.add(name)
+                self._groups.setdefault(name, set()).add((key, position))
+            number = self._numbers[key] = numbers[index]
             if number is not None:
                 changed.add(number)
-                insort(self.numbered.setdefault(number, []), index)
+                self._numbered.setdefault(number, set()).add(key)
+        if len(circuits) == len(old):
+            for circuit in gone:
+                del self.where[id(circuit)]
+            self.where.update((id(circuits[index]), index) for index in came)
+        else:
+            self.where = dict(zip(map(id, circuits), count()))
         self.circuits = circuits
         return changed
 
-    def targets(self, key: tuple[str, str], rung: int | None, occurrence: int | None) -> tuple[tuple[int, int], ...]:
-        """(rung index, position) of the elements a DETAILS line names: those
-        of `key` in the rungs drawn with number `rung` (every rung: None),
-        the `occurrence`-th of them in each (all: None); with no rung, the
+    def targets(self, key: tuple[str, str], rung: int | None, occurrence: int | None) -> tuple[Target, ...]:
+        """The elements a DETAILS line names, in program order: those of `key`
+        in the rungs drawn with number `rung` (None: in every rung), the
+        `occurrence`-th of them in each (None: all); with no rung, the
         `occurrence`-th of the whole program (the older form)."""
         if rung is None:
-            group = self.groups.get(key, [])
-            return tuple(group if occurrence is None else group[occurrence - 1:occurrence])
-        found: list[tuple[int, int]] = []
-        for index in self.numbered.get(rung, ()):
-            positions = [position for named, position in self.names[index] if named == key]
-            if occurrence is not None:
-                positions = positions[occurrence - 1:occurrence]
-            found.extend((index, position) for position in positions)
-        return tuple(found)
+            found = self._groups.get(key, set())
+        else:
+            found = {(circuit, position) for circuit in self._numbered.get(rung, ())
+                     for named, position in self._names[circuit] if named == key}
+        where = self.where
+        ordered = sorted(found, key=lambda target: (where[target[0]], target[1]))
+        if occurrence is None:
+            return tuple(ordered)
+        if rung is None:
+            return tuple(ordered[occurrence - 1:occurrence])
+        by_rung: dict[int, list[Target]] = {}
+        for target in ordered:
+            by_rung.setdefault(target[0], []).append(target)
+        return tuple(chosen for targets in by_rung.values() for chosen in targets[occurrence - 1:occurrence])
 
 
 # what one DETAILS line does: its text, what its targets depend on (None: not a detail
-# line), the rungs and positions it reaches, its values or what is wrong with them
-_LinePlan = tuple[str, "tuple[str, str] | int | None", tuple[tuple[int, int], ...],
-                  "tuple[tuple[str, object], ...] | str"]
+# line), the elements it reaches, its values or what is wrong with them
+_LinePlan = tuple[str, "tuple[str, str] | int | None", tuple[Target, ...], "tuple[tuple[str, object], ...] | str"]
 
 
 class Planner:
-    """What the DETAILS section puts on each rung it names, by rung index,
+    """What the DETAILS section puts on each rung it names, by id(circuit),
     kept from one read to the next: a line is looked up again only when its
     text changed or what it names did (an edit of one rung changes the
     groups of that rung's elements and that rung's number; a line naming
-    its rung by number depends on that number only)."""
+    its rung by number depends on that number only; a rung added or removed
+    changes those of its own elements and number, and no other's)."""
 
     def __init__(self) -> None:
         self._lines: list[_LinePlan] = []
         self.looked_up = 0  # lines looked up by the last plan (tests)
 
     def plan(self, section: Section, rungs: list[Rung], problems: list[Diagnostic], index: ElementIndex,
-             changed: set[object] | None) -> dict[int, Placed]:
+             changed: set[object]) -> dict[int, Placed]:
         """`index`: the rungs' ElementIndex (the reader keeps it up to date);
-        `changed`: what `ElementIndex.update` said changed since the last plan
-        (None: anything may have)."""
-        old = self._lines if changed is not None and len(self._lines) == len(section.lines) else []
-        changed = changed or set()
+        `changed`: what `ElementIndex.update` said changed since the last plan."""
+        old = self._lines if len(self._lines) == len(section.lines) else []
         lines: list[_LinePlan] = []
         plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
         unread = None
@@ -359,10 +363,10 @@ class Planner:
             if isinstance(values, str):
                 problems.append(error(codes.SECTION, values, Span.at(number, 0, len(text))))
                 continue
-            for rung, position in targets:
-                plan.setdefault(rung, []).append((position, values))
+            for circuit, position in targets:
+                plan.setdefault(circuit, []).append((position, values))
         self._lines = lines
-        return {rung: tuple(placed) for rung, placed in plan.items()}
+        return {circuit: tuple(placed) for circuit, placed in plan.items()}
 
 
 def _line_plan(text: str, index: ElementIndex) -> _LinePlan:

@@ -413,7 +413,9 @@ class TextReader:
         plan = self._planner.plan(section, program.rungs, problems, self._elements, changed)
         self.details_looked_up += self._planner.looked_up
         detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
-        for index, placed in plan.items():
+        where = self._elements.where
+        for circuit, placed in plan.items():
+            index = where[circuit]
             rung = program.rungs[index]
             step = self.moved.pop(id(rung), None)
             kept = self._detailed.get(id(rung.circuit))
