@@ -121,8 +121,8 @@ def drawn_lines(rung: Rung, number: int, frame: Frame) -> list[str]:
 def drawn_number(locator: Locator, index: int) -> int:
     """The number rung `index` is drawn with, else its place: a rung drawn
     again keeps its number, by which DETAILS lines name it (docs/format.md).
-    Of its first two lines the lower numbered one is its own (an empty rung
-    above it shows its number on this rung's name line)."""
+    When both of its first two lines show a number, the second's is its own
+    (the first's is an empty rung's, drawn on this rung's name line)."""
     extent = locator.rung_lines(index)
     number = index + 1
     if extent is not None:

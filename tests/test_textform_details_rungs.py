@@ -155,6 +155,22 @@ def test_an_editor_action_redraws_a_rung_with_the_number_it_has(text):
                                      for _, recv, details in rung] for rung in spi_details(program)]
 
 
+def test_a_rung_after_an_empty_rung_is_drawn_again_with_its_own_number():
+    """LDmicro draws an empty rung's number on the next rung's name line."""
+    from ide.edits import drawn_number
+    from ide.locate import Locator
+
+    text = ("LADDER DIAGRAM:\n"
+            "    ||                  ||\n"
+            "0001||     Xa       Yb  ||\n"
+            "0002||----] [------( )--||\n"
+            "    ||                  ||\n"
+            "   2||------[END]-------||\n")
+    program = clean(text)
+    assert len(program.rungs) == 2 and not program.rungs[0].circuit.items
+    assert drawn_number(Locator(program, text.splitlines()), 1) == 2
+
+
 @pytest.mark.parametrize("detail", ["SPI SPI in rung 1: bitrate 5", "SPI SPI in rung 99: bitrate 5",
                                     "SPI SPI in rung 2 #2: bitrate 5", "SPI SPI #99: bitrate 5"])
 def test_a_detail_naming_no_element_is_an_error_at_its_line(text, detail):
