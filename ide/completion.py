@@ -253,7 +253,7 @@ def _insert_here(document: Document, line: int, col: int, rung_index: int) -> li
             changed = edits.insert_element(rung, anchor, edits.new_element(kind), after=after)
         except edits.EditError:
             continue
-        lines = edits.drawn_lines(changed, rung_index + 1, frame)
+        lines = edits.drawn_lines(changed, edits.drawn_number(locator, rung_index), frame)
         k = line - first
         if k >= len(lines):
             continue

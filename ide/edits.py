@@ -118,13 +118,28 @@ def drawn_lines(rung: Rung, number: int, frame: Frame) -> list[str]:
     return [line.rstrip() for line in lines]
 
 
+def drawn_number(locator: Locator, index: int) -> int:
+    """The number rung `index` is drawn with, else its place: a rung drawn
+    again keeps its number, by which DETAILS lines name it (docs/format.md).
+    When both of its first two lines show a number, the second's is its own
+    (the first's is an empty rung's, drawn on this rung's name line)."""
+    extent = locator.rung_lines(index)
+    number = index + 1
+    if extent is not None:
+        for line in locator.lines[extent[0]:min(extent[0] + 2, extent[1] + 1)]:
+            label = line.split("|", 1)[0].strip()
+            if label.isdigit():
+                number = int(label)
+    return number
+
+
 def redraw(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit:
     """Replace rung `index`'s lines with the drawing of `rung`."""
     extent = locator.rung_lines(index)
     if extent is None:
         raise EditError(f"rung {index + 1} is not drawn in this file")
     first, last = extent
-    lines = drawn_lines(rung, index + 1, frame_of(text, locator.program))
+    lines = drawn_lines(rung, drawn_number(locator, index), frame_of(text, locator.program))
     return LineEdit(first, last + 1, tuple(lines))
 
 

@@ -7,15 +7,16 @@ LDmicro's defaults is written, so most programs have neither section."""
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
 from dataclasses import fields as dataclass_fields
 from functools import cache, lru_cache
+from itertools import compress, count
+from operator import attrgetter, is_not
 from typing import Any
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
 from ..instructions import INSTRUCTIONS, Instruction
-from ..model import Element, PinAssignment, Program, Rung, Settings, Span
+from ..model import Element, PinAssignment, Program, Rung, Series, Settings, Span
 from .rungs import UnreadRung
 from .sections import Section
 
@@ -166,34 +167,54 @@ def _format_value(value: object) -> str:
 
 
 def write_details(program: Program) -> list[str]:
-    groups: dict[tuple[str, str], list[Element]] = {}
-    for _, element in program.elements():
+    """The DETAILS lines: one for a name whose elements share their details,
+    else one for each rung holding one of them, by the rung's number as the
+    formatter draws it (`#n` after it for the n-th of that rung's when they
+    differ there too)."""
+    groups: dict[tuple[str, str], list[tuple[int, dict[str, object]]]] = {}
+    for index, element in program.elements():
         if any(not f.drawn for f in element.spec.fields):
-            groups.setdefault((element.kind, identity(element)), []).append(element)
+            groups.setdefault((element.kind, identity(element)), []).append((index, undrawn(element)))
     lines = []
-    for (kind, name), elements in groups.items():
-        extras = [undrawn(e) for e in elements]
-        if not any(extras):
+    for (kind, name), found in groups.items():
+        if not any(extra for _, extra in found):
             continue
         label = f"{kind} {name}".rstrip()
-        if all(extra == extras[0] for extra in extras):
-            lines.append(f"  {label}: " + ", ".join(f"{k} {_format_value(v)}" for k, v in extras[0].items()))
+        if all(extra == found[0][1] for _, extra in found):
+            lines.append(_detail_line(label, found[0][1]))
             continue
-        for occurrence, extra in enumerate(extras, 1):
-            if extra:
-                lines.append(f"  {label} #{occurrence}: "
-                             + ", ".join(f"{k} {_format_value(v)}" for k, v in extra.items()))
+        by_rung: dict[int, list[dict[str, object]]] = {}
+        for index, extra in found:
+            by_rung.setdefault(index, []).append(extra)
+        for index, extras in by_rung.items():
+            where = f"{label} in rung {index + 1}"
+            if all(extra == extras[0] for extra in extras):
+                if extras[0]:
+                    lines.append(_detail_line(where, extras[0]))
+                continue
+            for occurrence, extra in enumerate(extras, 1):
+                if extra:
+                    lines.append(_detail_line(f"{where} #{occurrence}", extra))
     return lines
 
 
+def _detail_line(label: str, extra: dict[str, object]) -> str:
+    return f"  {label}: " + ", ".join(f"{k} {_format_value(v)}" for k, v in extra.items())
+
+
+# `<INSTRUCTION> <name> in rung <N> #<n>: <values>`, the name, the rung and the occurrence
+# optional (a comment has no name: `COMMENT in rung 4: ...`)
 _DETAIL_RE = re.compile(
-    r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?!#\d+\s*:)(?P<name>.*?))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
+    r"\s*(?P<kind>[A-Z0-9_]+)(?:\s+(?!(?:in\s+rung\s+\d+\s*)?(?:#\d+\s*)?:)(?P<name>.*?))?"
+    r"(?:\s+in\s+rung\s+(?P<rung>\d+))?(?:\s+#(?P<n>\d+))?\s*:\s*(?P<rest>.*?)\s*\Z")
 
 
 ElementNames = list[tuple[tuple[str, str], int]]
-Groups = dict[tuple[str, str], list[tuple[int, int]]]
 # where DETAILS puts values in one rung: (element's position in the rung, (field, value) pairs), in DETAILS order
 Placed = tuple[tuple[int, tuple[tuple[str, object], ...]], ...]
+# an element a DETAILS line names: (id of its rung's circuit, its position in the rung); a
+# circuit keeps its identity when its rung moves, so a rung added above changes no target
+Target = tuple[int, int]
 
 
 def element_names(rung: Rung) -> ElementNames:
@@ -201,49 +222,132 @@ def element_names(rung: Rung) -> ElementNames:
     return [((element.kind, identity(element)), position) for position, element in enumerate(rung.elements())]
 
 
-def element_groups(names: Iterable[ElementNames]) -> Groups:
-    """(rung index, position in the rung) of each element, by what a DETAILS
-    line names it, from each rung's `element_names`."""
-    groups: Groups = {}
-    for index, rung_names in enumerate(names):
-        for key, position in rung_names:
-            groups.setdefault(key, []).append((index, position))
-    return groups
+_rung_circuit = attrgetter("circuit")
 
 
-# what one DETAILS line does: its text, the group it names (None: not a detail line),
-# the rungs and positions it reaches, its values or what is wrong with them
-_LinePlan = tuple[str, "tuple[str, str] | None", tuple[tuple[int, int], ...], "tuple[tuple[str, object], ...] | str"]
+class ElementIndex:
+    """The elements a DETAILS line can name, kept from one read to the next
+    and brought up to date for the rungs whose circuit changed, by
+    id(circuit): each rung's `element_names` and drawn number (None:
+    unnumbered), the elements of each (instruction, name) and the rungs drawn
+    with each number; and each circuit's rung index."""
+
+    def __init__(self) -> None:
+        self.circuits: list[Series] = []  # by rung index (they stay alive while compared: ids stay theirs)
+        self.where: dict[int, int] = {}  # id(circuit) -> rung index
+        self._names: dict[int, ElementNames] = {}
+        self._numbers: dict[int, int | None] = {}
+        self._groups: dict[tuple[str, str], set[Target]] = {}
+        self._numbered: dict[int, set[int]] = {}
+
+    def update(self, rungs: list[Rung], numbers: list[int | None]) -> set[object]:
+        """Brings the index up to the rungs, `numbers` their drawn numbers;
+        the (instruction, name) groups and rung numbers that changed."""
+        circuits = list(map(_rung_circuit, rungs))
+        old = self.circuits
+        if len(circuits) == len(old):
+            at = list(compress(count(), map(is_not, old, circuits)))
+            gone, came = [old[index] for index in at], at
+        else:
+            # rungs added or removed: the rungs between the first and the last that differ
+            # (those above and below keep their circuits, moved)
+            shorter = min(len(old), len(circuits))
+            first = next(compress(count(), map(is_not, old, circuits)), shorter)
+            last = next(compress(count(), map(is_not, reversed(old), reversed(circuits))), shorter)
+            last = min(last, shorter - first)
+            gone, came = old[first:len(old) - last], list(range(first, len(circuits) - last))
+        changed: set[object] = set()
+        for circuit in gone:
+            key = id(circuit)
+            for name, position in self._names.pop(key):
+                changed.add(name)
+                group = self._groups[name]
+                group.discard((key, position))
+                if not group:
+                    del self._groups[name]
+            number = self._numbers.pop(key)
+            if number is not None:
+                changed.add(number)
+                self._numbered[number].discard(key)
+                if not self._numbered[number]:
+                    del self._numbered[number]
+        for index in came:
+            key = id(circuits[index])
+            self._names[key] = names = element_names(rungs[index])
+            for name, position in names:
+                changed.add(name)
+                self._groups.setdefault(name, set()).add((key, position))
+            number = self._numbers[key] = numbers[index]
+            if number is not None:
+                changed.add(number)
+                self._numbered.setdefault(number, set()).add(key)
+        if len(circuits) == len(old):
+            for circuit in gone:
+                del self.where[id(circuit)]
+            self.where.update((id(circuits[index]), index) for index in came)
+        else:
+            self.where = dict(zip(map(id, circuits), count()))
+        self.circuits = circuits
+        return changed
+
+    def targets(self, key: tuple[str, str], rung: int | None, occurrence: int | None) -> tuple[Target, ...]:
+        """The elements a DETAILS line names, in program order: those of `key`
+        in the rungs drawn with number `rung` (None: in every rung), the
+        `occurrence`-th of them in each (None: all); with no rung, the
+        `occurrence`-th of the whole program (the older form)."""
+        if rung is None:
+            found = self._groups.get(key, set())
+        else:
+            found = {(circuit, position) for circuit in self._numbered.get(rung, ())
+                     for named, position in self._names[circuit] if named == key}
+        where = self.where
+        ordered = sorted(found, key=lambda target: (where[target[0]], target[1]))
+        if occurrence is None:
+            return tuple(ordered)
+        if rung is None:
+            return tuple(ordered[occurrence - 1:occurrence])
+        by_rung: dict[int, list[Target]] = {}
+        for target in ordered:
+            by_rung.setdefault(target[0], []).append(target)
+        return tuple(chosen for targets in by_rung.values() for chosen in targets[occurrence - 1:occurrence])
+
+
+# what one DETAILS line does: its text, what its targets depend on (None: not a detail
+# line), the elements it reaches, its values or what is wrong with them
+_LinePlan = tuple[str, "tuple[str, str] | int | None", tuple[Target, ...], "tuple[tuple[str, object], ...] | str"]
 
 
 class Planner:
-    """What the DETAILS section puts on each rung it names, by rung index,
-    kept from one read to the next: a line is looked up
-    again only when its text changed or the group of elements it names did
-    (an edit of one rung changes the groups of that rung's elements)."""
+    """What the DETAILS section puts on each rung it names, by id(circuit),
+    kept from one read to the next: a line is looked up again only when its
+    text changed or what it names did (an edit of one rung changes the
+    groups of that rung's elements and that rung's number; a line naming
+    its rung by number depends on that number only; a rung added or removed
+    changes those of its own elements and number, and no other's)."""
 
     def __init__(self) -> None:
         self._lines: list[_LinePlan] = []
+        self.looked_up = 0  # lines looked up by the last plan (tests)
 
-    def plan(self, section: Section, rungs: list[Rung], problems: list[Diagnostic], groups: Groups,
-             changed: set[tuple[str, str]] | None) -> dict[int, Placed]:
-        """`groups`: the rungs' `element_groups` (the reader keeps them up to
-        date); `changed`: the groups changed since the last plan (None: any
-        may have)."""
-        old = self._lines if changed is not None and len(self._lines) == len(section.lines) else []
-        changed = changed or set()
+    def plan(self, section: Section, rungs: list[Rung], problems: list[Diagnostic], index: ElementIndex,
+             changed: set[object]) -> dict[int, Placed]:
+        """`index`: the rungs' ElementIndex (the reader keeps it up to date);
+        `changed`: what `ElementIndex.update` said changed since the last plan."""
+        old = self._lines if len(self._lines) == len(section.lines) else []
         lines: list[_LinePlan] = []
         plan: dict[int, list[tuple[int, tuple[tuple[str, object], ...]]]] = {}
         unread = None
+        self.looked_up = 0
         for at, (number, text) in enumerate(section.lines):
             kept = old[at] if old else None
             if kept is not None and kept[0] == text and kept[1] not in changed:
                 line = kept
             else:
-                line = _line_plan(text, groups)
+                line = _line_plan(text, index)
+                self.looked_up += 1
             lines.append(line)
-            _, key, targets, values = line
-            if key is None:
+            _, depends, targets, values = line
+            if depends is None:
                 if text.strip():
                     problems.append(error(codes.SECTION, "expected `<INSTRUCTION> <name>: <field> <value>, ...`",
                                           Span.at(number, 0, len(text))))
@@ -259,38 +363,37 @@ class Planner:
             if isinstance(values, str):
                 problems.append(error(codes.SECTION, values, Span.at(number, 0, len(text))))
                 continue
-            for index, position in targets:
-                plan.setdefault(index, []).append((position, values))
+            for circuit, position in targets:
+                plan.setdefault(circuit, []).append((position, values))
         self._lines = lines
-        return {index: tuple(placed) for index, placed in plan.items()}
+        return {circuit: tuple(placed) for circuit, placed in plan.items()}
 
 
-def _line_plan(text: str, groups: Groups) -> _LinePlan:
+def _line_plan(text: str, index: ElementIndex) -> _LinePlan:
     parsed = _parse_line(text) if text.strip() else None
     if parsed is None:
         return text, None, (), ()
-    key, occurrence, values = parsed
-    targets = groups.get(key, [])
-    if occurrence is not None:
-        targets = targets[occurrence - 1:occurrence]
-    return text, key, tuple(targets), values
+    key, rung, occurrence, values = parsed
+    return text, key if rung is None else rung, index.targets(key, rung, occurrence), values
 
 
 # a DETAILS line is parsed again only when its text changes (each edit reads the whole section)
 @lru_cache(maxsize=16384)
-def _parse_line(text: str) -> tuple[tuple[str, str], int | None, tuple[tuple[str, object], ...] | str] | None:
-    """((instruction, name), occurrence, the values or what is wrong with
-    them) of a DETAILS line, None when it is not one."""
+def _parse_line(text: str) -> tuple[tuple[str, str], int | None, int | None,
+                                    tuple[tuple[str, object], ...] | str] | None:
+    """((instruction, name), rung number, occurrence, the values or what is
+    wrong with them) of a DETAILS line, None when it is not one."""
     match = _DETAIL_RE.match(text)
     if not match or match.group("kind") not in INSTRUCTIONS:
         return None
     instruction = INSTRUCTIONS[match.group("kind")]
+    rung = int(match.group("rung")) if match.group("rung") else None
     occurrence = int(match.group("n")) if match.group("n") else None
     try:
         values: tuple[tuple[str, object], ...] | str = tuple(_parse_values(instruction, match.group("rest")).items())
     except ValueError as problem:
         values = str(problem)
-    return (instruction.key, match.group("name") or ""), occurrence, values
+    return (instruction.key, match.group("name") or ""), rung, occurrence, values
 
 
 def set_details(rung: Rung, placed: Placed) -> Rung:

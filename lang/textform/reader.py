@@ -6,14 +6,14 @@ edit touches."""
 from __future__ import annotations
 
 import re
-from bisect import bisect_left, bisect_right, insort
+from bisect import bisect_left, bisect_right
 from collections import Counter, OrderedDict
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
-from itertools import chain, compress, count
-from operator import attrgetter, is_not
+from itertools import chain
+from operator import attrgetter
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
@@ -247,6 +247,7 @@ class _Block:
     problems: list[Diagnostic]
     number_at: int | None  # offset of the numbered line from `first` (None: unnumbered)
     key: tuple | None = None  # in the rung cache
+    number: int | None = None  # the rung's number as drawn (None: unnumbered, an empty rung): DETAILS names it
 
 
 _first_line = attrgetter("first")
@@ -254,6 +255,7 @@ _last_line = attrgetter("last")
 _block_rung = attrgetter("rung")
 _rung_circuit = attrgetter("circuit")
 _block_problems = attrgetter("problems")
+_block_number = attrgetter("number")
 
 
 @dataclass
@@ -314,15 +316,14 @@ class TextReader:
         # the last text read, split in lines and in sections, for the editor's helpers to share
         self.lines: list[str] = []
         self.sections: list[Section] = []
-        # for DETAILS, kept from one read to the next: the read rungs' circuits (a circuit stays
-        # when its rung moves), each circuit's element names by id(circuit), the groups of
-        # details.element_groups, and by id(circuit) (circuit, its details, the detailed rung)
-        self._circuits: list[Series] = []
-        self._names: dict[int, details.ElementNames] = {}
-        self._groups: details.Groups = {}
+        # for DETAILS, kept from one read to the next: the elements its lines can name (a
+        # circuit stays when its rung moves), and by id(circuit) (circuit, its details, the
+        # detailed rung)
+        self._elements = details.ElementIndex()
         self._planner = details.Planner()
         self._detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
         self.details_copied = 0  # rungs given their details afresh, over all reads (tests)
+        self.details_looked_up = 0  # DETAILS lines whose elements were looked up, over all reads (tests)
 
     def read(self, text: str, edited: Edited | None = None) -> tuple[Program, list[Diagnostic]]:
         """The program and the problems of `text`. `edited`, when the caller
@@ -375,6 +376,7 @@ class TextReader:
     def _assemble(self, lines, sections, diagram: _State | None) -> tuple[Program, list[Diagnostic]]:
         program = Program()
         problems: list[Diagnostic] = []
+        numbers: list[int | None] = []  # the rungs' drawn numbers
         titles = {s.title for s in sections}
         for section in sections:
             if section.title == "header":
@@ -385,6 +387,7 @@ class TextReader:
                 problems.extend(state.raw_problems)
                 problems.extend(state.block_problems)
                 program.rungs = list(state.rungs)  # DETAILS replaces some
+                numbers = list(map(_block_number, state.blocks))
             elif section.title == IO:
                 _read_io(section, program, problems)
             elif section.title == VARS:
@@ -392,7 +395,7 @@ class TextReader:
             elif section.title == SETTINGS:
                 details.read_settings(section, program, problems)
             elif section.title == DETAILS:
-                self._attach_details(section, program, problems)
+                self._attach_details(section, program, numbers, problems)
             elif section.title == PROPERTIES:
                 # read by the checks (LD215, LD216) and `ladder verify`: lang/properties.py
                 program.properties = [PropertyLine(text, number) for number, text in section.lines]
@@ -404,11 +407,15 @@ class TextReader:
                                   Span.at(0, 0)))
         return program, problems
 
-    def _attach_details(self, section: Section, program: Program, problems: list[Diagnostic]) -> None:
-        groups, changed = self._element_groups(program.rungs)
-        plan = self._planner.plan(section, program.rungs, problems, groups, changed)
+    def _attach_details(self, section: Section, program: Program, numbers: list[int | None],
+                        problems: list[Diagnostic]) -> None:
+        changed = self._elements.update(program.rungs, numbers)
+        plan = self._planner.plan(section, program.rungs, problems, self._elements, changed)
+        self.details_looked_up += self._planner.looked_up
         detailed: dict[int, tuple[Series, details.Placed, Rung]] = {}
-        for index, placed in plan.items():
+        where = self._elements.where
+        for circuit, placed in plan.items():
+            index = where[circuit]
             rung = program.rungs[index]
             step = self.moved.pop(id(rung), None)
             kept = self._detailed.get(id(rung.circuit))
@@ -423,36 +430,6 @@ class TextReader:
             detailed[id(rung.circuit)] = (rung.circuit, placed, result)
             program.rungs[index] = result
         self._detailed = detailed
-
-    def _element_groups(self, rungs: list[Rung]) -> tuple[details.Groups, set[tuple[str, str]] | None]:
-        """details.element_groups, brought up to date for the rungs whose
-        circuit changed since the last read (all of them when rungs were
-        added or removed), and the groups that changed (None: any may have)."""
-        circuits = list(map(_rung_circuit, rungs))
-        changed_groups: set[tuple[str, str]] = set()
-        if len(circuits) != len(self._circuits):
-            every = [details.element_names(rung) for rung in rungs]
-            self._groups = details.element_groups(every)
-            self._names = {id(circuit): names for circuit, names in zip(circuits, every)}
-            self._circuits = circuits
-            return self._groups, None
-        else:
-            changed = list(compress(count(), map(is_not, self._circuits, circuits)))
-            # all gone before any comes: a circuit may have moved to another index
-            for index in changed:
-                for key, position in self._names.pop(id(self._circuits[index])):
-                    changed_groups.add(key)
-                    group = self._groups[key]
-                    group.remove((index, position))
-                    if not group:
-                        del self._groups[key]
-            for index in changed:
-                names = self._names[id(circuits[index])] = details.element_names(rungs[index])
-                for key, position in names:
-                    changed_groups.add(key)
-                    insort(self._groups.setdefault(key, []), (index, position))
-        self._circuits = circuits
-        return self._groups, changed_groups
 
     def _full(self, lines: list[str], diagram: Section) -> _State:
         raw_problems: list[Diagnostic] = []
@@ -478,11 +455,11 @@ class TextReader:
 
     def _block(self, raws, symbol: int, labels: dict) -> _Block:
         first, last = raws[0][0], raws[-1][0]
-        number_at = None
+        number_at = number = None
         for offset, raw in enumerate(raws[:2]):
             label = labels.get(raw[0], raw[1][:raw[2]].strip())
             if label.isdigit():
-                number_at = offset
+                number_at, number = offset, int(label)
                 break
         overrides = tuple((raw[0] - first, labels[raw[0]]) for raw in raws if raw[0] in labels)
         key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
@@ -501,7 +478,7 @@ class TextReader:
         if at != first:
             rung = shift_rung(rung, first - at)
             found = [shifted(p, first - at) for p in found]
-        return _Block(first, last, rung, list(found), number_at, key)
+        return _Block(first, last, rung, list(found), number_at, key, number)
 
     def _move(self, blocks: list[_Block], delta: int) -> list[_Block]:
         """The blocks `delta` lines further down: their elements and series keep
@@ -524,7 +501,8 @@ class TextReader:
                                  new_span(span_class, (span[0] + delta, span[1], span[2] + delta, span[3])))
             problems = [shifted(p, delta) for p in block.problems] if block.problems else block.problems
             first = block.first + delta
-            recorded.append(block_class(first, block.last + delta, new, problems, block.number_at, block.key))
+            recorded.append(block_class(first, block.last + delta, new, problems, block.number_at, block.key,
+                                        block.number))
             if circuit.items:
                 moved[id(new)] = (rung, delta)
             if block.key is not None:

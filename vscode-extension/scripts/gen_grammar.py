@@ -195,12 +195,16 @@ ladder = {
             "end": r"^(?=\S)",
             "name": "meta.details.ladder",
             "patterns": [
-                {"match": r"^\s+([A-Z][A-Z0-9_ ]*?)\s+(\S+?)(#[0-9]+)?(:)(.*)$",
+                # `TON Tdly: ...`, `SPI SPI in rung 12 #2: ...`, `COMMENT in rung 4: ...`
+                {"match": r"^\s+([A-Z][A-Z0-9_ ]*?)(?:\s+(?!in\s+rung\b)(\S+?))?"
+                          r"(?:\s+(in\s+rung)\s+([0-9]+))?\s*(#[0-9]+)?(:)(.*)$",
                  "captures": {"1": {"name": "support.function.instruction.ladder"},
                               "2": {"patterns": [{"include": "#names"}]},
-                              "3": {"name": "constant.numeric.index.ladder"},
-                              "4": {"name": "punctuation.separator.key-value.ladder"},
-                              "5": {"patterns": [
+                              "3": {"name": "keyword.other.rung.ladder"},
+                              "4": {"name": "constant.numeric.rung-number.ladder"},
+                              "5": {"name": "constant.numeric.index.ladder"},
+                              "6": {"name": "punctuation.separator.key-value.ladder"},
+                              "7": {"patterns": [
                                   {"match": r"(?<=[:,])\s*([a-z][a-z_ ]*?)(?=\s)", "captures": {
                                       "1": {"name": "support.type.property-name.ladder"}}},
                                   {"match": ",", "name": "punctuation.separator.comma.ladder"},
