@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import copy
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import NamedTuple
 
 from lang.drawing import CELL
 from lang.instructions import INSTRUCTIONS
 from lang.model import Element, Node, Parallel, Program, Rung, Series, Span, rung_circuit
+from lang.textform.details import name_columns
 from lang.textform.formatter import existing_width
 from lang.textform.sections import DETAILS, IO, PROPERTIES, VARS
 from lang.textform.writer import diagram_width, margin_width, render_rung
@@ -349,27 +351,39 @@ def rename(program: Program, locator: Locator, text: str, old: str, new: str, ki
             line_edits.append(redraw(locator, text, index, renamed))
     lines = locator.lines
     if kind == "ld":
-        rows = _ld_io_rows(lines)
+        pattern = _word_re(old)
+        found = [(number, match.start(), match.end())
+                 for number in _ld_io_rows(lines) for match in pattern.finditer(lines[number])]
     else:
-        rows = []
-        for title in (IO, VARS, DETAILS, PROPERTIES):
-            bounds = locator.section_range(title)
-            if bounds is not None:
-                rows.extend(range(bounds[0] + 1, bounds[1] + 1))
-    pattern = _word_re(old)
-    for number in rows:
+        found = list(names_in_sections(locator, old, (IO, VARS, DETAILS, PROPERTIES)))
+    for number, start, end in found:
         line = lines[number]
-        for match in pattern.finditer(line):
-            start, end = match.start(), match.end()
-            replacement = new
-            # keep the I/O table's column: eat or add blanks before the next `|`
-            bar = line.find("|", end)
-            if kind != "ld" and bar > end and not line[end:bar].strip():
-                room = bar - start - 1
-                replacement = new.ljust(room) if len(new) <= room else new
-                end = bar - 1 if len(new) <= room else end
-            text_edits.append(TextEdit(number, start, end, replacement))
+        replacement = new
+        # keep the I/O table's column: eat or add blanks before the next `|`
+        bar = line.find("|", end)
+        if kind != "ld" and bar > end and not line[end:bar].strip():
+            room = bar - start - 1
+            replacement = new.ljust(room) if len(new) <= room else new
+            end = bar - 1 if len(new) <= room else end
+        text_edits.append(TextEdit(number, start, end, replacement))
     return line_edits, text_edits
+
+
+def names_in_sections(locator: Locator, name: str, titles: tuple[str, ...]) -> Iterator[tuple[int, int, int]]:
+    """(line, start, end) of each place a name is written in the text form's
+    sections after the diagram; in DETAILS only where a line names its
+    element (a variable called `rung` is not the word of `in rung 12`)."""
+    pattern = _word_re(name)
+    for title in titles:
+        bounds = locator.section_range(title)
+        if bounds is None:
+            continue
+        for number in range(bounds[0] + 1, bounds[1] + 1):
+            line = locator.lines[number]
+            columns = name_columns(line) if title == DETAILS else (0, len(line))
+            if columns is not None:
+                for match in pattern.finditer(line, *columns):
+                    yield number, match.start(), match.end()
 
 
 def _ld_io_rows(lines: list[str]) -> list[int]:

@@ -5,7 +5,6 @@ ProgramIndex."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from enum import Enum
 
@@ -94,16 +93,8 @@ def other_rows(document: Document, name: str) -> list[Span]:
     if document.kind != TEXT_KIND:
         span = pin_span(document, name)
         return [span] if span is not None else []
-    found = []
-    pattern = re.compile(rf"(?<![\w$#@.]){re.escape(name)}(?![\w$#@.])")
-    for title in (IO, VARS, DETAILS):
-        bounds = document.locator.section_range(title)
-        if bounds is None:
-            continue
-        for number in range(bounds[0] + 1, bounds[1] + 1):
-            for match in pattern.finditer(document.line(number)):
-                found.append(Span.at(number, match.start(), match.end()))
-    return found
+    return [Span.at(number, start, end)
+            for number, start, end in edits.names_in_sections(document.locator, name, (IO, VARS, DETAILS))]
 
 
 def definition(document: Document, target: Target) -> list[Span]:

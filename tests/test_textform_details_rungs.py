@@ -248,3 +248,52 @@ def test_random_edits_of_rungs_and_their_numbers_read_as_a_fresh_reader_does():
                 text = apply(text, (rng.choice(["type", "delete", "line-dup", "line-del", "replace"]),
                                     rng.randrange(10**6), rng.randrange(10**6), rng.choice(EDIT_CHARS)))
             assert snapshot(reader.read(text)) == snapshot(fresh(text))
+
+
+def _renamed(text: str, old: str, new: str) -> str:
+    """The text after the editor's rename of `old` to `new`, its edits applied."""
+    from ide.edits import rename
+    from ide.locate import Locator
+
+    program = clean(text)
+    lines = text.splitlines()
+    line_edits, text_edits = rename(program, Locator(program, lines), text, old, new)
+    for edit in sorted(text_edits, key=lambda edit: (edit.line, edit.col), reverse=True):
+        lines[edit.line] = lines[edit.line][:edit.col] + edit.text + lines[edit.line][edit.end_col:]
+    for line_edit in sorted(line_edits, key=lambda edit: edit.first, reverse=True):
+        lines[line_edit.first:line_edit.last] = line_edit.lines
+    return "\n".join(lines) + "\n"
+
+
+TWO_TABLES = """\
+LADDER DIAGRAM:
+    ||                                  ||
+    ||       Xa        {rung        :=} ||
+0001||-------] [-------{LUT   tab  [i]}-||
+    ||                                  ||
+    ||                                  ||
+    ||       Xb        {rung        :=} ||
+0002||-------] [-------{LUT   tab  [i]}-||
+    ||                                  ||
+    ||                                  ||
+    ||       Xa        {MOV        i:=} ||
+0003||-------] [-------{             1}-||
+    ||                                  ||
+    ||                                  ||
+    ||------[END]-----------------------||
+
+DETAILS:
+  LOOK_UP_TABLE rung in rung 1: values 10 20 30
+  LOOK_UP_TABLE rung in rung 2: values 5 6
+"""
+
+
+def test_a_rename_changes_only_the_name_a_details_line_gives():
+    """Two tables written to a variable called `rung`, renamed: the words of
+    `in rung N` are not that name, and each table keeps its values."""
+    renamed = _renamed(TWO_TABLES, "rung", "level")
+    assert renamed.splitlines()[-2:] == ["  LOOK_UP_TABLE level in rung 1: values 10 20 30",
+                                         "  LOOK_UP_TABLE level in rung 2: values 5 6"]
+    tables = [(e.args["dest"], e.args["values"]) for rung in clean(renamed).rungs for e in rung.elements()
+              if e.kind == "LOOK_UP_TABLE"]
+    assert tables == [("level", ("10", "20", "30")), ("level", ("5", "6"))]

@@ -377,6 +377,16 @@ def _line_plan(text: str, index: ElementIndex) -> _LinePlan:
     return text, key if rung is None else rung, index.targets(key, rung, occurrence), values
 
 
+def name_columns(text: str) -> tuple[int, int] | None:
+    """Where a DETAILS line writes the name of the element it names (start
+    and end column), None when it names none: the words of `in rung N` and
+    the values are no names."""
+    match = _DETAIL_RE.match(text)
+    if not match or match.group("kind") not in INSTRUCTIONS or not match.group("name"):
+        return None
+    return match.span("name")
+
+
 # a DETAILS line is parsed again only when its text changes (each edit reads the whole section)
 @lru_cache(maxsize=16384)
 def _parse_line(text: str) -> tuple[tuple[str, str], int | None, int | None,
