@@ -135,6 +135,14 @@ def drawn_number(locator: Locator, index: int) -> int:
     return number
 
 
+def unused_number(locator: Locator, wanted: int) -> int:
+    """`wanted`, else a number no rung is drawn with: a DETAILS line that
+    names the rung drawn with a number must not reach a new rung too (the
+    formatter puts the numbers in order again)."""
+    taken = {drawn_number(locator, index) for index in range(len(locator.program.rungs))}
+    return wanted if wanted not in taken else max(taken) + 1
+
+
 def redraw(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit:
     """Replace rung `index`'s lines with the drawing of `rung`."""
     extent = locator.rung_lines(index)
@@ -289,7 +297,7 @@ def insert_rung(locator: Locator, text: str, index: int, rung: Rung) -> LineEdit
     """A new rung drawn above rung `index` (or before the END line when
     `index` is the number of rungs)."""
     frame = frame_of(text, locator.program)
-    lines = drawn_lines(rung, index + 1, frame)
+    lines = drawn_lines(rung, unused_number(locator, index + 1), frame)
     blank = frame.blank
     if index < len(locator.program.rungs):
         extent = locator.rung_lines(index)

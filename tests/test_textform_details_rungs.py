@@ -297,3 +297,19 @@ def test_a_rename_changes_only_the_name_a_details_line_gives():
     tables = [(e.args["dest"], e.args["values"]) for rung in clean(renamed).rungs for e in rung.elements()
               if e.kind == "LOOK_UP_TABLE"]
     assert tables == [("level", ("10", "20", "30")), ("level", ("5", "6"))]
+
+
+def test_a_rung_inserted_by_the_editor_takes_no_other_rungs_details():
+    """A copy of rung 2 inserted above it is drawn with a number no rung has,
+    so `in rung 2` still names only rung 2's table."""
+    from ide.edits import insert_rung
+    from ide.locate import Locator
+
+    program = clean(TWO_TABLES)
+    lines = TWO_TABLES.splitlines()
+    copied = program.rungs[1]
+    edit = insert_rung(Locator(program, lines), TWO_TABLES, 1, copied)
+    lines[edit.first:edit.last] = edit.lines
+    tables = [e.args["values"] for rung in clean("\n".join(lines) + "\n").rungs for e in rung.elements()
+              if e.kind == "LOOK_UP_TABLE"]
+    assert tables == [("10", "20", "30"), (), ("5", "6")]
