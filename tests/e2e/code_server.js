@@ -91,7 +91,8 @@ async function openBrowser({ timed, log }) {
       ],
     }),
   );
-  const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
+  // the clipboard, for reading an editor's whole text (workbench().editorText)
+  const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, permissions: ['clipboard-read', 'clipboard-write'] });
   const page = await context.newPage();
   page.on('pageerror', (e) => log(`page error: ${e.message}`));
   return { browser, page };
@@ -348,6 +349,78 @@ function workbench(page) {
       return texts.some(has) ? texts : false;
     }, 20000);
 
+  // Shift+F5 in the editor, until no element is painted red
+  const stopSimulation = async () => {
+    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await page.keyboard.press('Shift+F5');
+    await waitFor('the red elements to go', async () => (await energized()).length === 0, 15000);
+  };
+
+  // a hover's text on `word`, then the hover dismissed
+  const hover = async (word) => {
+    await hoverName(word);
+    const text = await hoverText();
+    await page.mouse.move(5, 5);
+    await page.keyboard.press('Escape');
+    return text;
+  };
+
+  // Ctrl+Space with the cursor inside `word` (clicked): the suggestions' rows, the list left open
+  const suggestions = async (word) => {
+    await page.locator('.monaco-editor .view-lines span span', { hasText: new RegExp(`^${word}$`) }).first().click();
+    await page.keyboard.press('Control+Space');
+    return waitFor('the suggestions', async () => {
+      const texts = await page.locator('.suggest-widget .monaco-list-row').allInnerTexts();
+      return texts.length > 0 ? texts.map((t) => t.replace(/\s+/g, ' ').trim()) : false;
+    }, 15000);
+  };
+
+  // the suggestion whose label is `label`, clicked: its edits applied
+  const acceptSuggestion = async (label) => {
+    const name = page.locator('.label-name', { hasText: new RegExp(`^${label}$`) });
+    const row = page.locator('.suggest-widget .monaco-list-row', { has: name }).first();
+    await row.click();
+    await page.locator('.suggest-widget .monaco-list-row').first().waitFor({ state: 'hidden', timeout: 15000 });
+  };
+
+  // a notification's text once one matches pattern
+  const toast = (pattern) =>
+    waitFor(`a notification matching ${pattern}`, async () => {
+      const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+      const hit = toasts.find((t) => pattern.test(t));
+      return hit ? hit.replace(/\s+/g, ' ').trim() : false;
+    }, 60000);
+
+  // the button `label` of the notification that matches pattern, clicked
+  const toastButton = async (pattern, label) => {
+    const t = page.locator('.notifications-toasts .notification-toast', { hasText: pattern }).first();
+    await t.locator('.monaco-button', { hasText: label }).first().click();
+  };
+
+  // Ladder: Convert on the active editor, to the format whose row says `kind`: the notification that it wrote the file
+  const convert = async (kind) => {
+    await runCommand('Ladder: Convert');
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: kind }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+    return toast(/Ladder: .*wrote/);
+  };
+
+  // Ladder: Build HEX on the active editor: the notification that it wrote the image
+  const buildHex = async () => {
+    await runCommand('Ladder: Build HEX');
+    return toast(/Ladder: .*wrote/);
+  };
+
+  // the active editor's whole text (Select All, Copy, the clipboard read), its cursor left at the start
+  const editorText = async () => {
+    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await page.keyboard.press('Control+A');
+    await page.keyboard.press('Control+C');
+    await page.keyboard.press('Control+Home');
+    return page.evaluate(() => navigator.clipboard.readText());
+  };
+
   // the text of an output channel once it matches pattern
   const output = async (channel, pattern) => {
     await runCommand('Output: Show Output Channels');
@@ -374,8 +447,9 @@ function workbench(page) {
   };
 
   return {
-    quickInput, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
-    startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, output,
+    quickInput, shown, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
+    startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, stopSimulation, hover, suggestions, acceptSuggestion,
+    toast, toastButton, convert, buildHex, editorText, output,
   };
 }
 
