@@ -397,24 +397,54 @@ function workbench(page) {
     await t.locator('.monaco-button', { hasText: label }).first().click();
   };
 
-  // Ladder: Convert on the active editor, to the format whose row says `kind`: the notification that it wrote the file
-  const convert = async (kind) => {
+  // the notification's text that says the extension wrote the file `name`
+  const wroteName = (name) => new RegExp(`Ladder: .*wrote ${name.replace(/\./g, '\\.')}`);
+  const wrote = (name) => toast(wroteName(name));
+
+  // the file `name` the extension wrote, opened with its notification's Open: the editor's text
+  const openWritten = async (name) => {
+    await toastButton(wroteName(name), 'Open');
+    await shown(name);
+    return editorText();
+  };
+
+  // Ladder: Convert on the active editor, to the format whose row says `kind`: the notification that it wrote `name`
+  const convert = async (kind, name) => {
     await runCommand('Ladder: Convert');
     const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: kind }).first();
     await row.waitFor({ state: 'visible', timeout: 15000 });
     await row.click();
-    return toast(/Ladder: .*wrote/);
+    return wrote(name);
   };
 
-  // Ladder: Build HEX on the active editor: the notification that it wrote the image
-  const buildHex = async () => {
+  // Ladder: Build HEX on the active editor: the notification that it wrote the image `name`
+  const buildHex = async (name) => {
     await runCommand('Ladder: Build HEX');
-    return toast(/Ladder: .*wrote/);
+    return wrote(name);
+  };
+
+  // the active editor focused from the keyboard (Ctrl+1: no notification or widget can be in the
+  // way of a key), so that the commands that need an editor's focus are offered
+  const focusEditor = async () => {
+    await page.keyboard.press('Control+1');
+    await page.locator('.part.editor .monaco-editor.focused').first().waitFor({ timeout: 5000 });
+  };
+
+  // Format Document on the active editor (the command palette offers it only while an editor has
+  // the focus), until the lines shown change. Nothing touches the editor meanwhile: VS Code drops
+  // formatting edits that arrive after the cursor moved. (Not the tab's modified mark: VS Code for
+  // the Web saves after a delay by default.)
+  const formatDocument = async () => {
+    const lines = page.locator('.part.editor .monaco-editor .view-lines').first();
+    const before = await lines.innerText();
+    await focusEditor();
+    await runCommand('Format Document');
+    await waitFor('the formatted lines', async () => (await lines.innerText()) !== before, 15000);
   };
 
   // the active editor's whole text (Select All, Copy, the clipboard read), its cursor left at the start
   const editorText = async () => {
-    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await focusEditor();
     await page.keyboard.press('Control+A');
     await page.keyboard.press('Control+C');
     await page.keyboard.press('Control+Home');
@@ -447,9 +477,9 @@ function workbench(page) {
   };
 
   return {
-    quickInput, shown, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
+    quickInput, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
     startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, stopSimulation, hover, suggestions, acceptSuggestion,
-    toast, toastButton, convert, buildHex, editorText, output,
+    convert, buildHex, openWritten, formatDocument, editorText, output,
   };
 }
 

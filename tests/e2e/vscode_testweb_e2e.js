@@ -118,24 +118,13 @@ async function main() {
 
     await ui.diagnoseAndFix(timed, result, () => ui.openFromExplorer(args.bad), path.join(args.out, 'testweb-problems.png'));
 
-    // a file the extension wrote, opened with its notification's button: its editor's text
-    const openWritten = async (name) => {
-      await ui.toastButton(new RegExp(`wrote ${name.replace('.', '\\.')}`), 'Open');
-      await ui.shown(name);
-      return ui.editorText();
-    };
-
-    result.built = await timed('build the HEX of the fixed program', ui.buildHex);
-    result.hex = await timed('open the HEX written', () => openWritten('lamp.hex'));
+    result.built = await timed('build the HEX of the fixed program', () => ui.buildHex('lamp.hex'));
+    result.hex = await timed('open the HEX written', () => ui.openWritten('lamp.hex'));
 
     result.formatted = await timed('format a program (Format Document)', async () => {
       await ui.openFromExplorer(args.fmt);
-      const before = await ui.editorText();
-      await ui.runCommand('Format Document');
-      return waitFor('the drawing realigned', async () => {
-        const text = await ui.editorText();
-        return text !== before ? text : false;
-      }, 15000);
+      await ui.formatDocument();
+      return ui.editorText();
     });
 
     await timed('open the program to simulate', () => ui.openFromExplorer(args.sim));
@@ -157,16 +146,17 @@ async function main() {
     await timed('open the LDmicro program', () => ui.openFromExplorer(args.ld));
     const original = await ui.editorText();
     const stem = args.ld.replace(/\.ld$/, '');
-    result.toLadder = await timed('convert it to .ladder', () => ui.convert('text form'));
-    result.ladder = await timed('open the .ladder written', () => openWritten(`${stem}.ladder`));
-    result.toLd = await timed('convert that back to .ld', () => ui.convert("LDmicro's own format"));
+    result.toLadder = await timed('convert it to .ladder', () => ui.convert('text form', `${stem}.ladder`));
+    result.ladder = await timed('open the .ladder written', () => ui.openWritten(`${stem}.ladder`));
+    result.toLd = await timed('convert that back to .ld', () => ui.convert("LDmicro's own format", args.ld));
     result.ld = await timed('open the .ld written over the first', async () => {
-      await openWritten(args.ld);
+      await ui.openWritten(args.ld);
       return waitFor('the .ld rewritten', async () => {
         const text = await ui.editorText();
         return text !== original ? text : false;
       }, 15000);
     });
+    await page.screenshot({ path: path.join(args.out, 'testweb-converted.png') });
 
     result.output = await timed('the "Ladder" output', () => ui.output('Ladder', /starting the language server/));
   }, { out: args.out, shot: 'testweb-failure.png', log, total });

@@ -37,13 +37,13 @@ async function main() {
 
     await ui.diagnoseAndFix(timed, result, () => ui.openFile(args.bad), path.join(args.out, 'vscode-web-problems.png'));
 
-    result.built = await timed('build the HEX of the fixed program', ui.buildHex);
+    result.built = await timed('build the HEX of the fixed program', () => ui.buildHex('lamp.hex'));
 
     await timed('format a program and save it', async () => {
       const file = path.join(args.workspace, args.fmt);
       const before = fs.readFileSync(file, 'utf8');
       await ui.openFile(args.fmt);
-      await ui.runCommand('Format Document');
+      await ui.formatDocument();
       await page.keyboard.press('Control+S');
       await waitFor('the formatted program saved', () => fs.readFileSync(file, 'utf8') !== before, 15000);
     });
@@ -63,7 +63,7 @@ async function main() {
     await page.screenshot({ path: path.join(args.out, 'vscode-web-simulation.png') });
     await timed('stop the simulation', ui.stopSimulation);
 
-    result.converted = await timed('convert to .ld', () => ui.convert("LDmicro's own format"));
+    result.converted = await timed('convert to .ld', () => ui.convert("LDmicro's own format", 'conveyor.ld'));
 
     result.output = await timed('the "Ladder" output', () => ui.output('Ladder', /starting the language server/));
   }, { out: args.out, shot: 'vscode-web-failure.png', log, total });
