@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import subprocess
 import sys
 import zipfile
 from pathlib import Path
@@ -24,10 +23,6 @@ import editor_env as env  # noqa: E402
 pytestmark = pytest.mark.slow
 
 OUT = env.OUT / "web-extension"
-# the only diagnostic is LD102 on the coil Xlamp; renaming it Ylamp everywhere (Replace All) fixes it
-LAMP_BAD = env.LAMP_BAD.replace("Xlamp                      | digital in ", "Xlamp                      | digital out")
-# formatting renumbers the rung and adds the VAR LIST section
-MESSY = env.lamp_fixed().replace("0001||", "0009||")
 WEB_FILES = ("worker.js", "site.zip", "pyodide/pyodide.asm.wasm", "pyodide/python_stdlib.zip",
              "pyodide/pyodide-lock.json")
 
@@ -62,8 +57,8 @@ def web_run(vsix, tmp_path_factory) -> dict:
                 "Chromium is not installed (apt-get install chromium)")
     ws = tmp_path_factory.mktemp("vscode-web") / "workspace"
     ws.mkdir()
-    (ws / "lamp.ladder").write_text(LAMP_BAD)
-    (ws / "messy.ladder").write_text(MESSY)
+    (ws / "lamp.ladder").write_text(env.LAMP_BAD_RENAMED_FIXES)
+    (ws / "messy.ladder").write_text(env.MESSY)
     shutil.copy(env.REPO / "examples" / "conveyor.ladder", ws / "conveyor.ladder")
     shutil.rmtree(OUT, ignore_errors=True)
     OUT.mkdir(parents=True)
@@ -106,9 +101,7 @@ def test_completion_offers_the_other_inputs_on_a_contact(web_run):
 
 def test_format_document_gives_what_ladder_fmt_gives(web_run):
     saved = (web_run["workspace"] / "messy.ladder").read_text()
-    native = subprocess.run([sys.executable, "-m", "ladder", "fmt", "-"], input=MESSY, capture_output=True, text=True,
-                            timeout=60)
-    assert saved != MESSY and saved == native.stdout
+    assert saved != env.MESSY and saved == env.ladder("fmt", "-", text=env.MESSY)
 
 
 def test_a_simulation_paints_the_coil_of_the_toggled_input(web_run):
@@ -121,7 +114,5 @@ def test_conversion_to_ld_writes_the_file_beside_the_program(web_run, tmp_path):
     assert "Ladder: wrote conveyor.ld" in web_run["converted"]
     written = (web_run["workspace"] / "conveyor.ld").read_bytes()
     native = tmp_path / "conveyor.ld"
-    made = subprocess.run([sys.executable, "-m", "ladder", "convert", str(env.REPO / "examples" / "conveyor.ladder"),
-                           str(native)], capture_output=True, text=True, timeout=60)
-    assert made.returncode == 0, made.stderr
+    env.ladder("convert", str(env.REPO / "examples" / "conveyor.ladder"), str(native))
     assert written == native.read_bytes()

