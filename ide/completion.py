@@ -23,7 +23,7 @@ from functools import lru_cache
 
 from lang.instructions import INSTRUCTIONS
 from lang.labels import describe, label
-from lang.loader import LD_KIND
+from lang.loader import LD_KIND, TEXT_KIND
 from lang.model import Element, Span
 from lang.roles import role
 from lang.textform.sections import DIAGRAM, IO
@@ -104,8 +104,22 @@ def _names(document: Document, line: int, col: int, text: str, kind: str | None,
     start, end, typed = _word_range(text, col)
     found = names.candidates(document.program, document.index, kind, field, typed)
     span = Span.at(line, start, end)
-    items = tuple(Item(name, Kind.NAME, role(name)[0], RangeEdit(span, name)) for name in found[:MAX_NAMES])
+    drawn = document.kind == TEXT_KIND
+    items = tuple(Item(name, Kind.NAME, role(name)[0], RangeEdit(_width_kept(span, text, name) if drawn else span, name))
+                  for name in found[:MAX_NAMES])
     return Completions(items, len(found) > MAX_NAMES)
+
+
+def _width_kept(span: Span, text: str, name: str) -> Span:
+    """The word's span, taking as many of the blanks after it as the name is
+    longer (one blank stays), so that what follows on the drawing's line,
+    the next names and the right rail, keeps its column."""
+    longer = len(name) - (span.end_col - span.col)
+    after = text[span.end_col:]
+    blanks = len(after) - len(after.lstrip(" "))
+    if longer <= 0 or blanks - 1 < longer:
+        return span
+    return Span.at(span.line, span.col, span.end_col + longer)
 
 
 # --- the header and the I/O table ------------------------------------------------------------

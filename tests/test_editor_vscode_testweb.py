@@ -97,8 +97,8 @@ def test_hover(testweb_run):
 
 def test_completion_offers_a_name_and_inserts_it(testweb_run):
     """On the contact Xstop, the suggestion Xstart accepted: the contact is Xstart; nothing else
-    changed. (The longer name pushes that name line's right rail one column out: the name's edit
-    replaces the word only, ide/completion.py; Format Document realigns it.)"""
+    changed, the next name and the right rail in their columns (the longer name takes a blank
+    after the word)."""
     assert any(row.startswith("Xstart") for row in testweb_run["completion"]), testweb_run["completion"]
     before = (env.REPO / "examples" / "conveyor.ladder").read_text().split("\n")
     after = testweb_run["completed"].split("\n")
@@ -107,6 +107,7 @@ def test_completion_offers_a_name_and_inserts_it(testweb_run):
     old, new = changed[0]
     assert old.split() == ["||", "Xstart", "Xstop", "Rrun", "||"] and new.split() == ["||", "Xstart", "Xstart", "Rrun", "||"]
     assert new.index("Xstart", 12) == old.index("Xstop")
+    assert new.index("Rrun") == old.index("Rrun") and len(new) == len(old)
 
 
 def test_an_ld_converts_to_ladder_and_back_in_the_in_memory_workspace(testweb_run, tmp_path):

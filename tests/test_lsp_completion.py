@@ -116,3 +116,14 @@ async def test_a_big_program_offers_the_first_names_and_says_there_are_more(clie
         text_document=td(doc.uri), position=types.Position(line=position.line, character=position.character + 2)))
     assert result.is_incomplete  # "Rr" typed: 250 relays fit
     assert [i.label for i in result.items] == relays[:MAX_NAMES]
+
+
+async def test_a_longer_name_accepted_keeps_the_rail_and_the_next_names_in_their_columns(client):
+    doc = Doc(client, new_uri(), example_text())
+    position = doc.find("Xstop", 0)  # "Xs" typed over the contact: Xstart, a letter longer than Xstop
+    line = doc.lines[position.line]
+    items = await complete(client, doc, types.Position(line=position.line, character=position.character + 2))
+    chosen = next(item for item in items if item.label == "Xstart")
+    accepted = accept(doc, chosen).splitlines()[position.line]
+    assert accepted == line.replace("Xstop ", "Xstart", 1)
+    assert len(accepted) == len(line) and accepted.index("Rrun") == line.index("Rrun")
