@@ -479,7 +479,7 @@ function workbench(page) {
   return {
     quickInput, openFile, diagnoseAndFix, openFromExplorer, runCommand, hoverName, hoverText, problems, noProblems, replaceAll, languageMode, statusBar,
     startSimulation, toggleWithLens, scanWithF10, energized, energizedUntil, stopSimulation, hover, suggestions, acceptSuggestion,
-    convert, buildHex, openWritten, formatDocument, editorText, output,
+    toast, convert, buildHex, openWritten, formatDocument, editorText, output,
   };
 }
 

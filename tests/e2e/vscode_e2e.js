@@ -36,7 +36,7 @@ async function main() {
     });
     const page = session.page;
     const { quickInput, openFile, runCommand, hoverName, hoverText, problems, languageMode, startSimulation, toggleWithLens, scanWithF10,
-      energized, energizedUntil } = workbench(page);
+      energizedUntil, stopSimulation, hover, toast } = workbench(page);
 
     // the rows of the watch view as drawn: label (its spaces kept), description, depth in the tree
     const watchRows = (pane) =>
@@ -87,13 +87,7 @@ async function main() {
 
     if (args['no-python']) {
       // no Python on PATH: the notification says what to install
-      result.notification = await timed('the notification that no Python fits', () =>
-        waitFor('the notification', async () => {
-          const toasts = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
-          const hit = toasts.find((t) => /language server needs Python/.test(t));
-          return hit ? hit.replace(/\s+/g, ' ').trim() : false;
-        }, 30000),
-      );
+      result.notification = await timed('the notification that no Python fits', () => toast(/language server needs Python/));
       const shot = path.join(args.out, 'vscode-no-python.png');
       await page.screenshot({ path: shot });
       result.screenshot = shot;
@@ -123,12 +117,7 @@ async function main() {
       await timed('open the program to simulate', () => openFile(simName));
       // the hover of a name: the server's text
       if (!args['no-hover']) {
-        result.hover = await timed('hover a name', async () => {
-          await hoverName('Xstop');
-          return hoverText();
-        });
-        await page.mouse.move(5, 5);
-        await page.keyboard.press('Escape');
+        result.hover = await timed('hover a name', () => hover('Xstop'));
       }
 
       if (!args['no-sim']) {
@@ -196,11 +185,7 @@ async function main() {
           await page.mouse.move(5, 5);
         }
 
-        await timed('stop the simulation', async () => {
-          await page.locator('.monaco-editor .view-lines').first().click({ position: { x: 5, y: 5 } });
-          await page.keyboard.press('Shift+F5');
-          await waitFor('the red elements to go', async () => (await energized()).length === 0, 15000);
-        });
+        await timed('stop the simulation', stopSimulation);
 
         if (args.uart) {
           result.uart = await timed('what the UART sent, in the watch view', () => uartInWatchView(path.basename(args.uart)));
