@@ -76,18 +76,24 @@ class Publisher:
                 self.clear(uri)
             return
         # each diagnostic's JSON is kept for the next publication: an edit changes a few of them,
-        # a big document may have thousands (positions in an ASCII text are the same for the client)
-        known = self.encoded.get(uri, {}) if analysis.positions.ascii else {}
+        # a big document may have thousands. Positions on ASCII lines are the same for the client,
+        # so a diagnostic whose places are all on such lines is encoded once (a document whose VAR
+        # LIST has one accented comment keeps its thousands of diagnostics in the drawing encoded)
+        positions = analysis.positions
+        known = self.encoded.get(uri, {})
         kept: dict[Diagnostic, str] = {}
         texts = []
         for diagnostic in shown(analysis.diagnostics, self.extra.get(uri, [])):
-            text = known.get(diagnostic)
+            plain = positions.ascii or (positions.same_for_client(diagnostic.span) and all(
+                positions.same_for_client(related.span) for related in diagnostic.related))
+            text = known.get(diagnostic) if plain else None
             if text is None:
                 lsp = self.server.protocol._converter.unstructure(to_lsp(self.server, analysis, diagnostic))
                 text = json.dumps(lsp, separators=(",", ":"))
-            kept[diagnostic] = text
+            if plain:
+                kept[diagnostic] = text
             texts.append(text)
-        self.encoded[uri] = kept if analysis.positions.ascii else {}
+        self.encoded[uri] = kept
         texts += [json.dumps(self.server.protocol._converter.unstructure(d), separators=(",", ":"))
                   for source in self.sources for d in source(analysis)]
         self.server.notify(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, Encoded(

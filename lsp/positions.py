@@ -52,6 +52,13 @@ class Positions:
             units += self.codec.impl.code_units_for_char(ch)
         return line, len(text)
 
+    def same_for_client(self, span: Span | None) -> bool:
+        """Whether the span's positions are the client's as they are: the
+        lines it starts and ends on are ASCII (or no conversion applies)."""
+        if self.ascii or span is None:
+            return True
+        return self._line(span.line).isascii() and self._line(span.end_line).isascii()
+
     def range(self, span: Span | None) -> types.Range:
         if span is None:
             start = types.Position(line=0, character=0)
