@@ -215,6 +215,31 @@ def test_a_name_that_comes_into_use_touches_the_rungs_its_rename_is_offered_in_o
         text = render_program(program_after)
 
 
+def test_a_rung_edited_again_runs_the_rules_of_its_names_once(monkeypatch):
+    """A name typed over and back in one rung whose input a thousand rungs
+    read (`Xa`): after the first edit, the rules of the names the edit
+    touched run on the new program only; what they gave on the old one is
+    what the edit before found."""
+    from lang.checks import incremental
+
+    rungs = [[contact("Xa"), contact(f"R{n}", negated=1), coil(f"R{n + 1}")] for n in range(1_000)]
+    rungs[500] = [contact("Xa"), contact("Xb"), coil("R501")]
+    text = render_program(program(*rungs))
+    reader, checker = IncrementalReader("ladder"), Checker()
+    checker.check(reader.read(text)[0], reader.moved)
+    runs = []
+    rules = tuple((lambda check: lambda program, index: runs.append(check) or check(program, index))(rule)
+                  for rule in incremental.BY_SCOPE[incremental.NAMES])
+    monkeypatch.setitem(incremental.BY_SCOPE, incremental.NAMES, rules)
+    for step, (old, new) in enumerate((("Xb ", "Xc "), ("Xc ", "Xb "), ("Xb ", "Xc "), ("Xc ", "Xb "))):
+        text = text.replace(old, new)
+        edited = reader.read(text)[0]
+        runs.clear()
+        found = checker.check(edited, reader.moved)
+        assert checker.last == "edit" and len(runs) == (2 if step == 0 else 1) * len(rules)
+        assert full(found) == full(check_program(edited))
+
+
 @settings(max_examples=150, suppress_health_check=[HealthCheck.too_slow], deadline=None)
 @given(data=st.data())
 def test_edits_checked_now_and_then(data):

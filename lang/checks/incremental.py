@@ -21,6 +21,12 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
   name a fix could offer to rename to it (a rename is offered only to an
   unused name, on the operand's place): of a name used by a thousand rungs,
   the few with a diagnostic there, and none of them indexed again;
+* the NAMES rules' diagnostics of the names an edit checked again are kept
+  with the program they were found on: the next edit, when it checks the
+  same names again (the same rung edited again without a name changing, or
+  a name typed over and back), takes them as the old ones rather than
+  running the rules on the old program (a name a thousand rungs use costs
+  one run of its rules, not two);
 * the PROGRAM rules run on the whole index, every time.
 
 An edit that adds, removes or changes a GOTO, LABEL or subroutine element
@@ -38,7 +44,7 @@ from __future__ import annotations
 from bisect import bisect_right
 from collections import Counter
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from itertools import compress, count
 from operator import is_not
 from types import ModuleType
@@ -102,8 +108,11 @@ class _Edit:
         if (span is None or span.line < self.starts[0]) and \
                 all(related.span.line < self.starts[0] for related in diagnostic.related):
             return diagnostic
-        return replace(diagnostic, span=self._move(span) if span is not None else None,
-                       related=tuple(Related(self._move(r.span), r.message) for r in diagnostic.related))
+        # built, not `replace`d: a line added above a thousand diagnostics moves them all
+        return Diagnostic(diagnostic.code, diagnostic.severity, diagnostic.message,
+                          self._move(span) if span is not None else None,
+                          tuple(Related(self._move(r.span), r.message) for r in diagnostic.related)
+                          if diagnostic.related else (), diagnostic.fixes)
 
     def _move(self, span: Span) -> Span:
         at = bisect_right(self.starts, span.line) - 1
@@ -119,6 +128,9 @@ class Checker:
         self.index: ProgramIndex | None = None  # the last program's
         self._rungs: list[Diagnostic] = []  # the RUNGS rules' diagnostics of the last program
         self._names: list[Diagnostic] = []  # the NAMES rules'
+        # the names the last edit checked again, the program it made, and what the NAMES rules
+        # gave on them: the next edit of the same rung (the same names) takes them as the old ones
+        self._renamed: tuple[frozenset[str], Program, list[Diagnostic]] | None = None
         self.last = ""  # how the last check went: "whole" or "edit" (tests, benchmarks)
 
     def check(self, program: Program, moved: dict[int, tuple[Rung, int]] | None = None,
@@ -141,6 +153,7 @@ class Checker:
         self.index = index = ProgramIndex(program, self.for_build, self.family)
         self._rungs = run(RUNGS, program, index)
         self._names = run(NAMES, program, index)
+        self._renamed = None
 
     def _edit(self, index: ProgramIndex, program: Program, edit: _Edit) -> None:
         self.last = "edit"
@@ -164,7 +177,12 @@ class Checker:
         gone_rungs = Counter(run(RUNGS, old_program, before))
         if offered:
             gone_rungs.update(run(RUNGS, old_program, index.view(offered)))
-        gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
+        names_key = frozenset(names)
+        last = self._renamed
+        if last is not None and last[0] == names_key and last[1] is old_program:
+            gone_names = Counter(map(edit.shifted, last[2]))
+        else:
+            gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
 
         if changed:
             contiguous = changed[-1] - changed[0] + 1 == len(changed)
@@ -175,7 +193,9 @@ class Checker:
         if offered:
             found += run(RUNGS, program, index.view(offered))
         self._rungs = _without(kept_rungs, gone_rungs) + found
-        self._names = _without(map(edit.shifted, self._names), gone_names) + run(NAMES, program, index.of_names(names))
+        found_names = run(NAMES, program, index.of_names(names))
+        self._renamed = (names_key, program, found_names)
+        self._names = _without(map(edit.shifted, self._names), gone_names) + found_names
 
 
 def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Edit | None:
