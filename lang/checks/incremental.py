@@ -239,16 +239,14 @@ def _offering(index: ProgramIndex, names: set[str], diagnostics: list[Diagnostic
     current places) on an operand that holds a name a fix may offer to rename
     to one of `names`: a rename is offered on the operand's own place, and a
     name shared by a thousand rungs has a diagnostic in few of them."""
+    offered = [use for name in names for old in offering(name)
+               for use in (*index.uses.get(old, ()), *index.marks.get(old, ()))]
+    if not offered:
+        return set()
     places = {diagnostic.span for diagnostic in diagnostics}
     places.discard(None)
-    numbers: set[int] = set()
-    for name in names:
-        for old in offering(name):
-            for use in (*index.uses.get(old, ()), *index.marks.get(old, ())):
-                element = use.element
-                if element.span in places or not places.isdisjoint(element.arg_spans.values()):
-                    numbers.add(use.rung)
-    return numbers
+    return {use.rung for use in offered
+            if use.element.span in places or not places.isdisjoint(use.element.arg_spans.values())}
 
 
 def _without(found: Iterable[Diagnostic], gone: Counter) -> list[Diagnostic]:
