@@ -34,7 +34,7 @@ class Positions:
         text = self._line(max(0, line))
         if text.isascii():
             return col
-        return self.codec.client_num_units(text[:col])
+        return int(self.codec.client_num_units(text[:col]))
 
     def from_client(self, position: types.Position) -> tuple[int, int]:
         """(line, column) in characters; a position past the end of its line or
