@@ -17,8 +17,10 @@ from lsprotocol import types
 
 from ide.diagnostics import shown
 from lang.diagnostics import ERROR, INFO, Diagnostic
+from lang.model import Span
 
 from .documents import Analysis
+from .positions import Positions
 from .protocol import Encoded
 
 if TYPE_CHECKING:
@@ -76,18 +78,24 @@ class Publisher:
                 self.clear(uri)
             return
         # each diagnostic's JSON is kept for the next publication: an edit changes a few of them,
-        # a big document may have thousands (positions in an ASCII text are the same for the client)
-        known = self.encoded.get(uri, {}) if analysis.positions.ascii else {}
+        # a big document may have thousands. Positions on ASCII lines are the same for the client,
+        # so a diagnostic whose places are all on such lines is encoded once (a document whose VAR
+        # LIST has one accented comment keeps its thousands of diagnostics in the drawing encoded)
+        positions = analysis.positions
+        known = self.encoded.get(uri, {})
+        uri_json = json.dumps(uri)
         kept: dict[Diagnostic, str] = {}
         texts = []
         for diagnostic in shown(analysis.diagnostics, self.extra.get(uri, [])):
-            text = known.get(diagnostic)
+            plain = positions.ascii or (positions.same_for_client(diagnostic.span) and all(
+                positions.same_for_client(related.span) for related in diagnostic.related))
+            text = known.get(diagnostic) if plain else None
             if text is None:
-                lsp = self.server.protocol._converter.unstructure(to_lsp(self.server, analysis, diagnostic))
-                text = json.dumps(lsp, separators=(",", ":"))
-            kept[diagnostic] = text
+                text = encoded(self.server, analysis, diagnostic, uri_json)
+            if plain:
+                kept[diagnostic] = text
             texts.append(text)
-        self.encoded[uri] = kept if analysis.positions.ascii else {}
+        self.encoded[uri] = kept
         texts += [json.dumps(self.server.protocol._converter.unstructure(d), separators=(",", ":"))
                   for source in self.sources for d in source(analysis)]
         self.server.notify(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, Encoded(
@@ -107,22 +115,28 @@ class Publisher:
 _SEVERITIES = {ERROR: types.DiagnosticSeverity.Error, INFO: types.DiagnosticSeverity.Information}
 
 
-def to_lsp(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic) -> types.Diagnostic:
+def encoded(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic, uri_json: str) -> str:
+    """The diagnostic as LSP's JSON (a `types.Diagnostic` as the protocol's
+    converter writes it), written directly: a line added above a thousand
+    diagnostics moves them all, and each is written again, a tenth of the time
+    the converter takes. `uri_json`: the document's URI as JSON."""
     positions = analysis.positions
-    related = None
-    if diagnostic.related and server.client_supports("text_document", "publish_diagnostics",
-                                                     "related_information"):
-        related = [types.DiagnosticRelatedInformation(
-            location=types.Location(uri=analysis.uri, range=positions.range(r.span)), message=r.message)
-            for r in diagnostic.related if r.span is not None]
-    return types.Diagnostic(
-        range=positions.range(diagnostic.span),
-        message=diagnostic.message,
-        severity=_SEVERITIES.get(diagnostic.severity, types.DiagnosticSeverity.Warning),
-        code=diagnostic.code,
-        source=SOURCE,
-        related_information=related or None,
-    )
+    severity = _SEVERITIES.get(diagnostic.severity, types.DiagnosticSeverity.Warning).value
+    text = (f'{{"range":{_range(positions, diagnostic.span)},"message":{json.dumps(diagnostic.message)},'
+            f'"severity":{severity},"code":{json.dumps(diagnostic.code)},"source":"{SOURCE}"')
+    places = [f'{{"location":{{"uri":{uri_json},"range":{_range(positions, r.span)}}},'
+              f'"message":{json.dumps(r.message)}}}' for r in diagnostic.related if r.span is not None] \
+        if diagnostic.related and server.client_supports("text_document", "publish_diagnostics",
+                                                         "related_information") else []
+    return text + (f',"relatedInformation":[{",".join(places)}]}}' if places else "}")
+
+
+def _range(positions: Positions, span: Span | None) -> str:
+    if span is None:
+        return '{"start":{"line":0,"character":0},"end":{"line":0,"character":0}}'
+    line, end_line = max(0, span.line), max(0, span.end_line)
+    return (f'{{"start":{{"line":{line},"character":{positions.client_column(line, span.col)}}},'
+            f'"end":{{"line":{end_line},"character":{positions.client_column(end_line, span.end_col)}}}}}')
 
 
 def register(server: LadderServer) -> None:

@@ -24,14 +24,17 @@ class Positions:
         return self.lines[line] if 0 <= line < len(self.lines) else ""
 
     def to_client(self, line: int, col: int) -> types.Position:
-        line = max(0, line)
+        return types.Position(line=max(0, line), character=self.client_column(line, col))
+
+    def client_column(self, line: int, col: int) -> int:
+        """A column in characters as the client counts it on that line."""
         col = max(0, col)
         if self.ascii or self.codec is None:
-            return types.Position(line=line, character=col)
-        text = self._line(line)
+            return col
+        text = self._line(max(0, line))
         if text.isascii():
-            return types.Position(line=line, character=col)
-        return types.Position(line=line, character=self.codec.client_num_units(text[:col]))
+            return col
+        return int(self.codec.client_num_units(text[:col]))
 
     def from_client(self, position: types.Position) -> tuple[int, int]:
         """(line, column) in characters; a position past the end of its line or
@@ -51,6 +54,13 @@ class Positions:
                 return line, index
             units += self.codec.impl.code_units_for_char(ch)
         return line, len(text)
+
+    def same_for_client(self, span: Span | None) -> bool:
+        """Whether the span's positions are the client's as they are: the
+        lines it starts and ends on are ASCII (or no conversion applies)."""
+        if self.ascii or span is None:
+            return True
+        return self._line(span.line).isascii() and self._line(span.end_line).isascii()
 
     def range(self, span: Span | None) -> types.Range:
         if span is None:

@@ -189,3 +189,22 @@ async def test_positions_in_the_negotiated_encoding(client):
     assert "coil" in hover_text(result)
     assert result.range.start.character == units(text[:coil], encoding)
     assert result.range.end.character == units(text[:coil + 3], encoding)
+
+
+async def test_a_diagnostic_kept_through_an_edit_is_placed_in_its_lines_new_encoding(client):
+    """The server encodes a diagnostic once while its line is ASCII; the
+    same diagnostic on a line an edit made non-ASCII (`Xa` typed over as
+    `Xé` left of the coil) is placed in the new line's code units, and back."""
+    encoding = client.init_result.capabilities.position_encoding or "utf-16"
+    text = NON_ASCII.replace("Ya        ||", "Xb        ||").replace(
+        "  Ya                         | digital out        |     |       |\n", "")
+    doc = Doc(client, new_uri(), text)
+    at = doc.find("Xa")
+    for typed in ("a", "é", "a"):
+        doc.change(at.line, at.character + 1, at.line, at.character + 2, typed)
+        coil_on_input = [d for d in await doc.diagnostics() if d.code == "LD102"]
+        line = doc.lines[at.line]
+        coil = line.index("Xb")
+        assert [(d.range.start, d.range.end) for d in coil_on_input] == [(
+            types.Position(line=at.line, character=units(line[:coil], encoding)),
+            types.Position(line=at.line, character=units(line[:coil + 2], encoding)))]

@@ -191,6 +191,28 @@ def test_a_new_line_moves_the_rungs_below_without_reading_them():
     assert snapshot((program, problems)) == snapshot(expected)
 
 
+def test_a_name_line_added_twice_reads_the_rung_above_with_it():
+    """A rung's name line copied below itself (the benchmark's line added
+    above catalog's QUAD ENCOD rung) is no longer right above the rung's
+    number: the first copy would continue the rung before, so that rung is
+    read again with it, rather than the whole diagram, and both read as a
+    fresh reader reads them; removing the line reads a window again."""
+    text = big_text()
+    incremental = IncrementalReader("ladder")
+    incremental.read(text)
+    lines = text.splitlines(keepends=True)
+    number = next(i for i in range(len(lines) // 2, len(lines)) if lines[i][:4].strip().isdigit())
+    edited = "".join(lines[:number] + [lines[number - 1]] + lines[number:])
+    assert lines[number - 1].strip("| \n")  # a name line
+    program, problems = incremental.read(edited)
+    assert incremental.last_mode == "window"
+    first, last = incremental.last_window
+    assert last - first < 20
+    assert snapshot((program, problems)) == snapshot(fresh(edited))
+    incremental.read(text)
+    assert incremental.last_mode == "window"
+
+
 def test_details_follow_the_text():
     incremental = IncrementalReader("ladder")
     with_details = EXAMPLE + "\nDETAILS:\n  TON Twarn: adjust -1\n"

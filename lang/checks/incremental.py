@@ -16,9 +16,17 @@ the rules' scopes (`common.RUNGS`, `NAMES`, `PROGRAM`). For the next program:
   diagnostics the old rungs gave are taken out of the kept ones, the new ones
   put in; the same for the NAMES rules on the index of the names the changed
   rungs use (old and new uses); the kept diagnostics of moved rungs move with
-  them. When a name comes into use or goes out of it, the rungs that
-  use a name a fix could offer to rename to it are changed too (a rename is
-  offered only to an unused name);
+  them. When a name comes into use or goes out of it, the RUNGS rules run
+  again on the unchanged rungs that have a diagnostic on an operand holding a
+  name a fix could offer to rename to it (a rename is offered only to an
+  unused name, on the operand's place): of a name used by a thousand rungs,
+  the few with a diagnostic there, and none of them indexed again;
+* the NAMES rules' diagnostics of the names an edit checked again are kept
+  with the program they were found on: the next edit, when it checks the
+  same names again (the same rung edited again without a name changing, or
+  a name typed over and back), takes them as the old ones rather than
+  running the rules on the old program (a name a thousand rungs use costs
+  one run of its rules, not two);
 * the PROGRAM rules run on the whole index, every time.
 
 An edit that adds, removes or changes a GOTO, LABEL or subroutine element
@@ -36,7 +44,7 @@ from __future__ import annotations
 from bisect import bisect_right
 from collections import Counter
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from itertools import compress, count
 from operator import is_not
 from types import ModuleType
@@ -100,8 +108,11 @@ class _Edit:
         if (span is None or span.line < self.starts[0]) and \
                 all(related.span.line < self.starts[0] for related in diagnostic.related):
             return diagnostic
-        return replace(diagnostic, span=self._move(span) if span is not None else None,
-                       related=tuple(Related(self._move(r.span), r.message) for r in diagnostic.related))
+        # built, not `replace`d: a line added above a thousand diagnostics moves them all
+        return Diagnostic(diagnostic.code, diagnostic.severity, diagnostic.message,
+                          self._move(span) if span is not None else None,
+                          tuple(Related(self._move(r.span), r.message) for r in diagnostic.related)
+                          if diagnostic.related else (), diagnostic.fixes)
 
     def _move(self, span: Span) -> Span:
         at = bisect_right(self.starts, span.line) - 1
@@ -117,6 +128,9 @@ class Checker:
         self.index: ProgramIndex | None = None  # the last program's
         self._rungs: list[Diagnostic] = []  # the RUNGS rules' diagnostics of the last program
         self._names: list[Diagnostic] = []  # the NAMES rules'
+        # the names the last edit checked again, the program it made, and what the NAMES rules
+        # gave on them: the next edit of the same rung (the same names) takes them as the old ones
+        self._renamed: tuple[frozenset[str], Program, list[Diagnostic]] | None = None
         self.last = ""  # how the last check went: "whole" or "edit" (tests, benchmarks)
 
     def check(self, program: Program, moved: dict[int, tuple[Rung, int]] | None = None,
@@ -139,6 +153,7 @@ class Checker:
         self.index = index = ProgramIndex(program, self.for_build, self.family)
         self._rungs = run(RUNGS, program, index)
         self._names = run(NAMES, program, index)
+        self._renamed = None
 
     def _edit(self, index: ProgramIndex, program: Program, edit: _Edit) -> None:
         self.last = "edit"
@@ -155,25 +170,32 @@ class Checker:
         came_or_went = {name for name in names
                         if (name in index.uses) != (len(index.uses.get(name, ())) - len(before.uses.get(name, ()))
                                                     + len(after.uses.get(name, ())) > 0)}
-        if came_or_went:
-            offered = _offering(index, came_or_went) - set(changed)
-            if offered:
-                changed = sorted(offered.union(changed))
-                before = index.view(changed)
+        kept_rungs = [edit.shifted(diagnostic) for diagnostic in self._rungs]
+        # unchanged rungs whose diagnostics may offer a rename to a name that came or went:
+        # their RUNGS rules run again, on a view of them before and after (not indexed again)
+        offered = sorted(_offering(index, came_or_went, kept_rungs) - set(changed)) if came_or_went else []
         gone_rungs = Counter(run(RUNGS, old_program, before))
-        gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
+        if offered:
+            gone_rungs.update(run(RUNGS, old_program, index.view(offered)))
+        names_key = frozenset(names)
+        last = self._renamed
+        if last is not None and last[0] == names_key and last[1] is old_program:
+            gone_names = Counter(map(edit.shifted, last[2]))
+        else:
+            gone_names = Counter(run(NAMES, old_program, index.of_names(names)))
 
         if changed:
-            # the new rungs' index, walked once: the view of the changed rungs after the
-            # edit, and the replacement of their range when they are all of it
-            if after.rungs != changed:
-                after = index._part(program, changed)
             contiguous = changed[-1] - changed[0] + 1 == len(changed)
             index.replace(program, changed[0], changed[-1] + 1, before, after if contiguous else None)
         else:
             index.program, index.rungs, index.cache = program, range(len(program.rungs)), {}
-        self._rungs = _kept(self._rungs, gone_rungs, edit) + run(RUNGS, program, after)
-        self._names = _kept(self._names, gone_names, edit) + run(NAMES, program, index.of_names(names))
+        found = run(RUNGS, program, after)
+        if offered:
+            found += run(RUNGS, program, index.view(offered))
+        self._rungs = _without(kept_rungs, gone_rungs) + found
+        found_names = run(NAMES, program, index.of_names(names))
+        self._renamed = (names_key, program, found_names)
+        self._names = _without(map(edit.shifted, self._names), gone_names) + found_names
 
 
 def _edit(old: Program, new: Program, moved: dict[int, tuple[Rung, int]]) -> _Edit | None:
@@ -212,24 +234,30 @@ def _names(index: ProgramIndex) -> set[str]:
     return index.uses.keys() | index.marks.keys()
 
 
-def _offering(index: ProgramIndex, names: set[str]) -> set[int]:
-    """The rungs (numbers) that use a name a fix may offer to rename to one of `names`."""
-    numbers: set[int] = set()
-    for name in names:
-        for old in offering(name):
-            numbers.update(use.rung for use in index.uses.get(old, ()))
-            numbers.update(mark.rung for mark in index.marks.get(old, ()))
-    return numbers
+def _offering(index: ProgramIndex, names: set[str], diagnostics: list[Diagnostic]) -> set[int]:
+    """The rungs (numbers) with a diagnostic (among `diagnostics`, at their
+    current places) on an operand that holds a name a fix may offer to rename
+    to one of `names`: a rename is offered on the operand's own place, and a
+    name shared by a thousand rungs has a diagnostic in few of them."""
+    offered = [use for name in names for old in offering(name)
+               for use in (*index.uses.get(old, ()), *index.marks.get(old, ()))]
+    if not offered:
+        return set()
+    places = {diagnostic.span for diagnostic in diagnostics}
+    places.discard(None)
+    return {use.rung for use in offered
+            if use.element.span in places or not places.isdisjoint(use.element.arg_spans.values())}
 
 
-def _kept(found: Iterable[Diagnostic], gone: Counter, edit: _Edit) -> list[Diagnostic]:
-    """`found`, those of the rungs that moved moved with them, without the
-    diagnostics in `gone` (as many times as they are there; computed on the
-    old rungs, whose moved elements are already at their new places)."""
+def _without(found: Iterable[Diagnostic], gone: Counter) -> list[Diagnostic]:
+    """`found` without the diagnostics in `gone` (as many times as they are
+    there; computed on the old rungs, whose moved elements are already at
+    their new places, as `found` is)."""
+    if not gone:
+        return list(found)
     kept = []
     for diagnostic in found:
-        diagnostic = edit.shifted(diagnostic)
-        if gone and gone[diagnostic] > 0:
+        if gone[diagnostic] > 0:
             gone[diagnostic] -= 1
             continue
         kept.append(diagnostic)

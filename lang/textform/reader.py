@@ -514,7 +514,9 @@ class TextReader:
     # --- an edit ------------------------------------------------------------------------
 
     def _update(self, state: _State, lines: list[str], change: tuple[int, int, int], title_line: int,
-                body_last: int) -> _State | None:
+                body_last: int, low: int | None = None) -> _State | None:
+        """`low`: the first old line of the blocks re-read (default: the line
+        above the change)."""
         p, old_end, delta = change  # changed: old lines [p, old_end), new [p, old_end + delta)
         # the diagram section must stay where it was, the change inside its body, before END
         if title_line != state.title_line or p <= state.title_line:
@@ -530,7 +532,7 @@ class TextReader:
             return None
         blocks = state.blocks
         # blocks touching the changed lines or the lines just around them
-        low, high = p - 1, old_end
+        low, high = p - 1 if low is None else low, old_end
         i0 = bisect_left(blocks, low, key=_last_line)
         i1 = bisect_right(blocks, high, lo=i0, key=_first_line) - 1
         start = blocks[i0 - 1].last + 1 if i0 > 0 else state.title_line + 1
@@ -558,7 +560,9 @@ class TextReader:
         raw_problems: list[Diagnostic] = []
         raw = _raw_blocks(Section(DIAGRAM, -1, window), raw_problems)
         if raw and not at_section_start and not _starts_apart(window):
-            return None
+            # its first rung would continue the rung before (a rung's name line added twice, the
+            # second one not above its number): that rung is read with it, not the whole diagram
+            return self._update(state, lines, change, title_line, body_last, blocks[i0 - 1].first)
         new_blocks = self._blocks(raw)
         kept_after = self._move(blocks[i1 + 1:], delta) if delta else blocks[i1 + 1:]
         problems = [q for q in state.raw_problems if q.span is None or q.span.line < start]
