@@ -14,7 +14,7 @@ from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
-from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, Plan, build, plan_of, reduce
+from .circuit import LEFT, RIGHT, BlockSpans, Edge, Nodes, NotSeriesParallel, Plan, block_spans, build, build_at, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
 
 
@@ -190,14 +190,16 @@ class _RungReader:
             return None
         circuit = self._circuit()
         if skeleton is not None and circuit is not None and self.edges and not self.problems:
-            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)})))
+            first = self._consecutive()
+            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)}),
+                                 None if first is None else block_spans(circuit, first)))
         return circuit
 
     def _cooked(self, recipe: Recipe) -> Node | None:
         """The circuit of a rung whose skeleton was read before, from that
         read's recipe with this rung's own elements (None: an element this
         rung draws is no instruction: read it in full, for its error)."""
-        cells, plan = recipe
+        cells, plan, spans = recipe
         elements: list[Node] = []
         for row, kind, start, end, glyph, top_span in cells:
             top_text = "" if top_span is None else self.lines[row - 1].text[top_span[0]:top_span[1]]
@@ -208,7 +210,16 @@ class _RungReader:
             if element is None:
                 return None
             elements.append(element)
-        return build(plan, elements)
+        first = self._consecutive() if spans is not None else None
+        return build(plan, elements) if first is None or spans is None else build_at(plan, elements, spans, first)
+
+    def _consecutive(self) -> int | None:
+        """The rung's first line when its lines follow one another (as a
+        rung's do), so that its blocks stand where the recipe's stood,
+        counted from it."""
+        lines = self.lines
+        first = lines[0].number
+        return first if lines[-1].number - first == len(lines) - 1 else None
 
     def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
@@ -498,7 +509,8 @@ class _RungReader:
 Tokens = tuple[tuple[str, int, int, str], ...]
 # an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, text on top
 Cell = tuple[int, str, int, int, str, "tuple[int, int] | None"]
-Recipe = tuple[tuple[Cell, ...], Plan]
+# each element's cells, the circuit's plan and its blocks' spans (lang/textform/circuit.py)
+Recipe = tuple[tuple[Cell, ...], Plan, "BlockSpans | None"]
 
 # A rung's skeleton is all its reading depends on but the text above its
 # elements: its symbol lines as drawn, and of every other line its
