@@ -532,36 +532,16 @@ def _remember(skeleton: tuple, recipe: Recipe) -> None:
 
 
 def _skeleton(lines: list[Line], first: int) -> tuple:
-    """The rung's skeleton (above). A line that is not a symbol line stands
-    in it masked: every character the reader's word pattern (TOP_TOKEN) and
-    its connector search do not tell apart becomes `x`, so its words and
-    its connectors stand where they stood, and the connectors between two
-    junctions are blanked out, as the reader finds the text above a glyph.
-    One translation a line rather than a walk of its words."""
-    count = len(lines)
-    claimed: dict[int, list[int]] = {}
-    for row in range(first, count - 3, 3):
-        line = lines[row]
-        for col in _row_pluses(line.text[line.left:line.end], line.left):
-            if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
-                claimed.setdefault(row + 1, []).append(col)
-                claimed.setdefault(row + 2, []).append(col)
-    parts: list[object] = [first, count]
-    for index, line in enumerate(lines):
-        left, end, text = line.left, line.end, line.text
-        if index >= first and (index - first) % 3 == 0:
-            parts.append((left, end, text[left:end]))
-            continue
-        start = left + 2
-        masked = text[start:end].translate(_MASK)
-        blanked = claimed.get(index)
-        if blanked:
-            chars = list(masked)
-            for col in blanked:
-                chars[col - start] = " "
-            masked = "".join(chars)
-        parts.append((left, end, masked))
-    return tuple(parts)
+    """The rung's skeleton (above): where each line's rail stands, its
+    symbol lines as drawn and every line masked: each character the
+    reader's word pattern (TOP_TOKEN) and its connector search do not tell
+    apart becomes `x`, so words and connectors stand where they stood. Two
+    rungs with the same skeleton have the same symbol lines and the same
+    connectors, so the same connectors join their junctions (the reader
+    leaves those out of the text above a glyph). One translation a rung."""
+    return (first, tuple([line.left for line in lines]),
+            "\n".join([line.text[line.left:line.end] for line in lines]).translate(_MASK),
+            "\n".join([line.text[line.left:line.end] for line in lines[first::3]]))
 
 
 # what TOP_TOKEN and the search for `|` tell apart: whitespace, `~[]{}?|`; the rest is `x`
