@@ -16,6 +16,7 @@ from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, BlockSpans, Edge, Nodes, NotSeriesParallel, Plan, block_spans, build, build_at, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
+from .renamed import ElementPlan, remember, renamed
 
 
 @dataclass(slots=True)
@@ -560,9 +561,6 @@ def _row_tokens(drawn: str, left: int) -> Tokens:
                   for match in SYMBOL_TOKEN.finditer(drawn, 2)])
 
 
-ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
-
-
 @lru_cache(maxsize=65536)
 def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, str],
                   top_edges: tuple[str, str]) -> ElementPlan | None:
@@ -572,10 +570,14 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
     instruction draws so; ValueError for a value of the right shape but not
     a valid one. An operand stands where it is a whole word, so the
     characters either side of the glyph and of the text on top take part.
-    Cached: a program repeats its elements, under other names too."""
+    Cached: a program repeats its elements, under other names too (an
+    element that renames one read before: lang/textform/renamed.py)."""
     if kind in ("short", "open"):
         key, drawn = kind.upper(), {}
     else:
+        copy = renamed(glyph, top_text, glyph_edges, top_edges)
+        if copy is not None:
+            return copy
         found = recognise(glyph, top_text)
         if found is None:
             return None
@@ -594,7 +596,11 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
             if found_at >= 0:
                 spans.append((name, on_top, found_at - lo, len(value)))
                 break
-    return key, complete_args(key, drawn), tuple(spans)
+    plan = key, complete_args(key, drawn), tuple(spans)
+    if kind == "glyph":
+        remember(glyph, top_text, glyph_edges, top_edges, plan,
+                 tuple((name, value) for name in _placed_fields(key) if isinstance(value := drawn.get(name), str) and value))
+    return plan
 
 
 @lru_cache(maxsize=16384)
