@@ -78,15 +78,14 @@ def _blank(raw: tuple[int, str, int]) -> bool:
     return not text[left + 2:_end(text, left)].strip()
 
 
-def _line(raw: tuple[int, str, int], label: str | None = None) -> Line:
+def _line(raw: tuple[int, str, int]) -> Line:
     number, text, left = raw
-    return Line(number, text, left, _end(text, left), text[:left].strip() if label is None else label)
+    return Line(number, text, left, _end(text, left))
 
 
 def rung_blocks(section: Section, problems: list[Diagnostic]) -> list[tuple[list[Line], int]]:
     """The lines of each rung and the index of its first symbol line."""
-    return [([_line(raw, labels.get(raw[0])) for raw in raws], symbol)
-            for raws, symbol, labels in _raw_blocks(section, problems)]
+    return [([_line(raw) for raw in raws], symbol) for raws, symbol, _ in _raw_blocks(section, problems)]
 
 
 def _raw_blocks(section: Section, problems: list[Diagnostic]):
@@ -160,7 +159,7 @@ def _trim(block: list, symbol: int | None) -> tuple[list, int]:
     return block, symbol
 
 
-def _block_lines(raws: list[tuple[int, str, int]], labels: dict[int, str]) -> list[Line]:
+def _block_lines(raws: list[tuple[int, str, int]]) -> list[Line]:
     """A rung's lines, each ending at the right rail: where most lines of
     the rung end in `||` (a long name may have eaten its first `|`), else
     where `_line` ends it. Each line stripped once."""
@@ -177,8 +176,7 @@ def _block_lines(raws: list[tuple[int, str, int]], labels: dict[int, str]) -> li
             end = rail + 1
         else:
             end = size - 2 if railed and size - 2 > left else size
-        label = labels.get(number)
-        block.append(Line(number, text, left, end, text[:left].strip() if label is None else label))
+        block.append(Line(number, text, left, end))
     return block
 
 
@@ -497,7 +495,7 @@ class TextReader:
         key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
         cached = self._cache.get(key)
         if cached is None:
-            block = _block_lines(raws, labels)
+            block = _block_lines(raws)
             rung, found = read_rung(block, symbol)
             cached = (rung, found, first)
             self._cache[key] = cached

@@ -28,7 +28,6 @@ class Line:
     text: str
     left: int
     end: int
-    label: str  # what stands in the number field (a rung number, END count)
 
     @property
     def start(self) -> int:
