@@ -5,15 +5,15 @@ cache of element readings by text (lang/textform/rungs.py `_element_plan`)
 misses every copy. Such an element reads as the known one with the new
 names, which is shown here without reading it again:
 
-* the two texts on top have the same characters but for letters, digits and
-  `_`, so the same words at the same columns; each word that differs is,
-  in the known text, the place of an operand read as written (a name: no
-  format, no flag), and its new name stands once in the new text;
+* the two texts on top are the same but for words where the known one's
+  names stand: the places of operands read as written (no format, no flag),
+  each a whole word of letters, digits and `_`; each new name stands once
+  in the new text;
 * the instruction's drawing is the first of the glyph's that reads text on
   top, so `recognise` tries no other one before it; its pattern matches the
   new text with the same groups but for the renamed operands (so every
   other operand reads the same);
-* no other operand whose place the reader looks for holds an old or new
+* no other operand value the reader looks for contains an old or a new
   name: its whole-word places in the text are then those it had.
 
 Then the instruction, the operands (the renamed ones new) and every place
@@ -42,8 +42,7 @@ class _Known:
     plan: ElementPlan
     reader: re.Pattern  # the pattern of the text on top
     groups: dict[str, str | None]  # its groups in the known text
-    words: tuple[tuple[int, int], ...]  # columns of the known text's words
-    renamable: dict[int, tuple[str, int]]  # a name's column -> (its operand, its end)
+    names: tuple[tuple[int, int, str], ...]  # (start, end, operand) of each name a copy may rename, left to right
     searched: tuple[tuple[str, str], ...]  # (operand, value) of every drawn value the reader placed or looked for
 
 
@@ -62,15 +61,15 @@ def remember(glyph: str, top: str, glyph_edges: tuple[str, str], top_edges: tupl
     if found is None:
         return
     reader, plain = found
-    renamable = {col: (name, col + width) for name, on_top, col, width in places if on_top and name in plain}
+    names = sorted((col, col + width, name) for name, on_top, col, width in places
+                   if on_top and name in plain and _WORDS.fullmatch(top, col, col + width))
     match = reader.match(top)
-    if not renamable or match is None:
+    if not names or match is None:
         return
     if len(_KNOWN) >= _MAX_KNOWN:
         _KNOWN.pop(next(iter(_KNOWN)), None)
-    words = tuple(word.span() for word in _WORDS.finditer(top))
     _KNOWN.setdefault(_key(glyph, top, glyph_edges, top_edges),
-                      _Known(top, plan, reader, match.groupdict(), words, renamable, searched))
+                      _Known(top, plan, reader, match.groupdict(), tuple(names), searched))
 
 
 def renamed(glyph: str, top: str, glyph_edges: tuple[str, str], top_edges: tuple[str, str]) -> ElementPlan | None:
@@ -81,19 +80,35 @@ def renamed(glyph: str, top: str, glyph_edges: tuple[str, str], top_edges: tuple
         return None
     old = known.top
     renames: dict[str, tuple[str, str]] = {}
-    for start, end in known.words:
-        word, new = old[start:end], top[start:end]
-        if word == new:
-            continue
-        place = known.renamable.get(start)
-        if place is None or place[1] != end or top.count(new) != 1:
+    at = 0
+    for start, end, name in known.names:
+        if start < at or top[at:start] != old[at:start]:
             return None
-        renames[place[0]] = (word, new)
+        word, new = old[start:end], top[start:end]
+        if word != new:
+            if top.count(new) != 1:
+                return None
+            renames[name] = (word, new)
+        at = end
+    if top[at:] != old[at:]:
+        return None
     match = known.reader.match(top)
-    if match is None or match.groupdict() != {**known.groups, **{name: new for name, (_, new) in renames.items()}}:
+    if match is None:
+        return None
+    groups = match.groupdict()
+    for name, (word, new) in renames.items():
+        if groups[name] != new:
+            return None
+        groups[name] = word
+    if groups != known.groups:
         return None
     for name, value in known.searched:
-        if name not in renames and any(word in value or new in value for word, new in renames.values()):
-            return None
+        if name not in renames:
+            for word, new in renames.values():
+                if word in value or new in value:
+                    return None
     key, args, places = known.plan
-    return key, {**args, **{name: new for name, (_, new) in renames.items()}}, places
+    args = dict(args)
+    for name, (_, new) in renames.items():
+        args[name] = new
+    return key, args, places
