@@ -89,3 +89,23 @@ def test_a_copy_that_names_no_instruction_or_moves_a_name_reads_as_if_alone(monk
     monkeypatch.setattr(rungs, "_RECIPES", {})  # every rung read in full
     alone, alone_problems = read_text(text)
     assert placed(program) == placed(alone) and problems == alone_problems
+
+
+def blocks(node) -> tuple:
+    """A circuit's blocks and elements with their places."""
+    if isinstance(node, Element):
+        return (node.kind, node.span)
+    kids = node.items if isinstance(node, Series) else node.branches
+    return (type(node).__name__, node.span, tuple(blocks(kid) for kid in kids))
+
+
+def test_the_blocks_of_a_copy_stand_where_they_would_read_alone(monkeypatch):
+    """A copy's blocks are placed from its recipe (lang/textform/circuit.py
+    `build_at`): each spans its own elements, as if the rung were reduced."""
+    text = program_text(8)
+    program, _ = read_text(text)
+    monkeypatch.setattr(rungs, "_RECIPES", {})  # every rung read in full
+    alone, _ = read_text(text)
+    assert [blocks(rung.circuit) for rung in program.rungs] == [blocks(rung.circuit) for rung in alone.rungs]
+    spans = [rung.circuit.items[0].span for rung in program.rungs]
+    assert len(set(spans)) == len(spans)  # each copy's own lines

@@ -3,6 +3,8 @@ coil (Rockwell's "duplicate destructive bit")."""
 
 from __future__ import annotations
 
+from itertools import islice
+
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, Related, report
 from ..index import ProgramIndex
@@ -21,16 +23,18 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
         coils = [use for use in uses if use.element.kind == "COIL"]
-        if len(coils) < 2 or len({use.rung for use in coils}) < 2:
+        written = {use.rung for use in coils} if len(coils) > 1 else ()
+        if len(written) < 2:
             continue
-        plain = [use for use in coils if use.element.args.get("type", " ") in PLAIN]
-        if not plain:
+        first = next((use for use in coils if use.element.args.get("type", " ") in PLAIN), None)
+        if first is None:
             continue  # set and reset coils in different rungs: a latch
-        first = plain[0]
-        others = [use for use in coils if use.rung != first.rung]
-        rungs = [str(rung + 1) for rung in sorted({use.rung for use in coils})]
-        listed = f"{', '.join(rungs[:-1])} and {rungs[-1]}" if len(rungs) <= SHOWN else \
-            f"{', '.join(rungs[:SHOWN])} and {len(rungs) - SHOWN} more"
+        # the first few only: a pinned output of thousands of copies has thousands of coils
+        others = list(islice((use for use in coils if use.rung != first.rung), SHOWN))
+        numbers = sorted(written)
+        rungs = [str(rung + 1) for rung in numbers[:SHOWN + 1]]
+        listed = f"{', '.join(rungs[:-1])} and {rungs[-1]}" if len(numbers) <= SHOWN else \
+            f"{', '.join(rungs[:SHOWN])} and {len(numbers) - SHOWN} more"
         found.append(report(
             CODE,
             f"'{name}' is written by coils in rungs {listed}; the "
@@ -39,6 +43,6 @@ def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
             first.span,
             # the first few: a name written in thousands of rungs must not make a diagnostic as long
             *(Related(use.span, f"the {label(use.element)} in {rung_no(use.rung)} also writes '{name}'")
-              for use in others[:SHOWN] if use.span is not None),
+              for use in others if use.span is not None),
         ))
     return found

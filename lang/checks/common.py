@@ -388,7 +388,9 @@ def misnamed(index, code: str, kinds, letter: str, noun: str):
     """Warnings for the elements of `kinds` whose name does not start with
     `letter` (a timer not named T..., a counter not named C...)."""
     found = []
-    for rung, element in index.of_kind(*kinds):
+    # kind by kind: the index's list of each, not a walk of every element for a few kinds
+    # (the diagnostics are sorted by position in the end, and each has its own)
+    for rung, element in (pair for kind in kinds for pair in index.of_kind(kind)):
         name = token(element.args.get("name"))
         if name and not is_literal(name) and not name.startswith(letter):
             found.append(report(

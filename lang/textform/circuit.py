@@ -96,6 +96,8 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
 # program's size are what repeats (a tall rung of thousands of rows is
 # one of a kind and reduces in linear time).
 Plan = tuple[tuple[int, int], ...]  # see plan_of
+BlockSpans = tuple["tuple[int, int, int, int] | None", ...]  # see block_spans
+_new_span = tuple.__new__  # a Span without its Python-level __new__
 _PLANS: dict[tuple[int, ...], Plan] = {}
 _MAX_PLANS = 1024
 _MAX_PLANNED_EDGES = 128
@@ -117,24 +119,43 @@ def _remember(shape: tuple[int, ...], plan: Plan) -> None:
     _PLANS[shape] = plan
 
 
-def plan_of(root: Node, index: dict[int, int]) -> Plan:
-    """The circuit as steps in post-order: (_LEAF, the element's index among
-    the edges), (_SERIES or _PARALLEL, how many nodes built before it are its
-    children). A loop, not recursion: blocks may nest a thousand deep."""
-    steps: list[tuple[int, int]] = []
+def _post_order(root: Node) -> list[tuple[Node, int]]:
+    """The circuit's nodes in post-order, each with its number of children
+    (0: an element). A loop, not recursion: blocks may nest a thousand deep."""
+    found: list[tuple[Node, int]] = []
     stack: list[tuple[Node, bool]] = [(root, False)]
     while stack:
         node, children_done = stack.pop()
         if isinstance(node, Series | Parallel) and not children_done:
             stack.append((node, True))
             stack.extend((child, False) for child in reversed(children(node)))
-        elif isinstance(node, Series):
-            steps.append((_SERIES, len(node.items)))
-        elif isinstance(node, Parallel):
-            steps.append((_PARALLEL, len(node.branches)))
         else:
-            steps.append((_LEAF, index[id(node)]))
-    return tuple(steps)
+            found.append((node, len(children(node)) if isinstance(node, Series | Parallel) else 0))
+    return found
+
+
+def plan_of(root: Node, index: dict[int, int]) -> Plan:
+    """The circuit as steps in post-order: (_LEAF, the element's index among
+    the edges), (_SERIES or _PARALLEL, how many nodes built before it are its
+    children)."""
+    return tuple((_SERIES, count) if isinstance(node, Series) else (_PARALLEL, count) if isinstance(node, Parallel)
+                 else (_LEAF, index[id(node)]) for node, count in _post_order(root))
+
+
+def block_spans(root: Node, line: int) -> BlockSpans | None:
+    """Each step of the circuit's plan (plan_of): a block's span with its
+    lines counted from `line`, None for an element; None when a block has
+    no span."""
+    found: list[tuple[int, int, int, int] | None] = []
+    for node, _ in _post_order(root):
+        if not isinstance(node, Series | Parallel):
+            found.append(None)
+            continue
+        span = node.span
+        if span is None:
+            return None
+        found.append((span[0] - line, span[1], span[2] - line, span[3]))
+    return tuple(found)
 
 
 def build(plan: Plan, leaves: list[Node]) -> Node:
@@ -152,6 +173,25 @@ def build(plan: Plan, leaves: list[Node]) -> Node:
         for part in parts[1:]:
             span = span.union(part.span)
         built.append(Series(parts, span) if step == _SERIES else Parallel(parts, span))
+    return built[0]
+
+
+def build_at(plan: Plan, leaves: list[Node], spans: BlockSpans, line: int) -> Node:
+    """`build`'s circuit where each block's span is known (block_spans of a
+    rung drawn the same way, its lines counted from `line`): a rung made
+    from a recipe (lang/textform/rungs.py) places its blocks without joining
+    their children's spans."""
+    built: list[Node] = []
+    new = _new_span
+    for (step, value), span in zip(plan, spans):
+        if step == _LEAF:
+            built.append(leaves[value])
+            continue
+        parts = built[-value:]
+        del built[-value:]
+        assert span is not None  # a block's step has its span
+        placed = new(Span, (line + span[0], span[1], line + span[2], span[3]))
+        built.append(Series(parts, placed) if step == _SERIES else Parallel(parts, placed))
     return built[0]
 
 

@@ -130,6 +130,34 @@ def recognise(glyph: str, top: str) -> tuple[str, tuple] | None:
     return None
 
 
+def named_reader(glyph: str, key: str) -> tuple[re.Pattern, frozenset[str]] | None:
+    """For an element of `key` drawn with this glyph and text on top: the
+    pattern that reads that text and its fields that hold a name as written
+    (no format, no flag), when `key`'s drawing is the first of the glyph's
+    that reads text on top, so that `recognise` tries no other before it
+    whatever the names; else None."""
+    for candidate, _ in _glyph_reads(glyph):
+        if candidate.top_re is None:
+            continue  # skipped by `recognise` under text on top
+        if candidate.instruction.key != key:
+            return None
+        return candidate.top_re, _plain_fields(key)
+    return None
+
+
+_PLAIN_KINDS = ("bit", "var", "name", "operand")  # read as written (lang.drawing._parse_field)
+
+
+@cache
+def _plain_fields(key: str) -> frozenset[str]:
+    instruction = INSTRUCTIONS[key]
+    top, kinds = instruction.top, instruction.kinds
+    assert top is not None  # an instruction that reads text on top draws some
+    return frozenset(part[1] for template in top.templates() for part in template.parts()
+                     if part[0] == "field" and part[2] is None and part[3] is None
+                     and kinds.get(part[1], "operand").rstrip("?") in _PLAIN_KINDS)
+
+
 def complete_args(key: str, drawn: dict) -> dict:
     """All fields of the instruction in table order: drawn values, and the
     defaults of what the drawing does not show."""

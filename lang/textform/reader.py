@@ -59,12 +59,13 @@ def _read_header(section: Section, settings: Settings, problems: list[Diagnostic
 
 # --- the diagram ---------------------------------------------------------------------
 
+_RAIL = re.compile(r"\|[|+]")
+
+
 def _rail(text: str) -> int:
     """Column of the left rail: the first `|` followed by `|` or `+` (-1: none)."""
-    left = text.find("|")
-    while left >= 0 and text[left + 1:left + 2] not in ("|", "+"):
-        left = text.find("|", left + 1)
-    return left
+    found = _RAIL.search(text)
+    return -1 if found is None else found.start()
 
 
 def _end(text: str, left: int) -> int:
@@ -77,15 +78,14 @@ def _blank(raw: tuple[int, str, int]) -> bool:
     return not text[left + 2:_end(text, left)].strip()
 
 
-def _line(raw: tuple[int, str, int], label: str | None = None) -> Line:
+def _line(raw: tuple[int, str, int]) -> Line:
     number, text, left = raw
-    return Line(number, text, left, _end(text, left), text[:left].strip() if label is None else label)
+    return Line(number, text, left, _end(text, left))
 
 
 def rung_blocks(section: Section, problems: list[Diagnostic]) -> list[tuple[list[Line], int]]:
     """The lines of each rung and the index of its first symbol line."""
-    return [([_line(raw, labels.get(raw[0])) for raw in raws], symbol)
-            for raws, symbol, labels in _raw_blocks(section, problems)]
+    return [([_line(raw) for raw in raws], symbol) for raws, symbol, _ in _raw_blocks(section, problems)]
 
 
 def _raw_blocks(section: Section, problems: list[Diagnostic]):
@@ -106,7 +106,8 @@ def _raw_blocks(section: Section, problems: list[Diagnostic]):
             blocks.append((current, symbol))
         current, symbol = [], None
 
-    raws = [(number, text, _rail(text)) for number, text in section.lines]
+    search = _RAIL.search  # _rail, inline: every line of the diagram
+    raws = [(number, text, -1 if (rail := search(text)) is None else rail.start()) for number, text in section.lines]
     for position, raw in enumerate(raws):
         number, text, left = raw
         if left < 0:
@@ -158,19 +159,25 @@ def _trim(block: list, symbol: int | None) -> tuple[list, int]:
     return block, symbol
 
 
-def _fix_right_rail(block: list[Line]) -> None:
-    """The right rail is where most lines of the rung end in `||`; a long name
-    may have eaten its first `|`."""
-    stripped_lines = [line.text.rstrip() for line in block]
+def _block_lines(raws: list[tuple[int, str, int]]) -> list[Line]:
+    """A rung's lines, each ending at the right rail: where most lines of
+    the rung end in `||` (a long name may have eaten its first `|`), else
+    where `_line` ends it. Each line stripped once."""
+    stripped_lines = [raw[1].rstrip() for raw in raws]
     ends = [len(stripped) - 2 for stripped in stripped_lines if stripped.endswith("||")]
-    if not ends:
-        return
-    rail = ends[0] if ends.count(ends[0]) == len(ends) else Counter(ends).most_common(1)[0][0]
-    for line, stripped in zip(block, stripped_lines):
-        if len(stripped) - 2 == rail and stripped.endswith("||"):
-            line.end = rail
-        elif len(stripped) - 1 == rail + 1 and stripped.endswith("|"):
-            line.end = rail + 1
+    rail = None if not ends else ends[0] if ends.count(ends[0]) == len(ends) else Counter(ends).most_common(1)[0][0]
+    block = []
+    for (number, text, left), stripped in zip(raws, stripped_lines):
+        size = len(stripped)
+        railed = stripped.endswith("||")
+        if rail is not None and size - 2 == rail and railed:
+            end = rail
+        elif rail is not None and size - 1 == rail + 1 and stripped.endswith("|"):
+            end = rail + 1
+        else:
+            end = size - 2 if railed and size - 2 > left else size
+        block.append(Line(number, text, left, end))
+    return block
 
 
 # --- the tables after the diagram ---------------------------------------------------------
@@ -465,8 +472,7 @@ class TextReader:
         key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
         cached = self._cache.get(key)
         if cached is None:
-            block = [_line(raw, labels.get(raw[0])) for raw in raws]
-            _fix_right_rail(block)
+            block = _block_lines(raws)
             rung, found = read_rung(block, symbol)
             cached = (rung, found, first)
             self._cache[key] = cached

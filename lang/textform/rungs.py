@@ -14,8 +14,9 @@ from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
 from ..model import Element, Node, Rung, Series, Span
 from .alignment import MISPLACED, Move, misplaced
-from .circuit import LEFT, RIGHT, Edge, Nodes, NotSeriesParallel, Plan, build, plan_of, reduce
+from .circuit import LEFT, RIGHT, BlockSpans, Edge, Nodes, NotSeriesParallel, Plan, block_spans, build, build_at, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
+from .renamed import ElementPlan, remember, renamed
 
 
 @dataclass(slots=True)
@@ -27,7 +28,6 @@ class Line:
     text: str
     left: int
     end: int
-    label: str  # what stands in the number field (a rung number, END count)
 
     @property
     def start(self) -> int:
@@ -190,14 +190,16 @@ class _RungReader:
             return None
         circuit = self._circuit()
         if skeleton is not None and circuit is not None and self.edges and not self.problems:
-            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)})))
+            first = self._consecutive()
+            _remember(skeleton, (tuple(self.cells), plan_of(circuit, {id(e.node): i for i, e in enumerate(self.edges)}),
+                                 None if first is None else block_spans(circuit, first)))
         return circuit
 
     def _cooked(self, recipe: Recipe) -> Node | None:
         """The circuit of a rung whose skeleton was read before, from that
         read's recipe with this rung's own elements (None: an element this
         rung draws is no instruction: read it in full, for its error)."""
-        cells, plan = recipe
+        cells, plan, spans = recipe
         elements: list[Node] = []
         for row, kind, start, end, glyph, top_span in cells:
             top_text = "" if top_span is None else self.lines[row - 1].text[top_span[0]:top_span[1]]
@@ -208,7 +210,16 @@ class _RungReader:
             if element is None:
                 return None
             elements.append(element)
-        return build(plan, elements)
+        first = self._consecutive() if spans is not None else None
+        return build(plan, elements) if first is None or spans is None else build_at(plan, elements, spans, first)
+
+    def _consecutive(self) -> int | None:
+        """The rung's first line when its lines follow one another (as a
+        rung's do), so that its blocks stand where the recipe's stood,
+        counted from it."""
+        lines = self.lines
+        first = lines[0].number
+        return first if lines[-1].number - first == len(lines) - 1 else None
 
     def _tokens(self, row: int) -> Tokens:
         line = self.lines[row]
@@ -498,7 +509,8 @@ class _RungReader:
 Tokens = tuple[tuple[str, int, int, str], ...]
 # an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, text on top
 Cell = tuple[int, str, int, int, str, "tuple[int, int] | None"]
-Recipe = tuple[tuple[Cell, ...], Plan]
+# each element's cells, the circuit's plan and its blocks' spans (lang/textform/circuit.py)
+Recipe = tuple[tuple[Cell, ...], Plan, "BlockSpans | None"]
 
 # A rung's skeleton is all its reading depends on but the text above its
 # elements: its symbol lines as drawn, and of every other line its
@@ -520,36 +532,16 @@ def _remember(skeleton: tuple, recipe: Recipe) -> None:
 
 
 def _skeleton(lines: list[Line], first: int) -> tuple:
-    """The rung's skeleton (above). A line that is not a symbol line stands
-    in it masked: every character the reader's word pattern (TOP_TOKEN) and
-    its connector search do not tell apart becomes `x`, so its words and
-    its connectors stand where they stood, and the connectors between two
-    junctions are blanked out, as the reader finds the text above a glyph.
-    One translation a line rather than a walk of its words."""
-    count = len(lines)
-    claimed: dict[int, list[int]] = {}
-    for row in range(first, count - 3, 3):
-        line = lines[row]
-        for col in _row_pluses(line.text[line.left:line.end], line.left):
-            if lines[row + 1].char(col) == "|" and lines[row + 2].char(col) == "|" and lines[row + 3].char(col) == "+":
-                claimed.setdefault(row + 1, []).append(col)
-                claimed.setdefault(row + 2, []).append(col)
-    parts: list[object] = [first, count]
-    for index, line in enumerate(lines):
-        left, end, text = line.left, line.end, line.text
-        if index >= first and (index - first) % 3 == 0:
-            parts.append((left, end, text[left:end]))
-            continue
-        start = left + 2
-        masked = text[start:end].translate(_MASK)
-        blanked = claimed.get(index)
-        if blanked:
-            chars = list(masked)
-            for col in blanked:
-                chars[col - start] = " "
-            masked = "".join(chars)
-        parts.append((left, end, masked))
-    return tuple(parts)
+    """The rung's skeleton (above): where each line's rail stands, its
+    symbol lines as drawn and every line masked: each character the
+    reader's word pattern (TOP_TOKEN) and its connector search do not tell
+    apart becomes `x`, so words and connectors stand where they stood. Two
+    rungs with the same skeleton have the same symbol lines and the same
+    connectors, so the same connectors join their junctions (the reader
+    leaves those out of the text above a glyph). One translation a rung."""
+    return (first, tuple([line.left for line in lines]),
+            "\n".join([line.text[line.left:line.end] for line in lines]).translate(_MASK),
+            "\n".join([line.text[line.left:line.end] for line in lines[first::3]]))
 
 
 # what TOP_TOKEN and the search for `|` tell apart: whitespace, `~[]{}?|`; the rest is `x`
@@ -568,9 +560,6 @@ def _row_tokens(drawn: str, left: int) -> Tokens:
                   for match in SYMBOL_TOKEN.finditer(drawn, 2)])
 
 
-ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
-
-
 @lru_cache(maxsize=65536)
 def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, str],
                   top_edges: tuple[str, str]) -> ElementPlan | None:
@@ -580,10 +569,14 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
     instruction draws so; ValueError for a value of the right shape but not
     a valid one. An operand stands where it is a whole word, so the
     characters either side of the glyph and of the text on top take part.
-    Cached: a program repeats its elements, under other names too."""
+    Cached: a program repeats its elements, under other names too (an
+    element that renames one read before: lang/textform/renamed.py)."""
     if kind in ("short", "open"):
         key, drawn = kind.upper(), {}
     else:
+        copy = renamed(glyph, top_text, glyph_edges, top_edges)
+        if copy is not None:
+            return copy
         found = recognise(glyph, top_text)
         if found is None:
             return None
@@ -602,7 +595,11 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
             if found_at >= 0:
                 spans.append((name, on_top, found_at - lo, len(value)))
                 break
-    return key, complete_args(key, drawn), tuple(spans)
+    plan = key, complete_args(key, drawn), tuple(spans)
+    if kind == "glyph":
+        remember(glyph, top_text, glyph_edges, top_edges, plan,
+                 tuple((name, value) for name in _placed_fields(key) if isinstance(value := drawn.get(name), str) and value))
+    return plan
 
 
 @lru_cache(maxsize=16384)
