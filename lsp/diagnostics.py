@@ -132,11 +132,11 @@ def encoded(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic, ur
 
 
 def _range(positions: Positions, span: Span | None) -> str:
-    if span is None:
-        return '{"start":{"line":0,"character":0},"end":{"line":0,"character":0}}'
-    line, end_line = max(0, span.line), max(0, span.end_line)
-    return (f'{{"start":{{"line":{line},"character":{positions.client_column(line, span.col)}}},'
-            f'"end":{{"line":{end_line},"character":{positions.client_column(end_line, span.end_col)}}}}}')
+    """`Positions.range` written as JSON."""
+    place = positions.range(span)
+    start, end = place.start, place.end
+    return (f'{{"start":{{"line":{start.line},"character":{start.character}}},'
+            f'"end":{{"line":{end.line},"character":{end.character}}}}}')
 
 
 def register(server: LadderServer) -> None:

@@ -33,12 +33,7 @@ DIAGNOSTICS = [
 
 def expected(positions: Positions, diagnostic: Diagnostic, related: bool) -> dict:
     """The LSP diagnostic built with lsprotocol's types, written by its converter."""
-    def place(span: Span | None) -> types.Range:
-        if span is None:
-            return types.Range(start=types.Position(line=0, character=0), end=types.Position(line=0, character=0))
-        return types.Range(start=positions.to_client(span.line, span.col),
-                           end=positions.to_client(span.end_line, span.end_col))
-
+    place = positions.range
     places = [types.DiagnosticRelatedInformation(location=types.Location(uri=URI, range=place(r.span)),
                                                  message=r.message) for r in diagnostic.related] if related else []
     return converters.get_converter().unstructure(types.Diagnostic(
