@@ -132,11 +132,9 @@ def encoded(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic, ur
 
 
 def _range(positions: Positions, span: Span | None) -> str:
-    """`Positions.range` written as JSON."""
-    place = positions.range(span)
-    start, end = place.start, place.end
-    return (f'{{"start":{{"line":{start.line},"character":{start.character}}},'
-            f'"end":{{"line":{end.line},"character":{end.character}}}}}')
+    line, character, end_line, end_character = positions.place(span)
+    return (f'{{"start":{{"line":{line},"character":{character}}},'
+            f'"end":{{"line":{end_line},"character":{end_character}}}}}')
 
 
 def register(server: LadderServer) -> None:

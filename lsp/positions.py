@@ -63,10 +63,17 @@ class Positions:
         return self._line(span.line).isascii() and self._line(span.end_line).isascii()
 
     def range(self, span: Span | None) -> types.Range:
+        line, character, end_line, end_character = self.place(span)
+        return types.Range(start=types.Position(line=line, character=character),
+                           end=types.Position(line=end_line, character=end_character))
+
+    def place(self, span: Span | None) -> tuple[int, int, int, int]:
+        """The span's range as the client counts it (start line, character,
+        end line, character), without lsprotocol's objects; no span: 0, 0, 0, 0."""
         if span is None:
-            start = types.Position(line=0, character=0)
-            return types.Range(start=start, end=start)
-        return types.Range(start=self.to_client(span.line, span.col), end=self.to_client(span.end_line, span.end_col))
+            return 0, 0, 0, 0
+        return (max(0, span.line), self.client_column(span.line, span.col),
+                max(0, span.end_line), self.client_column(span.end_line, span.end_col))
 
     def line_range(self, first: int, last_exclusive: int) -> types.Range:
         """Whole lines [first, last_exclusive)."""
