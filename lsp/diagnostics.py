@@ -118,7 +118,7 @@ _SEVERITIES = {ERROR: types.DiagnosticSeverity.Error, INFO: types.DiagnosticSeve
 def encoded(server: LadderServer, analysis: Analysis, diagnostic: Diagnostic, uri_json: str) -> str:
     """The diagnostic as LSP's JSON (a `types.Diagnostic` as the protocol's
     converter writes it), written directly: a line added above a thousand
-    diagnostics moves them all, and each is written again, a tenth of the time
+    diagnostics moves them all, and each is written again, a fifth of the time
     the converter takes. `uri_json`: the document's URI as JSON."""
     positions = analysis.positions
     severity = _SEVERITIES.get(diagnostic.severity, types.DiagnosticSeverity.Warning).value
