@@ -20,6 +20,7 @@ from lang.instructions import INSTRUCTIONS
 from lang.model import Element, Node, Parallel, Program, Rung, Series, Span, rung_circuit
 from lang.textform.details import name_columns
 from lang.textform.formatter import existing_width
+from lang.textform.reader import number_field
 from lang.textform.sections import DETAILS, IO, PROPERTIES, VARS
 from lang.textform.writer import diagram_width, margin_width, render_rung
 from lang.values import is_name
@@ -123,16 +124,13 @@ def drawn_lines(rung: Rung, number: int, frame: Frame) -> list[str]:
 def drawn_number(locator: Locator, index: int) -> int:
     """The number rung `index` is drawn with, else its place: a rung drawn
     again keeps its number, by which DETAILS lines name it (docs/format.md).
-    When both of its first two lines show a number, the second's is its own
-    (the first's is an empty rung's, drawn on this rung's name line)."""
+    The reader's rule, `number_field`."""
     extent = locator.rung_lines(index)
-    number = index + 1
-    if extent is not None:
-        for line in locator.lines[extent[0]:min(extent[0] + 2, extent[1] + 1)]:
-            label = line.split("|", 1)[0].strip()
-            if label.isdigit():
-                number = int(label)
-    return number
+    if extent is None:
+        return index + 1
+    found = number_field([line.split("|", 1)[0].strip()
+                          for line in locator.lines[extent[0]:min(extent[0] + 2, extent[1] + 1)]])
+    return index + 1 if found is None else found[1]
 
 
 def unused_number(locator: Locator, wanted: int) -> int:

@@ -57,10 +57,12 @@ class Origin:
 
 
 def _moved(span: Span | None, lines: int) -> Span | None:
-    return span if span is None else _new_span(Span, (span[0] + lines, span[1], span[2] + lines, span[3]))
+    return span if span is None else new_span(Span, (span[0] + lines, span[1], span[2] + lines, span[3]))
 
 
-_new_span = tuple.__new__  # a Span without its Python-level __new__ (thousands are made at once)
+# a Span without its Python-level __new__ (an open places every element, an edit moves rungs):
+# new_span(Span, (line, col, end_line, end_col))
+new_span = tuple.__new__
 
 
 class _Placed:
@@ -109,7 +111,7 @@ class Element(_Placed):
         if origin is None or not origin.line:
             return self._arg_spans
         lines = origin.line
-        return {key: _new_span(Span, (at[0] + lines, at[1], at[2] + lines, at[3]))
+        return {key: new_span(Span, (at[0] + lines, at[1], at[2] + lines, at[3]))
                 for key, at in self._arg_spans.items()}
 
     @arg_spans.setter

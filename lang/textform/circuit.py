@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-from ..model import Node, Parallel, Series, Span, children
+from ..model import Node, Parallel, Series, Span, children, new_span
 
 LEFT = 0
 RIGHT = 1
@@ -97,7 +97,6 @@ def reduce(edges: list[Edge], nodes: Nodes) -> Node:
 # one of a kind and reduces in linear time).
 Plan = tuple[tuple[int, int], ...]  # see plan_of
 BlockSpans = tuple["tuple[int, int, int, int] | None", ...]  # see block_spans
-_new_span = tuple.__new__  # a Span without its Python-level __new__
 _PLANS: dict[tuple[int, ...], Plan] = {}
 _MAX_PLANS = 1024
 _MAX_PLANNED_EDGES = 128
@@ -182,7 +181,7 @@ def build_at(plan: Plan, leaves: list[Node], spans: BlockSpans, line: int) -> No
     from a recipe (lang/textform/rungs.py) places its blocks without joining
     their children's spans."""
     built: list[Node] = []
-    new = _new_span
+    new = new_span
     for (step, value), span in zip(plan, spans):
         if step == _LEAF:
             built.append(leaves[value])

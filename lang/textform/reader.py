@@ -17,10 +17,24 @@ from operator import attrgetter
 
 from .. import codes
 from ..diagnostics import Diagnostic, error
-from ..model import Element, Node, Origin, Parallel, PinAssignment, Program, PropertyLine, Rung, Series, Settings, Span, children
+from ..model import (
+    Element,
+    Node,
+    Origin,
+    Parallel,
+    PinAssignment,
+    Program,
+    PropertyLine,
+    Rung,
+    Series,
+    Settings,
+    Span,
+    children,
+    new_span,
+)
 from . import details
 from .alignment import shifted
-from .rungs import Line, _new_span, read_rung
+from .rungs import Line, read_rung
 from .sections import DETAILS, DIAGRAM, IO, PROPERTIES, SETTINGS, VARS, Section, split_sections
 
 HEADER_RE = re.compile(
@@ -81,6 +95,18 @@ def _blank(raw: tuple[int, str, int]) -> bool:
 def _line(raw: tuple[int, str, int]) -> Line:
     number, text, left = raw
     return Line(number, text, left, _end(text, left))
+
+
+def number_field(labels: Sequence[str]) -> tuple[int, int] | None:
+    """(offset, number) of a rung's number, from the number fields of its
+    first two lines: the last that shows one (when both do, the first is an
+    empty rung's, which LDmicro draws on the next rung's name line); None:
+    the rung is not numbered."""
+    found = None
+    for offset, label in enumerate(labels[:2]):
+        if label.isdigit():
+            found = offset, int(label)
+    return found
 
 
 def rung_blocks(section: Section, problems: list[Diagnostic]) -> list[tuple[list[Line], int]]:
@@ -462,12 +488,8 @@ class TextReader:
 
     def _block(self, raws, symbol: int, labels: dict) -> _Block:
         first, last = raws[0][0], raws[-1][0]
-        number_at = number = None
-        for offset, raw in enumerate(raws[:2]):
-            label = labels.get(raw[0], raw[1][:raw[2]].strip())
-            if label.isdigit():
-                number_at, number = offset, int(label)
-                break
+        numbered = number_field([labels.get(raw[0], raw[1][:raw[2]].strip()) for raw in raws[:2]])
+        number_at, number = numbered if numbered is not None else (None, None)
         overrides = tuple((raw[0] - first, labels[raw[0]]) for raw in raws if raw[0] in labels)
         key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
         cached = self._cache.get(key)
@@ -493,7 +515,7 @@ class TextReader:
         Rungs at the new places, which `moved` records; the rung cache follows
         them. A line added above moves every rung below: one loop, locals."""
         cache, moved, recorded = self._cache, self.moved, []
-        new_span, span_class, block_class, move = _new_span, Span, _Block, move_circuit
+        make, span_class, block_class, move = new_span, Span, _Block, move_circuit
         for block in blocks:
             rung = block.rung
             circuit = rung.circuit
@@ -504,7 +526,7 @@ class TextReader:
                 origin.line += delta
             span = rung.span
             new = rung.__class__(circuit, None if span is None else
-                                 new_span(span_class, (span[0] + delta, span[1], span[2] + delta, span[3])))
+                                 make(span_class, (span[0] + delta, span[1], span[2] + delta, span[3])))
             problems = [shifted(p, delta) for p in block.problems] if block.problems else block.problems
             first = block.first + delta
             recorded.append(block_class(first, block.last + delta, new, problems, block.number_at, block.key,
@@ -713,14 +735,14 @@ def _end_line(lines: list[tuple[int, str]]) -> int | None:
 
 
 def shift_span(span: Span | None, delta: int) -> Span | None:
-    return span if span is None or not delta else _new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
+    return span if span is None or not delta else new_span(Span, (span[0] + delta, span[1], span[2] + delta, span[3]))
 
 
 def _shift_element(node: Element, delta: int) -> Element:
     if not delta:  # a copy in place (DETAILS sets values on it): spans are immutable, shared
         return Element(node.kind, dict(node.args), node.span, dict(node.arg_spans))
     return Element(node.kind, dict(node.args), shift_span(node.span, delta),
-                   {k: _new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3])) for k, v in node.arg_spans.items()})
+                   {k: new_span(Span, (v[0] + delta, v[1], v[2] + delta, v[3])) for k, v in node.arg_spans.items()})
 
 
 def _shift_node(node: Node, delta: int) -> Node:

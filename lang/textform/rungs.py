@@ -12,7 +12,7 @@ from functools import cache, lru_cache
 from .. import codes
 from ..diagnostics import Diagnostic, Fix, Related, Replace, error
 from ..instructions import INSTRUCTIONS
-from ..model import Element, Node, Rung, Series, Span
+from ..model import Element, Node, Rung, Series, Span, new_span
 from .alignment import MISPLACED, Move, misplaced
 from .circuit import LEFT, RIGHT, BlockSpans, Edge, Nodes, NotSeriesParallel, Plan, block_spans, build, build_at, plan_of, reduce
 from .elements import GLYPH_RE, complete_args, recognise
@@ -51,7 +51,6 @@ SYMBOL_TOKEN = re.compile(
 )
 TOP_TOKEN = re.compile(r"~*[\[{][^\[\]{}]*[\]}]\S*|\?[^?]*\?|\S+")
 COMMENT_RE = re.compile(r"\s*; ?(.*?)\s*\Z")
-_new_span = tuple.__new__  # a Span without its Python-level __new__: an open places every element, an edit moves rungs
 
 
 @dataclass(slots=True)
@@ -394,7 +393,7 @@ class _RungReader:
             return None
         key, args, places = plan
         number = line.number
-        new = _new_span
+        new = new_span
         if top_span is None:
             span = new(Span, (number, start, number, end))
         else:
