@@ -18,8 +18,6 @@ apart).
 from __future__ import annotations
 
 import math
-import os
-import subprocess
 import sys
 import tempfile
 from dataclasses import replace
@@ -30,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
 from intelhex import IntelHex
+from ldmicro_oracle import ldmicro_compile
 from test_compiler_harness import LDMICRO_HEX, load
 
 import compiler
@@ -39,7 +38,6 @@ from lang.ldfile import write_ld_bytes
 from lang.model import PinAssignment
 
 WORDS_TARGET, CYCLES_TARGET = 0.5, 0.4
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 PROGRAMS = {  # program: LDmicro's image in the corpus
     "reg/tests/contacts.ld": "reg_tests_contacts",
     "sample/blink.ld": "sample_blink",
@@ -84,7 +82,7 @@ def ldmicro_image(program, folder: Path) -> Path:
     source = folder / "variant.ld"
     source.write_bytes(write_ld_bytes(program))
     out = folder / "variant.hex"
-    subprocess.run([str(LDMICRO), "compile", str(source), str(out)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, out, check=True)
     return out
 
 

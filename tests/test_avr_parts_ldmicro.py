@@ -10,12 +10,11 @@ the LDmicro step of .ci/run (marker `ldmicro`)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from ldmicro_oracle import ldmicro_compile
 from test_avr_parts import moved
 from test_compiler_corpus import TIMERS, TRAFFIC, same_edges_as_ldmicro
 from test_compiler_harness import load, needs_simavr
@@ -26,20 +25,16 @@ from lang.ldfile import write_ld
 
 pytestmark = pytest.mark.ldmicro
 
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 PROGRAMS = {"sample/traffic.ld": (TRAFFIC, 1000), "reg/tests/timers-counters.ld": (TIMERS, 1300)}
 
 
 def ldmicros_hex(program, folder: Path) -> Path:
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
     refused: list = []
     source = folder / "program.ld"
     source.write_bytes(write_ld(program, diagnostics=refused).replace("\n", "\r\n").encode("cp1252"))
     assert not refused, refused
     image = folder / "ldmicro.hex"
-    done = subprocess.run([str(LDMICRO), "compile", str(source), str(image)], capture_output=True, text=True,
-                          timeout=300)
+    done = ldmicro_compile(source, image)
     assert done.returncode == 0 and "Compiled okay" in done.stdout, done.stdout + done.stderr
     return image
 

@@ -32,11 +32,10 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import os
-import subprocess
 from pathlib import Path
 
 import pytest
+from ldmicro_oracle import ldmicro_compile
 from test_compiler_harness import CORPUS
 
 import compiler
@@ -47,7 +46,6 @@ from lang.loader import load_path
 pytestmark = pytest.mark.ldmicro
 
 PROGRAMS = Path(__file__).parent / "pic16_programs"
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 COMPARED = ["p16f877_contacts_coils", "p16f877_edges", "p16f877_timers", "p16f877_timer_vars", "p16f877_counters",
             "p16f877_compare", "p16f877_bits_bus", "p16f877_cycle_timer0"]
 # the corpus programs (../shared/corpus/ldmicro) of those instructions
@@ -56,13 +54,6 @@ CORPUS_COMPARED = ["Tests/test-leds.ld", "reg/tests/contacts.ld", "reg/tests/int
                    "sample/ctu_ctd_ctc_ctr.ld", "sample/traffic.ld"]
 # LDmicro's C compiles with warnings of its own (unused labels, implicit declarations): not -Werror
 LDMICRO_FLAGS = ("-std=c99", "-O1", "-w", "-Dmain=ldmicro_main")
-
-
-@pytest.fixture(scope="module")
-def ldmicro():
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
-    return LDMICRO
 
 
 def _script(program, stimulus: dict) -> list[str]:
@@ -77,7 +68,7 @@ def _script(program, stimulus: dict) -> list[str]:
     return lines
 
 
-def _outputs(program_path: Path, stimulus: dict, ldmicro: Path, folder: Path):
+def _outputs(program_path: Path, stimulus: dict, folder: Path):
     program, _ = load_path(program_path)
     for _, element in program.elements():
         element.args.update({k: "ldreg" + v[1:] for k, v in element.args.items() if str(v).startswith("#")})
@@ -94,9 +85,7 @@ def _outputs(program_path: Path, stimulus: dict, ldmicro: Path, folder: Path):
     theirs = folder / "ldmicro"
     theirs.mkdir(parents=True)
     (theirs / "program.ld").write_text(write_ld(program, "0.2"), encoding="latin-1")
-    done = subprocess.run([str(ldmicro), "compile", str(theirs / "program.ld"), str(theirs / "program.c")],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
+    ldmicro_compile(theirs / "program.ld", theirs / "program.c", check=True)
     (theirs / "ladder.h").write_text(c_run.default_ladder_h())
     (theirs / "UsrLib.h").write_text("")
     ldmicros = c_run.build(ours, "program", outputs, settings.cycle_us, settings.baud, theirs,
@@ -105,9 +94,9 @@ def _outputs(program_path: Path, stimulus: dict, ldmicro: Path, folder: Path):
 
 
 @pytest.mark.parametrize("name", COMPARED)
-def test_outputs_switch_at_the_same_scan_as_ldmicros_c(name, ldmicro, tmp_path):
+def test_outputs_switch_at_the_same_scan_as_ldmicros_c(name, tmp_path):
     stimulus = json.loads((PROGRAMS / f"{name}.json").read_text())
-    outputs, mine, ldmicros = _outputs(PROGRAMS / f"{name}.ld", stimulus, ldmicro, tmp_path)
+    outputs, mine, ldmicros = _outputs(PROGRAMS / f"{name}.ld", stimulus, tmp_path)
     assert outputs
     differences = [f"scan {scan}: ours {a}, LDmicro's {b} ({' '.join(outputs)})"
                    for scan, (a, b) in enumerate(zip(mine, ldmicros)) if a != b]
@@ -123,9 +112,9 @@ def _toggling(path: Path) -> dict:
 
 
 @pytest.mark.parametrize("name", CORPUS_COMPARED)
-def test_corpus_outputs_switch_as_ldmicros_c(name, ldmicro, tmp_path):
+def test_corpus_outputs_switch_as_ldmicros_c(name, tmp_path):
     path = CORPUS / name
-    outputs, mine, ldmicros = _outputs(path, _toggling(path), ldmicro, tmp_path)
+    outputs, mine, ldmicros = _outputs(path, _toggling(path), tmp_path)
     assert outputs
     differences = [f"scan {scan}: ours {a}, LDmicro's {b} ({' '.join(outputs)})"
                    for scan, (a, b) in enumerate(zip(mine, ldmicros)) if a != b]

@@ -12,12 +12,11 @@ the LDmicro step of .ci/run (marker `ldmicro`)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
 from pathlib import Path
 
 import pytest
 from builders import coil, contact, el, program
+from ldmicro_oracle import ldmicro_compile
 
 from compiler.run import gpsim, simavr
 from lang.ldfile import write_ld
@@ -26,7 +25,6 @@ from lang.textform.writer import render_program
 
 pytestmark = pytest.mark.ldmicro
 
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 
 # part: (Xa, Xb, Yled, Yb, the PWM output P); LDmicro's PIC16 PWM needs Timer0 for the cycle
 PARTS = {
@@ -37,13 +35,6 @@ PARTS = {
     "Microchip PIC16F877 40-PDIP": {"Xa": "RB0", "Xb": "RA0", "Yled": "RD0", "Yb": "RC1", "P": "RC2"},
     "Microchip PIC16F628 18-PDIP or 18-SOIC": {"Xa": "RB0", "Xb": "RA0", "Yled": "RB5", "Yb": "RA2", "P": "RB3"},
 }
-
-
-@pytest.fixture(scope="module")
-def ldmicro():
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
-    return LDMICRO
 
 
 def _written(mcu: str, pins: dict[str, str], folder: Path) -> Path:
@@ -63,11 +54,10 @@ def _written(mcu: str, pins: dict[str, str], folder: Path) -> Path:
 
 
 @pytest.mark.parametrize("mcu", sorted(PARTS))
-def test_ldmicro_compiles_pins_given_by_port_bit(mcu, ldmicro, tmp_path):
+def test_ldmicro_compiles_pins_given_by_port_bit(mcu, tmp_path):
     source = _written(mcu, PARTS[mcu], tmp_path)
     image = tmp_path / "pins.hex"
-    done = subprocess.run([str(ldmicro), "compile", str(source), str(image)], capture_output=True, text=True,
-                          timeout=300)
+    done = ldmicro_compile(source, image)
     assert done.returncode == 0 and "Compiled okay" in done.stdout, done.stdout + done.stderr
     assert image.stat().st_size > 0 and image.read_text().startswith(":")
 
@@ -86,10 +76,10 @@ def _run(image: Path, mcu: str, pins: dict[str, str]):
 
 
 @pytest.mark.parametrize("mcu", ["Atmel AVR ATmega328 28-PDIP", "Microchip PIC16F877 40-PDIP"])
-def test_ldmicros_image_drives_the_pin_the_text_named(mcu, ldmicro, tmp_path):
+def test_ldmicros_image_drives_the_pin_the_text_named(mcu, tmp_path):
     pins = PARTS[mcu]
     source = _written(mcu, pins, tmp_path)
     image = tmp_path / "pins.hex"
-    subprocess.run([str(ldmicro), "compile", str(source), str(image)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, image, check=True)
     run = _run(image, mcu, pins)
     assert run.level_at(pins["Yled"], 90) == 0 and run.level_at(pins["Yled"], 199) == 1

@@ -11,11 +11,11 @@ and its refusals."""
 
 from __future__ import annotations
 
-import subprocess
 from dataclasses import replace
 
 import pytest
-from test_avr_parts_ldmicro import LDMICRO, ldmicros_hex
+from ldmicro_oracle import ldmicro_compile
+from test_avr_parts_ldmicro import ldmicros_hex
 from test_compiler_corpus import same_edges_as_ldmicro
 from test_compiler_harness import Event, differential, needs_simavr
 from test_compiler_peripherals import ld
@@ -132,12 +132,9 @@ def test_npulse_off_makes_the_same_edges_as_ldmicros_hex(tmp_path):
 
 
 def _ldmicros_refusal(text: str, tmp_path) -> str:
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
     source = tmp_path / "program.ld"
     source.write_bytes(write_ld(ld(text)).replace("\n", "\r\n").encode("cp1252"))
-    done = subprocess.run([str(LDMICRO), "compile", str(source), str(tmp_path / "ldmicro.hex")],
-                          capture_output=True, text=True, timeout=300)
+    done = ldmicro_compile(source, tmp_path / "ldmicro.hex")
     assert done.returncode == 1 and "Compiled okay" not in done.stdout
     return done.stdout + done.stderr
 

@@ -17,12 +17,12 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
 from pathlib import Path
 
 import pytest
+from ldmicro_oracle import ldmicro_compile
 from test_compiler_budget import measure_pic
-from test_pic16_oracle import LDMICRO, _run
+from test_pic16_oracle import _run
 from test_pic16_parts import hex_words
 
 import compiler
@@ -35,28 +35,21 @@ PROGRAMS = Path(__file__).parent / "pic10_programs"
 NAMES = ["p10f200_basic", "p10f202_arith"]
 
 
-@pytest.fixture(scope="module")
-def ldmicro():
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
-    return LDMICRO
-
-
-def _ldmicro_hex(ldmicro: Path, source: Path, folder: Path) -> Path:
+def _ldmicro_hex(source: Path, folder: Path) -> Path:
     theirs = folder / "ldmicro.hex"
-    subprocess.run([str(ldmicro), "compile", str(source), str(theirs)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, theirs, check=True)
     return theirs
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_same_outputs_as_ldmicros_image(name, ldmicro, tmp_path):
+def test_same_outputs_as_ldmicros_image(name, tmp_path):
     source = PROGRAMS / f"{name}.ld"
     stimulus = json.loads((PROGRAMS / f"{name}.json").read_text())
     program, _ = load_path(source)
     build = compiler.build(program)
     ours = tmp_path / "ours.hex"
     build.write(ours)
-    theirs = _ldmicro_hex(ldmicro, source, tmp_path)
+    theirs = _ldmicro_hex(source, tmp_path)
     outputs, mine = _run(ours, program, build.device, stimulus)
     _, reference = _run(theirs, program, build.device, stimulus)
     cycle_ms = program.settings.cycle_us / 1000
@@ -80,7 +73,7 @@ def _pin3_free(source: Path) -> str:
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_fewer_words_and_shorter_scans_than_ldmicros_image(name, ldmicro, tmp_path):
+def test_fewer_words_and_shorter_scans_than_ldmicros_image(name, tmp_path):
     text = _pin3_free(PROGRAMS / f"{name}.ld")
     (tmp_path / "free.ld").write_text(text)
     program, _ = load_path(tmp_path / "free.ld")
@@ -88,7 +81,7 @@ def test_fewer_words_and_shorter_scans_than_ldmicros_image(name, ldmicro, tmp_pa
     build, ours = measure_pic(program, [(0.0, "GP3", 1), (0.0, "GP0", 1)], 300, tmp_path)
     (tmp_path / "duty.ld").write_text(text.replace("YPlcCycleDuty:0", "YPlcCycleDuty:1").replace(
         "IO LIST\n", "IO LIST\n    YPlcCycleDuty at 3 0 0\n"))
-    theirs_hex = _ldmicro_hex(ldmicro, tmp_path / "duty.ld", tmp_path)
+    theirs_hex = _ldmicro_hex(tmp_path / "duty.ld", tmp_path)
     run = gpsim.run_pic(theirs_hex, build.device.part, 4_000_000, inputs=[(0.0, "GP3", 1), (0.0, "GP0", 1)],
                         watch=["GP1"], until_ms=300, uart=False, timeout=120)
     edges = [(c, v) for c, _, v in run.edge_cycles]

@@ -33,11 +33,10 @@ Left out, with the reason:
 from __future__ import annotations
 
 import json
-import os
-import subprocess
 from pathlib import Path
 
 import pytest
+from ldmicro_oracle import ldmicro_compile
 
 import compiler
 from compiler.pic16.part import Part
@@ -47,18 +46,10 @@ from lang.loader import load_path
 pytestmark = pytest.mark.ldmicro
 
 PROGRAMS = Path(__file__).parent / "pic16_programs"
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 COMPARED = ["p16f877_contacts_coils", "p16f877_edges", "p16f877_timers", "p16f877_timer_vars", "p16f877_counters",
             "p16f877_compare", "p16f877_flow", "p16f877_persist", "p16f877_adc", "p16f877_pages",
             "p16f877_cycle_timer0", "p16f877_cycle_softdiv", "p16f628_basic", "p16f88_basic", "p16f887_basic",
             "p16f877_stepper"]
-
-
-@pytest.fixture(scope="module")
-def ldmicro():
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
-    return LDMICRO
 
 
 def _run(hex_path: Path, program, device, stimulus: dict):
@@ -73,7 +64,7 @@ def _run(hex_path: Path, program, device, stimulus: dict):
 
 
 @pytest.mark.parametrize("name", COMPARED)
-def test_same_outputs_as_ldmicros_image(name, ldmicro, tmp_path):
+def test_same_outputs_as_ldmicros_image(name, tmp_path):
     source = PROGRAMS / f"{name}.ld"
     stimulus = json.loads((PROGRAMS / f"{name}.json").read_text())
     program, _ = load_path(source)
@@ -81,7 +72,7 @@ def test_same_outputs_as_ldmicros_image(name, ldmicro, tmp_path):
     ours = tmp_path / "ours.hex"
     build.write(ours)
     theirs = tmp_path / "ldmicro.hex"
-    subprocess.run([str(ldmicro), "compile", str(source), str(theirs)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, theirs, check=True)
     device = build.device
     outputs, mine = _run(ours, program, device, stimulus)
     _, reference = _run(theirs, program, device, stimulus)
@@ -99,7 +90,7 @@ def test_same_outputs_as_ldmicros_image(name, ldmicro, tmp_path):
     assert text[:common] == expected[:common] and abs(len(text) - len(expected)) <= 2
 
 
-def test_sleep_stops_the_scans_where_ldmicros_image_stops(ldmicro, tmp_path):
+def test_sleep_stops_the_scans_where_ldmicros_image_stops(tmp_path):
     """p16f877_sleep: both images stop scanning in the first scan that sees
     Xsleep (Yalive, toggled every scan, makes its last edge within a cycle of
     LDmicro's and none after it). LDmicro's first scan comes a cycle late, so
@@ -112,7 +103,7 @@ def test_sleep_stops_the_scans_where_ldmicros_image_stops(ldmicro, tmp_path):
     ours = tmp_path / "ours.hex"
     build.write(ours)
     theirs = tmp_path / "ldmicro.hex"
-    subprocess.run([str(ldmicro), "compile", str(source), str(theirs)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, theirs, check=True)
     _, mine = _run(ours, program, build.device, stimulus)
     _, reference = _run(theirs, program, build.device, stimulus)
     slept_at = next(t for t, name, v in stimulus["inputs"] if name == "Xsleep" and v)
@@ -122,7 +113,7 @@ def test_sleep_stops_the_scans_where_ldmicros_image_stops(ldmicro, tmp_path):
     assert abs(last_ours - last_theirs) <= cycle_ms
 
 
-def _ports_each_scan(name: str, ldmicro: Path, folder: Path, ports: tuple[str, ...]):
+def _ports_each_scan(name: str, folder: Path, ports: tuple[str, ...]):
     """The program's ports sampled 7 ms into every scan of our image and of
     LDmicro's (a cycle later: its first scan comes a cycle late) under the
     stimulus, whose changes come 3 ms into a cycle, away from the scans."""
@@ -133,7 +124,7 @@ def _ports_each_scan(name: str, ldmicro: Path, folder: Path, ports: tuple[str, .
     ours = folder / "ours.hex"
     build.write(ours)
     theirs = folder / "ldmicro.hex"
-    subprocess.run([str(ldmicro), "compile", str(source), str(theirs)], check=True, capture_output=True, timeout=300)
+    ldmicro_compile(source, theirs, check=True)
     pin = {n: build.device.pin(a.pin).name for n, a in program.pins.items()}
     cycle_ms = program.settings.cycle_us / 1000
     scans = int(stimulus["until_ms"] / cycle_ms) - 2
@@ -148,7 +139,7 @@ def _ports_each_scan(name: str, ldmicro: Path, folder: Path, ports: tuple[str, .
     return run(ours, 0), run(theirs, cycle_ms)
 
 
-def test_segment_decoders_give_ldmicros_patterns(ldmicro, tmp_path):
+def test_segment_decoders_give_ldmicros_patterns(tmp_path):
     """p16f877_segments: the 9/14/16-segment patterns of every font index, and
     past the table, one result a scan on PORTD (low byte), PORTC and PORTB
     (high byte) with the result's number on PORTA. LDmicro's code passes each
@@ -156,24 +147,24 @@ def test_segment_decoders_give_ldmicros_patterns(ldmicro, tmp_path):
     3- or 4-byte variable (results 2 and 3) loses segment a2 (bit 16) and
     repeats bit 15 above it: there only the low two bytes must agree
     (docs/semantics.md)."""
-    mine, reference = _ports_each_scan("p16f877_segments", ldmicro, tmp_path, ("porta", "portb", "portc", "portd"))
+    mine, reference = _ports_each_scan("p16f877_segments", tmp_path, ("porta", "portb", "portc", "portd"))
     assert len(mine) == len(reference) >= 1300  # the source 0..179 meets each of the 9 results (gcd 1)
     for scan, (a, b) in enumerate(zip(mine, reference)):
         same = a[2:] == b[2:] if a[0] in (2, 3) else a == b
         assert a[0] == b[0] and same, f"scan {scan}: ours {a}, LDmicro's {b} (PORTA, B, C, D)"
 
 
-def test_quadrature_encoder_counts_as_ldmicros(ldmicro, tmp_path):
+def test_quadrature_encoder_counts_as_ldmicros(tmp_path):
     """p16f877_quad: two QUAD_ENCOD on one encoder turned both ways, one with
     a Z input and 8 counts a revolution: the counters (PORTC, PORTD) and the
     direction and pulse outputs (PORTA) the same every scan."""
-    mine, reference = _ports_each_scan("p16f877_quad", ldmicro, tmp_path, ("porta", "portc", "portd"))
+    mine, reference = _ports_each_scan("p16f877_quad", tmp_path, ("porta", "portc", "portd"))
     assert mine == reference and len(set(mine)) > 50
 
 
-def test_pulser_pulses_as_ldmicros(ldmicro, tmp_path):
+def test_pulser_pulses_as_ldmicros(tmp_path):
     """p16f877_pulser: PULSER as a square wave, with equal and unequal high
     and low times ramped up and down, and with a counter variable, started
     and restarted by its input: the outputs (PORTA, RE0) the same every scan."""
-    mine, reference = _ports_each_scan("p16f877_pulser", ldmicro, tmp_path, ("porta", "porte"))
+    mine, reference = _ports_each_scan("p16f877_pulser", tmp_path, ("porta", "porte"))
     assert mine == reference and len(set(mine)) > 8

@@ -16,12 +16,11 @@ tests run in the LDmicro step of .ci/run (marker `ldmicro`)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from ldmicro_oracle import installed, ldmicro_compile
 from test_compiler_harness import load
 from test_pic16_compiler import LDMICRO as EVENTS
 from test_pic16_compiler import _analog, _stimuli
@@ -35,7 +34,6 @@ from lang.model import PinAssignment
 
 pytestmark = pytest.mark.ldmicro
 
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 PROGRAMS = ("reg/tests/contacts.ld", "sample/blink.ld", "sample/serial.ld", "sample/pic-adc.ld", "sample/swatch1.ld",
             "reg/tests/misc-ops.ld", "reg/tests/pic16-hw.ld")
 BANNER = 45  # swatch1's first FORMATTED_STRING: past it the text depends on gpsim's UART pace
@@ -83,7 +81,7 @@ def ldmicro_image(program, folder: Path) -> tuple[Path | None, str]:
     source, out = folder / "variant.ld", folder / "variant.hex"
     source.write_bytes(write_ld_bytes(program))
     out.unlink(missing_ok=True)
-    run = subprocess.run([str(LDMICRO), "compile", str(source), str(out)], capture_output=True, text=True, timeout=300)
+    run = ldmicro_compile(source, out)
     said = " ".join((run.stdout + run.stderr).split())[-160:]
     return (out if run.returncode == 0 and out.exists() else None), said
 
@@ -91,8 +89,7 @@ def ldmicro_image(program, folder: Path) -> tuple[Path | None, str]:
 @pytest.mark.parametrize("part", ["pic12f1840", "pic16f1824"])
 @pytest.mark.parametrize("path", sorted(EVENTS))
 def test_same_output_edges_and_text_as_ldmicros_hex(path, part, tmp_path):
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
+    installed()
     program = moved(load(path), part)
     if program is None:
         assert (path, part) == ("reg/tests/contacts.ld", "pic12f1840")  # eight pins; the PIC12F1840 has six
@@ -130,8 +127,7 @@ def test_ldmicros_pwm_on_its_other_pins_of_the_pic16f1824_lands_on_the_ccps_firs
     """LDmicro offers PWM on pins 6 (RC4) and 8 (RC2) but leaves the CCP's
     steering at reset: its image drives RC5 (pin 5) and RC3 (pin 7) instead,
     and the chosen pin stays low. Ours drives the chosen pin (PSTRxCON)."""
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
+    installed()
     from builders import el, move
     from builders import program as build_program
 

@@ -5,13 +5,11 @@ tests/pic16_programs/p16f877_stepper in test_pic16_oracle.py)."""
 
 from __future__ import annotations
 
-import os
 import re
-import subprocess
-from pathlib import Path
 
 import pytest
 from builders import coil, contact, el, move, program
+from ldmicro_oracle import ldmicro_compile
 from pic16_harness import differential as pic_differential
 from test_compiler_encoding import needs_avr_gcc, reassemble
 from test_compiler_harness import Event, differential, needs_simavr
@@ -21,8 +19,6 @@ import compiler
 from lang.ldfile import write_ld
 from lang.semantics.acceleration import steps
 from lang.sim import Simulator
-
-LDMICRO = Path(os.environ.get("LDMICRO", "/opt/ldmicro/ldmicro"))
 
 # (size, graph, period: 0 for a variable) -> the table LDmicro 5.4.1.1's C
 # output declares for it (`const unsigned char Ui_sa[9] = {...}`)
@@ -192,17 +188,13 @@ def test_same_step_pulses_as_ldmicros_avr_hex(tmp_path):
 def test_tables_are_those_of_ldmicros_c(tmp_path):
     """LDmicro's C output declares each STEPPER's table: ours are the same
     for every curve, literal and variable periods."""
-    if not LDMICRO.exists():
-        pytest.fail(f"LDmicro is not installed at {LDMICRO}: run ../shared/tools/ldmicro/build.sh")
     cases = [(n, g, p) for g in range(1, 7) for n, p in ((5, 1), (37, 3), (100, 0), (64, 11))]
     rungs = [[contact("Xgo"), el("STEPPER", name=f"s{i}", max="500", p=str(p) if p else "per", size=n, graph=g,
                                  coil="Ya")] for i, (n, g, p) in enumerate(cases)]
     prog = program(*rungs, sizes={"per": 2}, compiler="ANSIC")
     source = tmp_path / "program.ld"
     source.write_text(write_ld(prog, "0.2"), encoding="latin-1")
-    done = subprocess.run([str(LDMICRO), "compile", str(source), str(tmp_path / "program.c")],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stdout + done.stderr
+    ldmicro_compile(source, tmp_path / "program.c", check=True)
     c = (tmp_path / "program.c").read_text(encoding="latin-1")
     for i, key in enumerate(cases):
         found = re.search(rf"^const unsigned \w+ Ui_s{i}\[\d+\] = \{{([^}}]*)\}};", c, re.M)
