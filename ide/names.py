@@ -152,34 +152,48 @@ def candidates(program: Program, index: ProgramIndex, kind: str | None, field_na
     if typed:
         # the names are sorted: those starting with what is typed are one run of them
         names = names[bisect_left(names, typed):bisect_left(names, typed + "\U0010ffff")]
-    return [n for n in names if n[:1] in allowed] if allowed is not None else list(names)
+    return _starting_with(names, allowed) if allowed is not None else list(names)
 
 
-# symbol table -> (the names it had, those that are names to offer, sorted)
-_NAMES: WeakKeyDictionary[ProgramIndex, tuple[set[str], list[str]]] = WeakKeyDictionary()
+# symbol table -> (the program it was last asked for, the names it had, those that are
+# names to offer, sorted)
+_NAMES: WeakKeyDictionary[ProgramIndex, tuple[Program, set[str], list[str]]] = WeakKeyDictionary()
 
 
 def _known_names(program: Program, index: ProgramIndex) -> list[str]:
     """Every name the program uses, assigns a pin or sizes, sorted: kept
     from one version to the next, the names that came or went put in or
     taken out (completion is asked while typing, and a program of 18,000
-    rungs has 36,000 names: sorting them takes longer than the edit)."""
-    every = index.uses.keys() | program.pins.keys() | program.var_sizes.keys()
+    rungs has 36,000 names: sorting them takes longer than the edit), and
+    kept as they are while the program is the same (the set of them alone
+    takes 3 ms to make)."""
     kept = _NAMES.get(index)
-    if kept is not None and kept[0] == every:
-        return kept[1]
+    if kept is not None and kept[0] is program and index.program is program:
+        return kept[2]
+    every = index.uses.keys() | program.pins.keys() | program.var_sizes.keys()
     if kept is None:
         names = sorted(n for n in every if _offered(n))
+    elif kept[1] == every:
+        names = kept[2]
     else:
-        names = kept[1][:]
-        for gone in kept[0] - every:
+        names = kept[2][:]
+        for gone in kept[1] - every:
             if _offered(gone):
                 del names[bisect_left(names, gone)]
-        for new in every - kept[0]:
+        for new in every - kept[1]:
             if _offered(new):
                 insort(names, new)
-    _NAMES[index] = (every, names)
+    _NAMES[index] = (program, every, names)
     return names
+
+
+def _starting_with(names: list[str], firsts: set[str]) -> list[str]:
+    """The sorted `names` whose first character is one of `firsts`: one run
+    of them for each (a filter of 36,000 names took 2.6 ms)."""
+    found: list[str] = []
+    for first in sorted(firsts):
+        found += names[bisect_left(names, first):bisect_left(names, chr(ord(first) + 1))]
+    return found
 
 
 def _offered(name: str) -> bool:

@@ -202,3 +202,6 @@ def test_the_names_offered_follow_the_edits_that_bring_names_in_and_out():
     assert checker.last == "edit"
     assert offered(CONVEYOR, "Rru") == ["Rrun"]
     assert candidates(checker.index.program, checker.index, "COIL", "name", "X") == []  # a coil drives no input
+    every = offered(CONVEYOR, "")  # nothing typed: every bit name, in order, asked twice of one version
+    assert every == sorted(every) and "Rrun" in every and {name[0] for name in every} <= set("XYRPIM")
+    assert candidates(checker.index.program, checker.index, "CONTACTS", "name", "") == every
