@@ -5,6 +5,7 @@ original's pins."""
 
 from __future__ import annotations
 
+import subprocess
 import sys
 from pathlib import Path
 
@@ -94,3 +95,24 @@ def test_the_cpu_mode_times_the_open_and_every_edit_of_a_shape():
     samples = cpu_run(shape.text(RUNGS), RUNGS, 4)
     assert {measure: len(taken) for measure, taken in samples.items()} == {"open": 1, "edit": 4, "line": 4, "table": 4}
     assert all(ms >= 0 for taken in samples.values() for ms in taken)
+
+
+@pytest.mark.slow
+def test_the_benchmark_runs_at_the_wire_against_a_baseline_checkout():
+    """One small run of the whole benchmark, this checkout's server against
+    the server of a baseline checkout (here the same one): a row for each,
+    the baseline's first, and the diagnostics its client read at the open as
+    many as the checks find in the same text."""
+    root = Path(__file__).resolve().parents[1]
+    shape = next(s for s in CORPUS_SHAPES if s.name.endswith("Tests/test-spi.ld"))
+    done = subprocess.run([sys.executable, str(root / "benchmarks" / "lsp_bench.py"), "--shape", shape.name,
+                           "--rungs", str(RUNGS), "--runs", "1", "--edits", "20", "--storm-seconds", "1",
+                           "--baseline", str(root)], capture_output=True, text=True, timeout=300, cwd=root)
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.splitlines()
+    table = next(n for n, line in enumerate(lines) if line.split()[:4] == ["shape", "rungs", "MB", "diags"])
+    rows = [line.split() for line in lines[table + 1:] if line.startswith(shape.name)]
+    assert [row[1] for row in rows] == ["[baseline]", str(RUNGS)]
+    program, problems = parse(shape.text(RUNGS), TEXT_KIND)
+    found = len(problems) + len(check_program(program))
+    assert found > 0 and int(rows[0][4]) == int(rows[1][3]) == found
