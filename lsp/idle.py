@@ -37,7 +37,7 @@ from __future__ import annotations
 import asyncio
 import gc
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 QUIET_S = 1.0  # collect what is new once the client has been quiet this long
@@ -50,10 +50,10 @@ FULL_AFTER_EDITS = 5_000  # events (edits...) after which the whole heap is wort
 
 
 class IdleCollector:
-    def __init__(self, clock=time.monotonic):
+    def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
         self.clock = clock
         self.last_activity = clock()
-        self.task: asyncio.Task | None = None
+        self.task: asyncio.Task[None] | None = None
         self.collections = 0
         self.dirty = False  # events since the last collection
         self.events = 0  # since the whole heap was last walked

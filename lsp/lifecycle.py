@@ -5,6 +5,7 @@ and the `ladder` settings section."""
 from __future__ import annotations
 
 import asyncio
+from typing import TYPE_CHECKING
 
 from lsprotocol import types
 
@@ -12,17 +13,20 @@ from lang.textform.elements import prepare
 
 from .settings import ladder_section
 
+if TYPE_CHECKING:
+    from .server import LadderServer
 
-def register(server) -> None:
+
+def register(server: LadderServer) -> None:
     @server.on(types.INITIALIZED)
-    def initialized(ls, params: types.InitializedParams):
+    def initialized(ls: LadderServer, params: types.InitializedParams) -> None:
         ls.idle.start()
         prepare()
         if ls.client_supports("workspace", "configuration"):
             asyncio.ensure_future(pull_configuration(ls))
 
     @server.on(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
-    def did_change_configuration(ls, params: types.DidChangeConfigurationParams):
+    def did_change_configuration(ls: LadderServer, params: types.DidChangeConfigurationParams) -> None:
         section = ladder_section(params.settings)
         if section is not None:
             apply_settings(ls, section)
@@ -30,31 +34,31 @@ def register(server) -> None:
             asyncio.ensure_future(pull_configuration(ls))
 
     @server.on(types.TEXT_DOCUMENT_DID_OPEN)
-    def did_open(ls, params: types.DidOpenTextDocumentParams):
+    def did_open(ls: LadderServer, params: types.DidOpenTextDocumentParams) -> None:
         ls.emit("opened", params.text_document.uri)
 
     @server.on(types.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls, params: types.DidChangeTextDocumentParams):
+    def did_change(ls: LadderServer, params: types.DidChangeTextDocumentParams) -> None:
         ls.emit("changed", params.text_document.uri)
 
     @server.on(types.TEXT_DOCUMENT_DID_SAVE, types.SaveOptions(include_text=False))
-    def did_save(ls, params: types.DidSaveTextDocumentParams):
+    def did_save(ls: LadderServer, params: types.DidSaveTextDocumentParams) -> None:
         ls.emit("saved", params.text_document.uri)
 
     @server.on(types.TEXT_DOCUMENT_DID_CLOSE)
-    def did_close(ls, params: types.DidCloseTextDocumentParams):
+    def did_close(ls: LadderServer, params: types.DidCloseTextDocumentParams) -> None:
         ls.emit("closed", params.text_document.uri)
         ls.documents.forget(params.text_document.uri)
         ls.idle.released()
 
 
-def apply_settings(ls, section) -> None:
+def apply_settings(ls: LadderServer, section: object) -> None:
     for problem in ls.settings.update(section):
         ls.log(problem, types.MessageType.Warning)
     ls.emit("configured", None)
 
 
-async def pull_configuration(ls) -> None:
+async def pull_configuration(ls: LadderServer) -> None:
     try:
         result = await ls.workspace_configuration_async(
             types.ConfigurationParams(items=[types.ConfigurationItem(section="ladder")]))
