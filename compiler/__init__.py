@@ -1,8 +1,8 @@
 """The native compiler: a ladder program to an Intel HEX image, for every
-family in `lang.targets.FAMILIES`.
+family in `lang.families.FAMILIES`.
 
     Program --checks--> lower (lang.semantics.lower) --> intermediate code (lang.semantics.ir)
-            --> flatten, optimise (compiler.optimise) --> the family's back end (compiler.target)
+            --> flatten, optimise (compiler.optimise) --> the family's back end (compiler.backend)
             --> compiler.image.Image --> Intel HEX + listing
 
 `build(program, target)` selects the part, runs the checks as for a build and
@@ -20,20 +20,20 @@ from lang.codes import code
 from lang.config import NONE, Severities
 from lang.devices import Device, find_device
 from lang.diagnostics import ERROR, Diagnostic, error
+from lang.families import FAMILIES, Family, compiled, family_of, parts_text
 from lang.model import Program
 from lang.semantics.errors import LoweringError
 from lang.semantics.lower import lower_program
 from lang.semantics.operands import PWM_FULL
-from lang.targets import FAMILIES, Family, compiled, family_of, parts_text
 from lang.textform.writer import render_rung
 
+from .backend import BACKENDS, Backend, first_use, machine_for
 from .budget import overrun_warning, scan_budget
 from .c import CSources, Unit, generate
 from .c.arduino import BOARDS, Board, Sketch, SketchPin, ino
 from .errors import FLASH_FULL, MOVED_PIN, NO_TARGET, NOT_COMPILED, RAM_FULL, CompileError, fail, lowering_failed, note
 from .image import Build
 from .optimise import optimise
-from .target import BACKENDS, Backend, first_use, machine_for
 
 OTHER_CHIP = code("LD715")
 SIZES = (FLASH_FULL, RAM_FULL)

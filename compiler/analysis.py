@@ -61,7 +61,7 @@ def value_size(operand: ir.Operand, stored: Callable[[ir.Var], int]) -> int:
     return stored(operand)
 
 
-def target_size(target: ir.Target, stored: Callable[[ir.Var], int]) -> int:
+def target_size(target: ir.Place, stored: Callable[[ir.Var], int]) -> int:
     return 1 if isinstance(target, ir.Byte) else stored(target)
 
 

@@ -10,7 +10,7 @@ bounded by the `LoopBound` its back end gave the loop's head (`Image.loops`).
 The analysis reads a neutral description of program memory: an
 `Instruction` per address (size, cycles, control flow), which a `Decoder`
 reads from the image's words. Each back end carries its family's decoder
-(`Backend.flow` in compiler/target.py: the module `compiler.<family>.flow`),
+(`Backend.flow` in compiler/backend.py: the module `compiler.<family>.flow`),
 so this module names no family. A decoder is independent of the assembler:
 it could time any HEX file of the family.
 

@@ -21,7 +21,7 @@ LABEL_KINDS = {"GOTO": ("LABEL",), "GOSUB": ("SUBPROG",), "LABEL": ("LABEL",), "
 
 
 @dataclass(frozen=True)
-class Target:
+class Occurrence:
     """A name or label at a place of the source."""
 
     name: str
@@ -41,7 +41,7 @@ class Highlight:
     access: Access
 
 
-def name_at(document: Document, line: int, col: int) -> Target | None:
+def name_at(document: Document, line: int, col: int) -> Occurrence | None:
     """The name or label at a position."""
     locator = document.locator
     if document.kind == TEXT_KIND and locator.section_at(line) in (IO, VARS, DETAILS):
@@ -54,19 +54,19 @@ def name_at(document: Document, line: int, col: int) -> Target | None:
         if not isinstance(value, str) or span is None:
             return None
         if field.kind == "label":
-            return Target(value, True, span)
+            return Occurrence(value, True, span)
         if names.takes_name(hit.element.kind, hit.field) and names.is_name(value):
-            return Target(value, False, span)
+            return Occurrence(value, False, span)
         return None
     if document.kind == LD_KIND and hit is None:
         return _word(document, line, col)
     return None
 
 
-def _word(document: Document, line: int, col: int) -> Target | None:
+def _word(document: Document, line: int, col: int) -> Occurrence | None:
     word = word_at(document.line(line), col)
     if word and names.known(document.program, document.index, word[2]):
-        return Target(word[2], False, Span.at(line, word[0], word[1]))
+        return Occurrence(word[2], False, Span.at(line, word[0], word[1]))
     return None
 
 
@@ -97,7 +97,7 @@ def other_rows(document: Document, name: str) -> list[Span]:
             for number, start, end in edits.names_in_sections(document.locator, name, (IO, VARS, DETAILS))]
 
 
-def definition(document: Document, target: Target) -> list[Span]:
+def definition(document: Document, target: Occurrence) -> list[Span]:
     """Where a name is written (else its I/O row, else its first use); a label's LABEL or SUBPROG."""
     if target.label:
         return label_places(document, target.name)[0]
@@ -109,7 +109,7 @@ def definition(document: Document, target: Target) -> list[Span]:
     return spans
 
 
-def references(document: Document, target: Target, declaration: bool) -> list[Span]:
+def references(document: Document, target: Occurrence, declaration: bool) -> list[Span]:
     """Every use, in order; with `declaration`, the definitions of a label, the rows of a name."""
     if target.label:
         definitions, uses = label_places(document, target.name)
@@ -121,7 +121,7 @@ def references(document: Document, target: Target, declaration: bool) -> list[Sp
     return sorted(set(spans))
 
 
-def highlights(document: Document, target: Target) -> list[Highlight]:
+def highlights(document: Document, target: Occurrence) -> list[Highlight]:
     if target.label:
         definitions, uses = label_places(document, target.name)
         return [Highlight(s, Access.WRITE) for s in definitions] + [Highlight(s, Access.READ) for s in uses]

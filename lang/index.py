@@ -27,12 +27,12 @@ from functools import cached_property
 from operator import itemgetter
 from typing import NamedTuple
 
+from .families import FAMILIES
 from .flags import MARKING, Mark, shift_stages
 from .flags import marks as marks_of
 from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
 from .model import Element, Parallel, Program, Series, Span
-from .targets import FAMILIES
 from .values import is_literal_fast
 
 # Operand kinds that hold variable names (or, for operands, a constant).
@@ -114,7 +114,7 @@ class ProgramIndex:
     def __init__(self, program: Program, for_build: bool = False, family: str | None = None):
         self.program = program
         self.for_build = for_build  # the checks run before compiling (LD501 is an error then)
-        self.family = family  # compiled for this family (lang.targets) rather than the part's
+        self.family = family  # compiled for this family (lang.families) rather than the part's
         self.rungs: Iterable[int] = range(len(program.rungs))  # the rungs indexed
         self._empty()
         self.names: dict[str, list[Use]] = self.uses  # every name the program uses (a view's: the program's)

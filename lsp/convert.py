@@ -2,7 +2,7 @@
 and `ladder.compileOnSave`: convert the document between the text form and
 LDmicro's `.ld` (ide.convert), writing the file beside the source; compile it with the
 compiler (`ladder build`), the HEX file beside the source: on request, or on
-save when `lang.targets` says a back end compiles the program's part. The
+save when `lang.families` says a back end compiles the program's part. The
 compiler's errors and warnings (LD501 is an error there; LD712 when a scan
 may not fit the cycle, on the rung that takes the most) join the document's
 diagnostics until its next change. The summary ends with the scan's worst
@@ -17,7 +17,7 @@ from lsprotocol import types
 
 from ide.convert import ConvertError, convert
 from lang.devices import find_device
-from lang.targets import compiled
+from lang.families import compiled
 
 from .documents import file_path
 from .protocol import UserError

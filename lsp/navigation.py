@@ -12,7 +12,7 @@ from lsprotocol import types
 from ide import navigation
 from ide.document import newline
 from ide.edits import EditError, LineEdit, TextEdit
-from ide.navigation import Access, Target
+from ide.navigation import Access, Occurrence
 from lang.model import Span
 
 from .documents import Analysis
@@ -32,7 +32,7 @@ def _locations(analysis: Analysis, spans: Iterable[Span]) -> list[types.Location
 
 
 def register(server: LadderServer) -> None:
-    def target(ls: LadderServer, params: Positioned) -> tuple[Analysis, Target] | None:
+    def target(ls: LadderServer, params: Positioned) -> tuple[Analysis, Occurrence] | None:
         analysis = ls.documents.analysis(params.text_document.uri)
         if analysis is None:
             return None

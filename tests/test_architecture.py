@@ -8,8 +8,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-from compiler.target import BACKENDS
-from lang.targets import FAMILIES
+from compiler.backend import BACKENDS
+from lang.families import FAMILIES
 
 ROOT = Path(__file__).resolve().parents[1]
 NOT_BACK_ENDS = {"run"}  # the compiler's subpackages that are not a family's back end
@@ -83,7 +83,7 @@ def test_back_ends_see_only_the_machine_and_the_intermediate_code():
 
 
 def test_every_back_end_folder_is_a_family_and_every_part_family_registers_its_back_end():
-    # a family with parts builds images (compiler.target.BACKENDS); C, with none, writes source (compiler.c)
+    # a family with parts builds images (compiler.backend.BACKENDS); C, with none, writes source (compiler.c)
     assert {folder.name for folder in back_end_folders()} == set(FAMILIES)
     assert set(BACKENDS) == {key for key, family in FAMILIES.items() if family.parts}
     for family, backend in BACKENDS.items():
@@ -183,3 +183,22 @@ def test_one_lowering_defines_each_instruction_for_the_simulator_and_every_back_
     assert _offenders(ROOT / "lang" / "semantics", ("lang.sim", "lang.checks", "compiler")) == {}
     for path in (ROOT / "lang" / "sim" / "compile.py", ROOT / "compiler" / "__init__.py"):
         assert "lang.semantics.lower.lower_program" in _imports(path, _package_of(path)), path
+
+
+def test_target_names_only_the_part_a_build_is_for():
+    """"target" once named five things; now it is the part a build is for
+    (`--target PART`, `compiler.target_device`, the LD5xx rules on its
+    peripherals) and, as in any compiler, where a jump goes. The families are
+    `lang.families`, the back ends' seam `compiler.backend`, what an op writes
+    `ir.Place`, the lowering's builder for a part `PartBuilder`."""
+    found = []
+    for package in ("lang", "compiler", "ide", "lsp", "ladder"):
+        for path in sorted((ROOT / package).rglob("*.py")):
+            where = str(path.relative_to(ROOT))
+            if path.stem in ("target", "targets"):
+                found.append(where)
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                named = [node.name] if isinstance(node, ast.ClassDef) else \
+                    [t.id for t in node.targets if isinstance(t, ast.Name)] if isinstance(node, ast.Assign) else []
+                found += [f"{where}: {name}" for name in named if "Target" in name]
+    assert found == []

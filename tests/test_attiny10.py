@@ -35,9 +35,9 @@ from compiler.budget import BRANCH, CALL, JUMP, NEXT, RETURN, SKIP
 from compiler.errors import FLASH_FULL, RAM_FULL, CompileError
 from lang.checks import check_program
 from lang.devices import find_device
+from lang.families import FAMILIES
 from lang.hardware import pwm_refusal
 from lang.model import Span
-from lang.targets import FAMILIES
 
 NAME = "Atmel AVR ATtiny10 6-Pin packages"
 HEADER = Path("/usr/lib/avr/include/avr/iotn10.h")

@@ -26,9 +26,9 @@ import compiler
 from compiler.errors import CompileError
 from compiler.run import simavr
 from lang.devices import find_device, is_known_ldmicro_name
+from lang.families import compiled
 from lang.ldfile import read_ld, write_ld
 from lang.model import PinAssignment, Program, Span
-from lang.targets import compiled
 
 LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"
 # LDmicro names the back end does not compile: none

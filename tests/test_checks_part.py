@@ -25,8 +25,8 @@ from ladder.cli import main
 from lang import ldfile
 from lang.checks import check_program
 from lang.devices import all_devices, find_device
+from lang.families import compiled
 from lang.instructions import INSTRUCTIONS
-from lang.targets import compiled
 
 M328 = "Atmel AVR ATmega328 28-PDIP"
 P877 = "Microchip PIC16F877 40-PDIP"

@@ -12,7 +12,7 @@ from intelhex import IntelHex
 from test_compiler_harness import CORPUS
 
 from ladder.cli import main
-from lang.targets import parts_text
+from lang.families import parts_text
 
 SUMMARY = re.compile(r"^(ATmega\w+): flash (\d+)/(\d+) bytes \((\d+\.\d)%\), RAM (\d+)/(\d+) bytes \((\d+\.\d)%\)$")
 SCAN = re.compile(r"^scan: at most ([\d,]+) cycles = ([\d.,]+) µs of the (\d+) ms cycle \((\d+\.\d)%\)")

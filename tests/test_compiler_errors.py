@@ -11,10 +11,10 @@ import pytest
 from builders import coil, contact, el, move, program, span_of
 
 import compiler
+from compiler.backend import BACKENDS
 from compiler.errors import CompileError
-from compiler.target import BACKENDS
+from lang.families import FAMILIES, parts_text
 from lang.model import PinAssignment
-from lang.targets import FAMILIES, parts_text
 
 M328 = "Atmel AVR ATmega328 28-PDIP"
 M8 = "Atmel AVR ATmega8 28-PDIP"

@@ -31,7 +31,7 @@ from compiler.pic10 import flow
 from compiler.pic16.part import Part
 from compiler.run import gpsim
 from lang.devices import find_device
-from lang.targets import FAMILIES
+from lang.families import FAMILIES
 
 PARTS = ("pic10f200", "pic10f202")
 PINS = {"Xa": "GP3", "Xb": "GP0", "Ya": "GP1", "Yb": "GP2"}

@@ -24,7 +24,7 @@ from compiler.pic16.enhanced import isa
 from compiler.pic16.isa import EncodingError
 from compiler.pic16.part import Part
 from lang.devices import find_device
-from lang.targets import FAMILIES
+from lang.families import FAMILIES
 
 ENHANCED = [part for part in FAMILIES["pic16"].parts if Part.of(find_device(part)).enhanced]
 

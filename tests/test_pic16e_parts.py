@@ -19,7 +19,7 @@ import test_pic16_parts as base
 
 from compiler.pic16.part import Part
 from lang.devices import find_device, is_known_ldmicro_name
-from lang.targets import FAMILIES, compiled
+from lang.families import FAMILIES, compiled
 
 LDMICRO_SOURCE = Path(__file__).parent / "../../shared/tools/ldmicro/ldmicro-5.4.1.1-src.tar.gz"
 

@@ -20,7 +20,7 @@ from test_pic16_parts import GPUTILS, header, needs_gputils
 import compiler
 from compiler.pic18.part import CONFIG_END, CONFIG_START, Part
 from lang.devices import find_device, is_known_ldmicro_name
-from lang.targets import FAMILIES
+from lang.families import FAMILIES
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 LDMICRO_SOURCE = SHARED / "tools" / "ldmicro" / "ldmicro-5.4.1.1-src.tar.gz"

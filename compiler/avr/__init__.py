@@ -1,5 +1,5 @@
 """The AVR back end: intermediate code and a Machine to a flash image and
-its listing (GNU avr-as source). Registers itself with `compiler.target`."""
+its listing (GNU avr-as source). Registers itself with `compiler.backend`."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ from lang.hardware import baud_setting
 from lang.semantics import ir
 
 from ..analysis import loop_labels, uses_uart
+from ..backend import Machine, register
 from ..errors import FLASH_FULL, RAM_FULL, fail
 from ..image import Image, Symbol
-from ..target import Machine, register
 from . import flow as avr_flow
 from . import stack
 from .asm import Assembler, Data, Label, compress_skips

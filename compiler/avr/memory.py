@@ -19,8 +19,8 @@ from lang.hardware import register_address
 from lang.semantics import ir
 
 from ..analysis import live_intervals, use_counts
+from ..backend import Machine
 from ..errors import NOT_COMPILED, RAM_FULL, fail
-from ..target import Machine
 from .part import Part
 
 

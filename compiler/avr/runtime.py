@@ -18,8 +18,8 @@ from lang.hardware import cycle_setting
 from lang.semantics import ir
 
 from ..analysis import uses_uart
+from ..backend import Machine
 from ..image import LoopBound
-from ..target import Machine
 from . import bits
 from .emit import SCRATCH, A, B
 from .memory import MemBit, RegBit

@@ -77,7 +77,7 @@ class Writer:
         self.used.add(name)
         return name
 
-    def store(self, target: ir.Target, expression: str, depth: int = 1) -> None:
+    def store(self, target: ir.Place, expression: str, depth: int = 1) -> None:
         """target := the uint32_t `expression`, wrapped to its width."""
         sext = self.helper("ld_sext")
         if isinstance(target, ir.Byte):
@@ -241,7 +241,7 @@ def _shift(w: Writer, op: ir.Shift) -> None:
         w.store(op.dst, f"{w.helper('ld_' + op.op)}({w.unsigned(op.a)}, {count}, {bits})")
 
 
-def _guarded(w: Writer, declaration: str, condition: str, dst: ir.Target, expression: str) -> None:
+def _guarded(w: Writer, declaration: str, condition: str, dst: ir.Place, expression: str) -> None:
     """{ declaration; if (condition) dst := expression; }: the C of an op the simulator stops at
     for some values, which leaves its destination as it was there."""
     w.line("{")

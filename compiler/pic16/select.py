@@ -18,7 +18,7 @@ from .memory import FileBit, Layout
 from .part import Part
 
 if TYPE_CHECKING:
-    from ..target import Machine
+    from ..backend import Machine
 
 
 @dataclass

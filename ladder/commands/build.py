@@ -1,4 +1,4 @@
-"""`ladder build FILE`: compile a program for a part `lang.targets` lists,
+"""`ladder build FILE`: compile a program for a part `lang.families` lists,
 or to portable C.
 
 With `--emit c` writes FILE.c and FILE.h beside FILE (or OUT.c and OUT.h),
@@ -19,7 +19,7 @@ from pathlib import Path
 from compiler.c.arduino import BOARDS
 from lang import codes, config
 from lang.devices import find_device
-from lang.targets import compiled, parts_text
+from lang.families import compiled, parts_text
 
 from ._common import (
     EXIT_OK,

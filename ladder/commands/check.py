@@ -12,8 +12,8 @@ from pathlib import Path
 from ide.fixes import fix_all
 from lang import codes, config
 from lang.devices import find_device
+from lang.families import compiled
 from lang.loader import Loaded, checkable, checked, kind_of, parse
-from lang.targets import compiled
 from lang.values import encode_text
 
 from ._common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, add_encoding, has_errors, load, report, write_output

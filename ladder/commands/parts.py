@@ -1,10 +1,10 @@
 """`ladder parts`: the parts with pin data, and whether `ladder build`
-compiles for each (lang/targets.py)."""
+compiles for each (lang/families.py)."""
 
 from __future__ import annotations
 
 from lang.devices import all_devices
-from lang.targets import compiled
+from lang.families import compiled
 
 from ._common import EXIT_OK
 

@@ -38,7 +38,7 @@ def register(subparsers) -> None:
 
 
 @dataclass
-class Target:
+class Goal:
     """A program and the properties to prove on it, with the file each comes from."""
 
     program_path: str
@@ -52,13 +52,13 @@ def run(args) -> int:
     if args.bound < 1 or args.timeout <= 0:
         print("ladder verify: error: --bound must be at least 1 and --timeout positive", file=sys.stderr)
         return EXIT_USAGE
-    targets, status = _targets(args)
-    if targets is None:
+    goals, status = _goals(args)
+    if goals is None:
         return status
     cases: list[dict[str, Any]] = []
-    for target in targets:
+    for goal in goals:
         try:
-            result = _verify(target, args, cases)
+            result = _verify(goal, args, cases)
         except SolverMissing as missing:
             print(f"ladder verify: error: {missing}", file=sys.stderr)
             return EXIT_USAGE
@@ -71,7 +71,7 @@ def run(args) -> int:
     return status
 
 
-def _targets(args) -> tuple[list[Target] | None, int]:
+def _goals(args) -> tuple[list[Goal] | None, int]:
     """What to prove, or None and the exit status after the problems are printed."""
     from lang.properties import PropertyError, parse_property, read_properties
     from lang.sim.scenario import ScenarioError, parse_scenarios
@@ -88,7 +88,7 @@ def _targets(args) -> tuple[list[Target] | None, int]:
             print(f"{path}: error: no property to prove (write them in a PROPERTIES section, docs/verify.md)",
                   file=sys.stderr)
             return None, EXIT_USAGE
-        return [Target(path, properties, path)], EXIT_OK
+        return [Goal(path, properties, path)], EXIT_OK
     try:
         scenarios = parse_scenarios(Path(path).read_text(encoding="utf-8"), path)
     except (OSError, UnicodeDecodeError) as problem:
@@ -97,7 +97,7 @@ def _targets(args) -> tuple[list[Target] | None, int]:
     except ScenarioError as problem:
         print(problem, file=sys.stderr)
         return None, EXIT_USAGE
-    targets: dict[str, Target] = {}
+    goals: dict[str, Goal] = {}
     bad = []
     for scenario in scenarios:
         for number, column, text in scenario.properties:
@@ -107,16 +107,16 @@ def _targets(args) -> tuple[list[Target] | None, int]:
                 bad.append(problem)
                 continue
             program = str(scenario.program)
-            targets.setdefault(program, Target(program, [], path)).properties.append(prop)
+            goals.setdefault(program, Goal(program, [], path)).properties.append(prop)
     for unread in bad:
         line, col = unread.span.line + 1, unread.span.col + 1
         print(f"{path}:{line}:{col}: error LD215 {unread}", file=sys.stderr)
     if bad:
         return None, EXIT_PROBLEMS
-    if not targets:
+    if not goals:
         print(f"{path}: error: no `property` line to prove (docs/verify.md)", file=sys.stderr)
         return None, EXIT_USAGE
-    return list(targets.values()), EXIT_OK
+    return list(goals.values()), EXIT_OK
 
 
 def _refused(path: str, loaded) -> bool:
@@ -135,45 +135,45 @@ def _refused(path: str, loaded) -> bool:
     return True
 
 
-def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
+def _verify(goal: Goal, args, cases: list[dict[str, Any]]) -> int:
     from lang.properties import name_span
     from lang.sim import SimulationError, Simulator
     from lang.verify import verdict, verify
     from lang.verify.prover import FAILS
 
-    loaded = load(target.program_path, args.encoding)
+    loaded = load(goal.program_path, args.encoding)
     if loaded is None:
         return EXIT_USAGE
     program = loaded.program
-    # a program file's errors were reported with its properties (_targets); a scenario's program's here
-    if target.source != target.program_path and _refused(target.program_path, loaded):
+    # a program file's errors were reported with its properties (_goals); a scenario's program's here
+    if goal.source != goal.program_path and _refused(goal.program_path, loaded):
         return EXIT_PROBLEMS
     try:
         known = Simulator(program).variables()
     except SimulationError as problem:
-        report(target.program_path, problem.diagnostics, sys.stderr)
+        report(goal.program_path, problem.diagnostics, sys.stderr)
         return EXIT_USAGE
-    unknown = [(prop, name) for prop in target.properties for name in prop.names() if name not in known]
+    unknown = [(prop, name) for prop in goal.properties for name in prop.names() if name not in known]
     for prop, name in unknown:
         span = name_span(prop, name)
-        print(f"{target.source}:{span.line + 1}:{span.col + 1}: error LD216 the property reads "
+        print(f"{goal.source}:{span.line + 1}:{span.col + 1}: error LD216 the property reads "
               f"'{name}', which the program does not use", file=sys.stderr)
     if unknown:
         return EXIT_PROBLEMS
     try:
-        results = verify(program, target.properties, args.bound, args.timeout)
+        results = verify(program, goal.properties, args.bound, args.timeout)
     except SimulationError as problem:
-        report(target.program_path, problem.diagnostics, sys.stderr)
+        report(goal.program_path, problem.diagnostics, sys.stderr)
         return EXIT_USAGE
     status = EXIT_OK
-    out = Path(args.out) if args.out else Path(target.source).parent
+    out = Path(args.out) if args.out else Path(goal.source).parent
     for number, result in enumerate(results, 1):
         prop = result.prop
-        where = f"{target.source}:{prop.span.line + 1}"
+        where = f"{goal.source}:{prop.span.line + 1}"
         print(f"{where}: {verdict(result, program.settings.cycle_us)}: {prop.text}")
         case: dict[str, Any] = {"name": prop.text, "failures": [], "error": None, "seconds": result.seconds}
         if result.witness is not None:
-            files = _write_witness(program, target, result, out / f"{Path(target.program_path).stem}-property{number}")
+            files = _write_witness(program, goal, result, out / f"{Path(goal.program_path).stem}-property{number}")
             if files is None:
                 return EXIT_USAGE
             print("  " + files)
@@ -187,13 +187,13 @@ def _verify(target: Target, args, cases: list[dict[str, Any]]) -> int:
     return status
 
 
-def _write_witness(program, target: Target, result, stem: Path) -> str | None:
+def _write_witness(program, goal: Goal, result, stem: Path) -> str | None:
     """Write the scenario and the VCD; what to tell the user about them (None
     when a file could not be written)."""
     from lang.verify.counterexample import replays, scenario_text, write_run
 
     scenario, vcd = stem.with_suffix(".scn"), stem.with_suffix(".vcd")
-    reference = os.path.relpath(Path(target.program_path).resolve(), stem.parent.resolve())
+    reference = os.path.relpath(Path(goal.program_path).resolve(), stem.parent.resolve())
     text, line = scenario_text(Path(reference).as_posix(), result.prop, result.witness, program.settings.cycle_us)
     dump = io.StringIO()
     write_run(program, result.prop, result.witness, dump)

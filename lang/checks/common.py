@@ -6,6 +6,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..diagnostics import Fix, Related, Rename, report
+from ..families import compiled
 from ..hardware import baud_facts
 from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
 from ..labels import describe, label, token
@@ -14,7 +15,6 @@ from ..numbers import cdiv
 from ..roles import CYCLE_DUTY_PIN, ROLES, role
 from ..storage import variable_of
 from ..strings import ESCAPES, HEX
-from ..targets import compiled
 from ..values import format_delay, is_literal, literal_value
 
 # What a rule's diagnostics depend on, its module's SCOPE (lang.checks.incremental

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
+from ..families import compiled
 from ..hardware import cycle_refusal, cycle_runs_free, cycle_setting
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled
 from .common import pwm_outputs
 
 CODE = rule_code(__name__)

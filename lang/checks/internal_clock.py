@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
+from ..families import compiled
 from ..hardware import clock_refusal
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled
 
 CODE = rule_code(__name__)
 

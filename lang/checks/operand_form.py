@@ -7,11 +7,11 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
+from ..families import compiled
 from ..index import ProgramIndex
 from ..model import Program
 from ..semantics.operands import REFUSALS, bit_refusal, integer_operand, operand_refusal
 from ..storage import BIT_FIELDS, OVERFLOW, bit_operand
-from ..targets import compiled
 from .common import NAMES, PROGRAM, variable_of_uses
 
 CODE = rule_code(__name__)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
+from ..families import compiled
 from ..index import ProgramIndex
 from ..model import Program
 from ..storage import eeprom_layout, eeprom_refusal
-from ..targets import compiled
 from .common import variable_of_uses
 
 CODE = rule_code(__name__)

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import Diagnostic, report
+from ..families import compiled, family_of
 from ..hardware import data_addresses, register_address
 from ..index import ProgramIndex
 from ..model import Program
-from ..targets import compiled, family_of
 from .common import NAMES, RUNGS, arg_span, literal_or_none, rung_no
 
 CODE = rule_code(__name__)

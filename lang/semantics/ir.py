@@ -55,7 +55,7 @@ class Const:
 
 
 Operand = Var | Byte | Const
-Target = Var | Byte
+Place = Var | Byte  # what an op writes (an integer variable or one byte of one)
 
 # bit classes
 INPUT, OUTPUT, MEMORY, TEMP = "input", "output", "memory", "temp"
@@ -287,7 +287,7 @@ class OrBit(Op):
 
 @dataclass
 class Move(Op):
-    dst: Target
+    dst: Place
     src: Operand
 
 
@@ -297,7 +297,7 @@ class Arith(Op):
     add or sub does not fit the destination."""
 
     op: str
-    dst: Target
+    dst: Place
     a: Operand
     b: Operand
     overflow: Bit | None = None
@@ -311,7 +311,7 @@ class ChangeBitOf(Op):
     """Set or clear bit `index` of dst; an index outside 0..8*size-1 changes
     nothing."""
 
-    dst: Target
+    dst: Place
     index: Operand
     value: bool
 
@@ -323,16 +323,16 @@ class Divide(Op):
     division by zero is left to the back end."""
 
     op: str
-    dst: Target
+    dst: Place
     a: Operand
     b: Operand
-    remainder: Target | None = None
+    remainder: Place | None = None
 
 
 @dataclass
 class Unary(Op):
     op: str  # neg, not
-    dst: Target
+    dst: Place
     a: Operand
 
 
@@ -342,7 +342,7 @@ class Shift(Op):
     bytes by `count` bits (negative: none; past the width: all out or round)."""
 
     op: str
-    dst: Target
+    dst: Place
     a: Operand
     count: Operand
     width: int
@@ -353,7 +353,7 @@ class Convert(Op):
     """bin2bcd, bcd2bin, swap, opposite of `src` within `width` bytes."""
 
     op: str
-    dst: Target
+    dst: Place
     src: Operand
     width: int
 
@@ -363,7 +363,7 @@ class Table(Op):
     """dst = values[index]; the index must be in range (the front end or the
     program guarantees it)."""
 
-    dst: Target
+    dst: Place
     values: tuple[int, ...]
     index: Operand
 
@@ -373,7 +373,7 @@ class Permute(Op):
     """BUS: dst = the byte with bit d set for each (s, d) of `pairs` whose
     source bit s is set in src (a bit past src's width is its sign bit)."""
 
-    dst: Target
+    dst: Place
     src: Operand
     pairs: tuple[tuple[int, int], ...]
 
@@ -433,7 +433,7 @@ class UartTake(Op):
     """dst = the next received byte; with `wait` it may not have come yet
     (the MCU waits for it), without it the receiver was seen holding it."""
 
-    dst: Target
+    dst: Place
     wait: bool = False
 
 
@@ -442,7 +442,7 @@ class ReadSfr(Op):
     """dst = the byte at data address `address` (a constant, or a variable's
     value modulo 65536), read unsigned: LDmicro's raw register access."""
 
-    dst: Target
+    dst: Place
     address: Operand
 
 

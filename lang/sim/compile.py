@@ -24,12 +24,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from types import CellType, CodeType, FunctionType
 
+from ..families import Family
 from ..instructions import JUMPS
 from ..model import Element, Program
 from ..semantics import errors as lowering
 from ..semantics import ir
 from ..semantics.lower import LOWERINGS, Jumps, lower_program, rung_label
-from ..targets import Family
 from .codegen import Gen, Slot
 from .emit import emit_ops
 from .errors import BAD_JUMP, BAD_OPERAND, BAD_TIMER, NOT_SIMULATED, SimulationError, located

@@ -74,7 +74,7 @@ def value(gen: Gen, operand: ir.Operand) -> str:
     return gen.var(operand)
 
 
-def assign(gen: Gen, target: ir.Target, expr: str) -> None:
+def assign(gen: Gen, target: ir.Place, expr: str) -> None:
     """`target = expr`, truncated to the target's size."""
     if isinstance(target, ir.Byte):
         whole, var = gen.var(target.var), target.var

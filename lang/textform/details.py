@@ -214,7 +214,7 @@ ElementNames = list[tuple[tuple[str, str], int]]
 Placed = tuple[tuple[int, tuple[tuple[str, object], ...]], ...]
 # an element a DETAILS line names: (id of its rung's circuit, its position in the rung); a
 # circuit keeps its identity when its rung moves, so a rung added above changes no target
-Target = tuple[int, int]
+ElementAt = tuple[int, int]
 
 
 def element_names(rung: Rung) -> ElementNames:
@@ -237,7 +237,7 @@ class ElementIndex:
         self.where: dict[int, int] = {}  # id(circuit) -> rung index
         self._names: dict[int, ElementNames] = {}
         self._numbers: dict[int, int | None] = {}
-        self._groups: dict[tuple[str, str], set[Target]] = {}
+        self._groups: dict[tuple[str, str], set[ElementAt]] = {}
         self._numbered: dict[int, set[int]] = {}
 
     def update(self, rungs: list[Rung], numbers: list[int | None]) -> set[object]:
@@ -290,7 +290,7 @@ class ElementIndex:
         self.circuits = circuits
         return changed
 
-    def targets(self, key: tuple[str, str], rung: int | None, occurrence: int | None) -> tuple[Target, ...]:
+    def targets(self, key: tuple[str, str], rung: int | None, occurrence: int | None) -> tuple[ElementAt, ...]:
         """The elements a DETAILS line names, in program order: those of `key`
         in the rungs drawn with number `rung` (None: in every rung), the
         `occurrence`-th of them in each (None: all); with no rung, the
@@ -306,7 +306,7 @@ class ElementIndex:
             return tuple(ordered)
         if rung is None:
             return tuple(ordered[occurrence - 1:occurrence])
-        by_rung: dict[int, list[Target]] = {}
+        by_rung: dict[int, list[ElementAt]] = {}
         for target in ordered:
             by_rung.setdefault(target[0], []).append(target)
         return tuple(chosen for targets in by_rung.values() for chosen in targets[occurrence - 1:occurrence])
@@ -314,7 +314,7 @@ class ElementIndex:
 
 # what one DETAILS line does: its text, what its targets depend on (None: not a detail
 # line), the elements it reaches, its values or what is wrong with them
-_LinePlan = tuple[str, "tuple[str, str] | int | None", tuple[Target, ...], "tuple[tuple[str, object], ...] | str"]
+_LinePlan = tuple[str, "tuple[str, str] | int | None", tuple[ElementAt, ...], "tuple[tuple[str, object], ...] | str"]
 
 
 class Planner:

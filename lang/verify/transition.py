@@ -359,7 +359,7 @@ class _Run:
             return z3.ZeroExt(WIDE - 8, z3.Extract(8 * operand.index + 7, 8 * operand.index, whole))
         return z3.SignExt(WIDE - 8 * operand.size, self.env[operand.name])
 
-    def write(self, target: ir.Target, value: z3.BitVecRef) -> None:
+    def write(self, target: ir.Place, value: z3.BitVecRef) -> None:
         if isinstance(target, ir.Byte):
             var, low = target.var, 8 * target.index
             whole = self.env[var.name]

@@ -13,11 +13,11 @@ from __future__ import annotations
 from lang import trampoline
 from lang.codes import code
 from lang.devices import Device
+from lang.families import Family, family_of
 from lang.instructions import COUNTERS, JUMPS
 from lang.labels import describe
 from lang.model import Element, Program, Series
 from lang.storage import DEFAULT_SEED, counter_defs, variable_names
-from lang.targets import Family, family_of
 from lang.values import as_int, is_literal, literal_value
 
 from .. import ir
@@ -88,7 +88,7 @@ class Jumps:
         return rung_label(self.endsubs[label] + 1)
 
 
-class TargetBuilder(Builder):
+class PartBuilder(Builder):
     """The builder with what lowering needs to know of the target: which
     instructions its family compiles, which A/D channel and which PWM unit a
     name's pin is, how long the back end's delay loop takes. With no device
@@ -149,7 +149,7 @@ class TargetBuilder(Builder):
         return self.device.pwm[pin.name]
 
 
-def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[None]:
+def _circuit(b: PartBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[None]:
     """A generator run by lang.trampoline: blocks may nest deeper than
     Python's recursion limit."""
     if isinstance(node, Element):
@@ -174,7 +174,7 @@ def _circuit(b: TargetBuilder, node, p: ir.Bit, tail: bool) -> trampoline.Call[N
             b.emit(ir.CopyBit(p, out))
 
 
-def _initial_values(b: TargetBuilder, elements: list[tuple[int, Element]]) -> list[ir.Op]:
+def _initial_values(b: PartBuilder, elements: list[tuple[int, Element]]) -> list[ir.Op]:
     """What LDmicro's INIT VARS block sets before the first scan, in program
     order so that the last one wins (docs/semantics.md, "Start values")."""
     ops: list[ir.Op] = []
@@ -214,7 +214,7 @@ def lower_program(program: Program, device: Device | None, delay_loop_cycles: in
     # on a part the X and Y names with pins are I/O; in C every one is (the user's runtime reads and writes it)
     pinned = [name for name, pin in program.pins.items() if pin.assigned] if device is not None else bits
     elements = list(program.elements())
-    b = TargetBuilder(program, elements, device, family, delay_loop_cycles, bits, sizes, _classes(pinned), trace)
+    b = PartBuilder(program, elements, device, family, delay_loop_cycles, bits, sizes, _classes(pinned), trace)
     mcr = any(e.kind == "MASTER_RELAY" for _, e in elements)
     if mcr:
         b.emit(ir.SetBit(b.bit("$mcr"), True))

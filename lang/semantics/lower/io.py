@@ -17,18 +17,18 @@ from ..operands import PWM_FULL
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
-    from . import TargetBuilder
+    from . import PartBuilder
 
 
 @lowers("READ_ADC")
-def read_adc(b: TargetBuilder, el, p: ir.Bit) -> None:
+def read_adc(b: PartBuilder, el, p: ir.Bit) -> None:
     d = b.dest("name")
     with b.if_(IsSet(p)):
         b.emit(ir.ReadAdc(d, b.adc_channel(d.name), int(el.args.get("refs") or 0)))
 
 
 @lowers("SET_PWM")
-def set_pwm(b: TargetBuilder, el, p: ir.Bit) -> None:
+def set_pwm(b: PartBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     resolution = str(el.args.get("resolution") or "0-100%")
     with b.if_(IsSet(p)):

@@ -13,7 +13,7 @@ from .. import ir
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
-    from . import TargetBuilder
+    from . import PartBuilder
 
 
 @lowers("CONTACTS")
@@ -166,12 +166,12 @@ def delay(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("GOTO")
-def goto(b: TargetBuilder, el, p: ir.Bit) -> None:
+def goto(b: PartBuilder, el, p: ir.Bit) -> None:
     _when_powered(b, p, ir.Jump(b.jumps.goto_target(el)))
 
 
 @lowers("GOSUB")
-def gosub(b: TargetBuilder, el, p: ir.Bit) -> None:
+def gosub(b: PartBuilder, el, p: ir.Bit) -> None:
     _when_powered(b, p, ir.Call(b.jumps.gosub_target(el)))
 
 
@@ -186,6 +186,6 @@ def endsub(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("SUBPROG")
-def subprog(b: TargetBuilder, el, p: ir.Bit) -> None:
+def subprog(b: PartBuilder, el, p: ir.Bit) -> None:
     # the normal flow of the scan skips the subroutine's body
     b.emit(ir.Jump(b.jumps.after_endsub(el)))

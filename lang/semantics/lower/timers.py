@@ -13,7 +13,7 @@ from .. import ir
 from .builder import Builder, Holds, IsSet, lowers
 
 if TYPE_CHECKING:
-    from . import TargetBuilder
+    from . import PartBuilder
 
 
 def limit(b: Builder, el) -> ir.Operand:
@@ -117,7 +117,7 @@ def time_to_count(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("TIME2DELAY")
-def time_to_delay(b: TargetBuilder, el, p: ir.Bit) -> None:
+def time_to_delay(b: PartBuilder, el, p: ir.Bit) -> None:
     delay = el.args["delay"]
     loops = round(delay * b.program.settings.crystal_hz / (1_000_000 * b.delay_loop_cycles))
     with b.if_(IsSet(p)):
@@ -212,7 +212,7 @@ def circular_counter(b: Builder, el, p: ir.Bit) -> None:
 
 
 @lowers("RES")
-def reset(b: TargetBuilder, el, p: ir.Bit) -> None:
+def reset(b: PartBuilder, el, p: ir.Bit) -> None:
     name = el.args["name"]
     if name.startswith("P"):
         with b.if_(IsSet(p)):

@@ -1,15 +1,15 @@
-"""The registry of the families `ladder build` compiles for (lang/targets.py)."""
+"""The registry of the families `ladder build` compiles for (lang/families.py)."""
 
 from __future__ import annotations
 
 import dataclasses
 
 from lang.devices import all_devices, find_device, part_names
+from lang.families import FAMILIES, compiled, compiled_parts, family_of, parts_text
 from lang.instructions import LAYERS
-from lang.targets import FAMILIES, compiled, compiled_parts, family_of, parts_text
 
 
-def test_families_are_the_instruction_tables_target_layers():
+def test_families_are_the_instruction_tables_family_supports():
     assert set(FAMILIES) == set(LAYERS) - {"parse", "check", "sim"}
     for key, family in FAMILIES.items():
         assert family.key == key and len(set(family.parts)) == len(family.parts)

@@ -3,10 +3,10 @@
 A back end sees two things: the optimised intermediate code (`ir.Code`) and
 a `Machine`, a neutral description of what to build for (the part, the
 clock, the scan cycle, the pins and the settings that shape the runtime).
-It never sees the ladder `Program`. Each family in `lang.targets.FAMILIES`
+It never sees the ladder `Program`. Each family in `lang.families.FAMILIES`
 with parts has one back end, the package `compiler.<family>`, which registers
 itself here when it is imported; `compiler/__init__.py` imports one for each
-such family, so `lang.targets` is the one list of back ends.
+such family, so `lang.families` is the one list of back ends.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ class Machine:
 
 
 class Backend(Protocol):
-    family: str  # its key in lang.targets.FAMILIES
+    family: str  # its key in lang.families.FAMILIES
     delay_loop_cycles: int  # CPU cycles one count of a variable DELAY takes (T2DLY converts with it)
     rungs_by_jumps: bool  # the optimiser evaluates rungs by tests and jumps (compiler.optimise) for it
 

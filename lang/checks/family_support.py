@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from ..codes import rule_code
 from ..diagnostics import ERROR, Diagnostic, report
+from ..families import FAMILIES, Family, family_of
 from ..index import ProgramIndex
 from ..instructions import INSTRUCTIONS
 from ..labels import describe
 from ..model import Program
-from ..targets import FAMILIES, Family, family_of
 from .common import RUNGS, rung_no
 
 CODE = rule_code(__name__)
