@@ -27,7 +27,8 @@ def named(section: str) -> tuple[list[str], list[str]]:
     """The paths (words with a `/`) and the modules run with `python -m` in the
     section's backticked spans."""
     paths, modules = [], []
-    for span in re.findall(r"`([^`\n]+)`", section):
+    prose = re.sub(r"```.*?```", "", section, flags=re.DOTALL)  # code blocks are the doc tests' business
+    for span in re.findall(r"`([^`]+)`", prose):  # a span may run over a line break
         words = [word.strip("(),;:") for word in span.split()]
         for before, word in zip([""] + words, words):
             if before == "-m" and span.split("-m")[0].rstrip().endswith(("python", "python3")):
