@@ -13,7 +13,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "architecture.md"
 SHARED = "../shared/"  # LDmicro's programs beside the checkout, as the corpus tests read them
-NOT_IN_THE_TREE = (".venv/",)  # the contributor's virtual environment, which the recipes' commands use
+# a word is a path of the tree when it starts with one of the tree's top-level folders or files
+# (hidden ones are tool caches and the contributor's .venv, except CI's .ci): other words with a
+# slash are a figure (152/4096 bytes), a system file or a path inside another package's files
+TREE = frozenset(p.name for p in ROOT.iterdir() if not p.name.startswith(".") or p.name == ".ci")
 
 
 def recipes(text: str) -> str:
@@ -24,8 +27,8 @@ def recipes(text: str) -> str:
 
 
 def named(section: str) -> tuple[list[str], list[str]]:
-    """The paths (words with a `/`) and the modules run with `python -m` in the
-    section's backticked spans."""
+    """The tree's paths and the modules run with `python -m` that the section's
+    backticked spans name."""
     paths, modules = [], []
     prose = re.sub(r"```.*?```", "", section, flags=re.DOTALL)  # code blocks are the doc tests' business
     for span in re.findall(r"`([^`]+)`", prose):  # a span may run over a line break
@@ -33,7 +36,7 @@ def named(section: str) -> tuple[list[str], list[str]]:
         for before, word in zip([""] + words, words):
             if before == "-m" and span.split("-m")[0].rstrip().endswith(("python", "python3")):
                 modules.append(word)
-            elif "/" in word and "://" not in word and not word.startswith(NOT_IN_THE_TREE):
+            elif "/" in word and (word.split("/")[0] in TREE or word.startswith(SHARED)):
                 paths.append(word)
     return paths, modules
 
@@ -67,9 +70,10 @@ def test_every_path_and_module_a_recipe_names_exists():
 
 
 def test_a_path_or_module_that_is_not_there_is_reported():
-    text = ("\n## Recipes\n\n1. Edit `lang/checks/<rule>.py` and `lang/chekcs/common.py`, run "
+    text = ("\n## Recipes\n\n1. Edit `lang/checks/<rule>.py` and `lang/checks/comon.py` (not "
+            "`/usr/share/gputils/header/p*.inc` nor `lkr/*_g.lkr`: `152/4096` bytes), run "
             "`.venv/bin/python -m lang.codes_dock > docs/diagnostics.md` and "
             "`.venv/bin/pytest -q tests/test_checks_registry.py -m slow`; see `tests/<name>.nothing`.\n"
             "\n## Next section\n\n`lang/gone.py`\n")
     # the next section's path is not the recipes' business
-    assert missing(recipes(text), True) == ["lang/chekcs/common.py", "tests/<name>.nothing", "lang/codes_dock.py"]
+    assert missing(recipes(text), True) == ["lang/checks/comon.py", "tests/<name>.nothing", "lang/codes_dock.py"]
