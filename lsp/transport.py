@@ -320,8 +320,9 @@ async def give_way(writer: PipeWriter | None) -> None:
     its 5 ms request to have it handed over is dropped each time the lock
     changes hands (CPython's GIL). The diagnostics of an open (117 KB for 505
     diagnostics, so written by the thread) then reached the client only after
-    the whole warm-up, 170-180 ms later, in about one open of four on a quiet
-    machine. A real sleep leaves the lock to the thread."""
+    the whole warm-up, 170-210 ms later, in a fifth to three quarters of the
+    opens of a run (docs/lsp.md, "Opens"). A real sleep leaves the lock to the
+    thread."""
     await asyncio.sleep(0)
     while writer is not None and writer.busy:
         await asyncio.sleep(WRITER_TURN_S)
