@@ -9,8 +9,9 @@ document opens the server works those parts out itself, a few rungs at a
 time, and reads every message that has arrived between two slices: a
 request or an edit waits one slice at most. Between two slices it also waits
 while an answer is being written (`transport.give_way`): the open's own
-diagnostics are written by a thread, which the slices kept from running. Then it joins those parts into
-the answers' runs of rungs (`Analysis.per_run`) one run at a time."""
+diagnostics are written by a thread, which the slices kept from running.
+Then it joins those parts into the answers' runs of rungs (`Analysis.per_run`)
+one run at a time."""
 
 from __future__ import annotations
 
