@@ -52,6 +52,8 @@ class LadderServer(LanguageServer):
         super().__init__("ladder-lsp", VERSION, text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
                          protocol_cls=LadderProtocol)
         self._reader: ResyncReader | None = None
+        # the thread that writes big answers over standard output (None in a browser's worker)
+        self.pipe_writer: PipeWriter | None = None
         self.settings = Settings()
         # False in a browser (lsp/worker.py): nothing is written beside the documents
         self.writes_files = True
@@ -223,7 +225,7 @@ class LadderServer(LanguageServer):
         self._reader = ResyncReader(PipeReader(stdin, StdinAsyncReader(stdin, self.thread_pool)))
         stdout = stdout or sys.stdout.buffer
         widen_pipe(stdout)
-        writer = PipeWriter(stdout)
+        writer = self.pipe_writer = PipeWriter(stdout)
         self.protocol.set_writer(writer)
         try:
             asyncio.run(run_async(stop_event=self._stop_event, reader=self._reader, protocol=self.protocol,

@@ -23,6 +23,7 @@ from ide.session import Replay, SessionError, Simulation, State
 
 from .documents import Analysis
 from .protocol import UserError
+from .transport import give_way
 
 if TYPE_CHECKING:
     from .server import LadderServer
@@ -196,7 +197,7 @@ class Simulations:
             reached = condition.holds(simulation.sim)
             while not reached and simulation.sim.time_ms < limit_ms and simulation.error is None:
                 reached = simulation.run_until(condition, limit_ms, UNTIL_SLICE)
-                await asyncio.sleep(0)  # let other requests (and edits) in
+                await give_way(self.server.pipe_writer)  # let other requests (and edits) in
                 if self.sessions.get(session.uri) is not session:
                     raise UserError("the simulation was stopped")
         finally:

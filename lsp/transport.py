@@ -23,7 +23,8 @@ document it was made on (`LadderServer.on` compares when it runs).
 A big answer is written by a thread of its own (`PipeWriter`): the outline
 of 18,000 rungs is 13 MB, which the client reads 64 KB at a time, and while
 the server's one thread waited for it (60-200 ms on a loaded machine) no
-message was read and no answer worked out.
+message was read and no answer worked out. Work the server does in the
+background, a slice at a time, gives that thread its turn (`give_way`).
 """
 
 from __future__ import annotations
@@ -233,6 +234,7 @@ class PipeReader:
             return cut.partial
 
 
+WRITER_TURN_S = 0.001  # how long background work sleeps while the writer thread has an answer to write
 PIPE_BYTES = 1 << 20  # Linux's largest pipe an unprivileged process may ask for
 SMALL_BYTES = 1 << 16  # an answer this small is written at once when none waits: a pipe's least room
 
@@ -271,6 +273,11 @@ class PipeWriter:
         self._thread = threading.Thread(target=self._run, name="ladder-lsp-writer", daemon=True)
         self._thread.start()
 
+    @property
+    def busy(self) -> bool:
+        """Whether an answer handed to the thread is not written yet."""
+        return self._waiting > 0
+
     def write(self, data: bytes) -> None:
         with self._lock:
             if self._waiting or len(data) > SMALL_BYTES:
@@ -302,3 +309,20 @@ class PipeWriter:
             self._stream.close()
         except (OSError, ValueError):
             log.debug("standard output was closed already", exc_info=True)
+
+
+async def give_way(writer: PipeWriter | None) -> None:
+    """Lets the rest run between two slices of background work: the event
+    loop's callbacks, then the writer thread until it has written what it was
+    handed. `asyncio.sleep(0)` alone starves that thread: the event loop lets
+    the interpreter's lock go for a zero-timeout poll and takes it back within
+    microseconds, and a thread woken on another CPU finds it taken again, while
+    its 5 ms request to have it handed over is dropped each time the lock
+    changes hands (CPython's GIL). The diagnostics of an open (117 KB for 505
+    diagnostics, so written by the thread) then reached the client only after
+    the whole warm-up, 170-210 ms later, in a fifth to three quarters of the
+    opens of a run (docs/lsp.md, "Opens"). A real sleep leaves the lock to the
+    thread."""
+    await asyncio.sleep(0)
+    while writer is not None and writer.busy:
+        await asyncio.sleep(WRITER_TURN_S)

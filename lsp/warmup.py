@@ -7,8 +7,11 @@ only the rungs it changed; the first answer costs every rung, about 250 ms
 for 2,000 rungs, and every request behind it would wait as long. So after a
 document opens the server works those parts out itself, a few rungs at a
 time, and reads every message that has arrived between two slices: a
-request or an edit waits one slice at most. Then it joins those parts into
-the answers' runs of rungs (`Analysis.per_run`) one run at a time."""
+request or an edit waits one slice at most. Between two slices it also waits
+while an answer is being written (`transport.give_way`): the open's own
+diagnostics are written by a thread, which the slices kept from running.
+Then it joins those parts into the answers' runs of rungs (`Analysis.per_run`)
+one run at a time."""
 
 from __future__ import annotations
 
@@ -19,6 +22,7 @@ from typing import TYPE_CHECKING
 from . import semantic, symbols
 from .semantic import encoded_rung
 from .symbols import rung_fold, rung_symbol
+from .transport import give_way
 
 SLICE = 8  # rungs worked out between two looks at the input: about a millisecond
 PARTS = (rung_symbol, encoded_rung, rung_fold)
@@ -33,12 +37,13 @@ async def warm(server: LadderServer, uri: str) -> None:
     shared by its versions (`RungResults`), so a later version takes those of
     the rungs it kept, and an edit during the warm-up costs neither a new
     read nor a new locator."""
+    await give_way(server.pipe_writer)  # the open's diagnostics first
     opened = server.documents.analysis(uri)
     if opened is None:
         return
     extents = opened.locator.rung_extents()
     for done in range(0, len(extents), SLICE):
-        await asyncio.sleep(0)
+        await give_way(server.pipe_writer)
         if server.documents.latest(uri) is None:
             return  # closed
         with server.idle.reading():
@@ -56,7 +61,7 @@ async def _join_runs(server: LadderServer, uri: str) -> None:
     current = server.documents.latest(uri)
     while current is not None:
         for _ in itertools.chain.from_iterable(whole(current) for whole in RUNS):
-            await asyncio.sleep(0)
+            await give_way(server.pipe_writer)
             if server.documents.latest(uri) is not current:
                 break
         else:
