@@ -166,6 +166,9 @@ def _parser() -> Lark:
             lexer="contextual",
             maybe_placeholders=False,
             transformer=_INLINE,
+            # the grammar's tables, built once and kept in the temporary folder by Lark: 2 ms to
+            # load against 21 ms to build, in each process that reads an .ld file
+            cache=True,
         )
     return _PARSER
 

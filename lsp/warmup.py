@@ -11,13 +11,18 @@ request or an edit waits one slice at most. Between two slices it also waits
 while an answer is being written (`transport.give_way`): the open's own
 diagnostics are written by a thread, which the slices kept from running.
 Then it joins those parts into the answers' runs of rungs (`Analysis.per_run`)
-one run at a time."""
+one run at a time. Before the first slice it makes ready the drawings an
+unreadable element's message compares with (`lang.reference.prepare`, about
+10 ms): the first edit that left an element unreadable for a moment, as
+typing can, waited 30 ms for them."""
 
 from __future__ import annotations
 
 import asyncio
 import itertools
 from typing import TYPE_CHECKING
+
+from lang import reference
 
 from . import semantic, symbols
 from .semantic import encoded_rung
@@ -38,6 +43,7 @@ async def warm(server: LadderServer, uri: str) -> None:
     the rungs it kept, and an edit during the warm-up costs neither a new
     read nor a new locator."""
     await give_way(server.pipe_writer)  # the open's diagnostics first
+    reference.prepare()
     opened = server.documents.analysis(uri)
     if opened is None:
         return

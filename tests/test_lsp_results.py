@@ -115,6 +115,20 @@ def test_the_warm_up_works_every_rung_out_and_lets_messages_in_between():
     assert len(analysis.memo.runs) == runs and seen.count(done) >= runs
 
 
+def test_the_warm_up_makes_ready_the_drawings_an_unreadable_element_is_compared_with():
+    """The first edit that leaves an element unreadable (typing can, for a
+    moment) would wait for them: the examples read and drawn, 30 ms."""
+    import asyncio
+
+    from lang import reference
+    from lsp import warmup
+
+    _, server = opened_document(20)
+    reference._known.cache_clear()
+    asyncio.run(warmup.warm(server, "file:///w.ladder"))
+    assert reference._known.cache_info().currsize == 1
+
+
 def test_the_warm_up_waits_while_an_answer_is_being_written():
     """The diagnostics of an open are written by the writer thread while the
     warm-up begins; its slices, each after a zero-timeout poll, kept that thread
