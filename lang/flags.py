@@ -45,23 +45,22 @@ _PULSE_KINDS = {"STEPPER": "name", "PULSER": "p1", "NPULSE": "counter"}
 # the segment decoders also read a source that is not a literal
 _SOURCE_TOO = ("7SEGMENTS", "9SEGMENTS", "14SEGMENTS", "16SEGMENTS")
 
-# element kind -> ((operand, flag), ...) for the kinds a simple table describes (the index
-# gives these marks in its own loop, lang/index.py, as `marks` does)
-SIMPLE: dict[str, tuple[tuple[str, str], ...]] = {}
+# element kind -> ((operand, flag), ...) for the kinds a simple table describes
+_SIMPLE: dict[str, tuple[tuple[str, str], ...]] = {}
 for _kind in TIMER_FLAGS:
-    SIMPLE[_kind] = (("name", _kind),)
+    _SIMPLE[_kind] = (("name", _kind),)
 for _kind in COUNTERS:
-    SIMPLE[_kind] = (("name", _kind),)
-SIMPLE["SET_PWM"] = (("name", PWM),)
-SIMPLE["RES"] = (("name", RES),)
+    _SIMPLE[_kind] = (("name", _kind),)
+_SIMPLE["SET_PWM"] = (("name", PWM),)
+_SIMPLE["RES"] = (("name", RES),)
 for _kind, _fields in _ANY_FIELDS.items():
-    SIMPLE[_kind] = tuple((f, ANY) for f in _fields)
+    _SIMPLE[_kind] = tuple((f, ANY) for f in _fields)
 for _kind in ("LOOK_UP_TABLE", "PIECEWISE_LINEAR"):
-    SIMPLE[_kind] = (("table", TABLE),) + SIMPLE[_kind]
+    _SIMPLE[_kind] = (("table", TABLE),) + _SIMPLE[_kind]
 for _kind in _SOURCE_TOO:
-    SIMPLE[_kind] = SIMPLE[_kind] + (("src", ANY),)
+    _SIMPLE[_kind] = _SIMPLE[_kind] + (("src", ANY),)
 
-MARKING = frozenset(SIMPLE) | {"SHIFT_REGISTER"} | frozenset(_PULSE_KINDS)
+MARKING = frozenset(_SIMPLE) | {"SHIFT_REGISTER"} | frozenset(_PULSE_KINDS)
 _new = tuple.__new__  # a NamedTuple without its Python-level __new__ (hot loop)
 
 
@@ -78,7 +77,7 @@ def marks(rung: int, element: Element) -> list[Mark]:
     kind = element.kind
     args = element.args
     found = []
-    simple = SIMPLE.get(kind)
+    simple = _SIMPLE.get(kind)
     if simple is not None:
         for field, flag in simple:
             text = args.get(field)

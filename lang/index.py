@@ -24,12 +24,11 @@ from __future__ import annotations
 from bisect import bisect_left
 from collections.abc import Iterable
 from functools import cached_property
-from itertools import islice
 from operator import itemgetter
 from typing import NamedTuple
 
 from .families import FAMILIES
-from .flags import MARKING, SIMPLE, Mark, shift_stages
+from .flags import MARKING, Mark, shift_stages
 from .flags import marks as marks_of
 from .instructions import EOL_KINDS, INSTRUCTIONS
 from .labels import token
@@ -53,22 +52,8 @@ def _plan(key: str) -> tuple[tuple[str, str], ...]:
     return tuple(plan)
 
 
+_PLANS = {key: _plan(key) for key in INSTRUCTIONS}
 _TABLE_KINDS = ("LOOK_UP_TABLE", "PIECEWISE_LINEAR")
-# kind -> (its operands that may name a variable, the marks lang.flags's table gives, whether
-# lang.flags.marks gives others, whether it names a table), for the kinds that have any of these
-_Kind = tuple[tuple[tuple[str, str], ...], tuple[tuple[str, str], ...], bool, bool]
-
-
-def _kinds() -> dict[str, _Kind]:
-    found = {}
-    for key in INSTRUCTIONS:
-        entry = (_plan(key), SIMPLE.get(key, ()), key in MARKING and key not in SIMPLE, key in _TABLE_KINDS)
-        if any(entry):
-            found[key] = entry
-    return found
-
-
-_KINDS = _kinds()
 
 
 class Use(NamedTuple):
@@ -212,14 +197,59 @@ class ProgramIndex:
         return self.device is not None and (self.family is None or bool(FAMILIES[self.family].parts))
 
     def _build(self, program: Program, rungs: Iterable[int]) -> None:
-        # one walk lists the elements in order, then one loop indexes them; everything the loop
-        # touches is bound to a local name (hot loop: an open indexes every element)
+        # one walk; everything it touches is bound to a local name (hot loop)
         elements, by_kind, uses, marks = self.elements, self.by_kind, self.uses, self.marks
         literals, series, followed = self.literals, self.series, self.followed
-        eol_kinds, kinds, is_literal_, new = EOL_KINDS, _KINDS, is_literal_fast, _new
+        eol_kinds, marking = EOL_KINDS, MARKING
+        plans, table_kinds, is_literal_, new = _PLANS, _TABLE_KINDS, is_literal_fast, _new
         element_class, series_class = Element, Series
-        listed = elements.append
-        begin = len(elements)
+
+        def add(element: Element, rung: int) -> None:
+            pair = (rung, element)
+            elements.append(pair)
+            kind = element.kind
+            same = by_kind.get(kind)
+            if same is None:
+                by_kind[kind] = [pair]
+            else:
+                same.append(pair)
+            args = element.args
+            if kind in marking:
+                for mark in marks_of(rung, element):
+                    marked = marks.get(mark.name)
+                    if marked is None:
+                        marks[mark.name] = [mark]
+                    else:
+                        marked.append(mark)
+            if kind == "SHIFT_REGISTER":
+                names = _stages(element)
+            else:
+                for field, access in plans.get(kind, ()):
+                    value = args.get(field)
+                    if value.__class__ is not str or not value or value == "(none)":
+                        continue  # a numeric delay, an absent operand
+                    if is_literal_(value):
+                        literals.append(new(Literal, (value, rung, element, field)))
+                        continue
+                    use = new(Use, (value, rung, element, field, access))
+                    found = uses.get(value)
+                    if found is None:
+                        uses[value] = [use]
+                    else:
+                        found.append(use)
+                if kind not in table_kinds:
+                    return
+                table = token(args.get("table"))
+                if not table:
+                    return
+                names = [(table, "table", "table")]
+            for name, field, access in names:
+                use = new(Use, (name, rung, element, field, access))
+                found = uses.get(name)
+                if found is None:
+                    uses[name] = [use]
+                else:
+                    found.append(use)
 
         def walk(node, rung: int) -> None:
             # a loop, not recursion (blocks may nest a thousand deep): a block
@@ -239,19 +269,19 @@ class ProgramIndex:
                         followed.append((rung, node, start - 1))  # back from a block that something follows
                     for position, item in enumerate(items[start:] if start else items, start):
                         if item.__class__ is element_class:
-                            listed((rung, item))
+                            add(item, rung)
                             if position < last and item.kind in eol_kinds:
                                 followed.append((rung, node, position))
                         else:
                             inner, after = item, position + 1
                             break
                 elif cls is element_class:
-                    listed((rung, node))
+                    add(node, rung)
                 else:
                     branches = node.branches
                     for position, branch in enumerate(branches[start:] if start else branches, start):
                         if branch.__class__ is element_class:
-                            listed((rung, branch))
+                            add(branch, rung)
                         else:
                             inner, after = branch, position + 1
                             break
@@ -266,66 +296,6 @@ class ProgramIndex:
         all_rungs = program.rungs
         for rung_index in rungs:
             walk(all_rungs[rung_index].circuit, rung_index)
-
-        for pair in islice(elements, begin, None):
-            rung, element = pair
-            kind = element.kind
-            same = by_kind.get(kind)
-            if same is None:
-                by_kind[kind] = [pair]
-            else:
-                same.append(pair)
-            entry = kinds.get(kind)
-            if entry is None:
-                continue  # no operand that names a variable, no mark
-            plan, simple, other_marks, table_kind = entry
-            args = element.args
-            if simple:  # lang.flags.marks, inline for the kinds its table describes
-                for field, flag in simple:
-                    value = args.get(field)
-                    if value.__class__ is str and value and value != "(none)" and not is_literal_(value):
-                        mark = new(Mark, (value, flag, rung, element, field))
-                        marked = marks.get(value)
-                        if marked is None:
-                            marks[value] = [mark]
-                        else:
-                            marked.append(mark)
-            elif other_marks:
-                for mark in marks_of(rung, element):
-                    marked = marks.get(mark.name)
-                    if marked is None:
-                        marks[mark.name] = [mark]
-                    else:
-                        marked.append(mark)
-            if kind == "SHIFT_REGISTER":
-                names = _stages(element)
-            else:
-                for field, access in plan:
-                    value = args.get(field)
-                    if value.__class__ is not str or not value or value == "(none)":
-                        continue  # a numeric delay, an absent operand
-                    if is_literal_(value):
-                        literals.append(new(Literal, (value, rung, element, field)))
-                        continue
-                    use = new(Use, (value, rung, element, field, access))
-                    found = uses.get(value)
-                    if found is None:
-                        uses[value] = [use]
-                    else:
-                        found.append(use)
-                if not table_kind:
-                    continue
-                table = token(args.get("table"))
-                if not table:
-                    continue
-                names = [(table, "table", "table")]
-            for name, field, access in names:
-                use = new(Use, (name, rung, element, field, access))
-                found = uses.get(name)
-                if found is None:
-                    uses[name] = [use]
-                else:
-                    found.append(use)
 
     # --- look-ups ------------------------------------------------------------
 
