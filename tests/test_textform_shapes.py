@@ -91,6 +91,27 @@ def test_a_copy_that_names_no_instruction_or_moves_a_name_reads_as_if_alone(monk
     assert placed(program) == placed(alone) and problems == alone_problems
 
 
+
+def test_a_copy_whose_element_ends_its_drawing_reads_as_if_alone(monkeypatch):
+    """A rung made from a recipe takes the characters either side of each
+    glyph from the recipe (lang/textform/rungs.py `Cell`): past the drawing's
+    right end one copy has its rail, another a blank or nothing, and each
+    reads as it would alone."""
+    lines = program_text(6).splitlines()
+    coils = [n for n, line in enumerate(lines) if line.endswith("( )-------||")]
+    for at, n in enumerate(coils):
+        ending = ("||", "   ", "")[at % 3]
+        lines[n] = lines[n].replace("( )-------||", "( )" + ending)
+    text = "\n".join(lines) + "\n"
+    program, problems = read_text(text)
+    assert not problems
+    monkeypatch.setattr(rungs, "_RECIPES", {})  # every rung read in full
+    alone, alone_problems = read_text(text)
+    assert placed(program) == placed(alone) and not alone_problems
+    coil = next(e for e in program.rungs[5].elements() if e.kind == "COIL")
+    at = coil.arg_spans["name"]
+    assert text.splitlines()[at.line][at.col:at.end_col] == coil.args["name"]
+
 def blocks(node) -> tuple:
     """A circuit's blocks and elements with their places."""
     if isinstance(node, Element):

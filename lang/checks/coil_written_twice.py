@@ -22,6 +22,8 @@ PLAIN = (" ", "/")  # `( )` and `(/)` write the bit on every scan; S, R and T on
 def check(program: Program, index: ProgramIndex) -> list[Diagnostic]:
     found = []
     for name, uses in index.uses.items():
+        if len(uses) < 2:
+            continue  # most names: one use, no two coils (an open asks it of every name)
         coils = [use for use in uses if use.element.kind == "COIL"]
         written = {use.rung for use in coils} if len(coils) > 1 else ()
         if len(written) < 2:

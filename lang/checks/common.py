@@ -8,6 +8,7 @@ from functools import lru_cache
 from ..diagnostics import Fix, Related, Rename, report
 from ..families import compiled
 from ..hardware import baud_facts
+from ..index import Use
 from ..instructions import COUNTERS, EOL_KINDS, INSTRUCTIONS, TIMERS
 from ..labels import describe, label, token
 from ..model import Element, Parallel, Series, Span, iter_elements
@@ -341,21 +342,30 @@ def used_pins(program, index) -> list[tuple]:
     return found
 
 
-def read_never_written(index):
+def read_never_written(index) -> list[tuple[str, Use]]:
     """(name, its first read) for every name that is read but that nothing
-    writes, compiler-generated and truncated names left out."""
+    writes, compiler-generated and truncated names left out. Worked out once
+    an index (LD101 and LD102 both ask), each use's access compared as it is
+    (an open asks it of every use of every name)."""
+    cached = index.cache.get("read never written")
+    if cached is not None:
+        return cached
+    found = []
     for name, uses in index.uses.items():
         if name in GENERATED or name.endswith("~"):
             continue
         first_read = None
         for use in uses:
-            if use.writes:
+            access = use.access
+            if access == "write" or access == "rw":
                 break
-            if first_read is None and use.reads:
+            if first_read is None and access == "read":
                 first_read = use
         else:
             if first_read is not None:
-                yield name, first_read
+                found.append((name, first_read))
+    index.cache["read never written"] = found
+    return found
 
 
 def prefix_fixes(index, element: Element, field_name: str) -> tuple[Fix, ...]:

@@ -490,8 +490,9 @@ class TextReader:
         first, last = raws[0][0], raws[-1][0]
         numbered = number_field([labels.get(raw[0], raw[1][:raw[2]].strip()) for raw in raws[:2]])
         number_at, number = numbered if numbered is not None else (None, None)
-        overrides = tuple((raw[0] - first, labels[raw[0]]) for raw in raws if raw[0] in labels)
-        key = ("\n".join(raw[1] for raw in raws), symbol, overrides)
+        # labels are overridden for an empty rung's number only: most diagrams have none
+        overrides = tuple((raw[0] - first, labels[raw[0]]) for raw in raws if raw[0] in labels) if labels else ()
+        key = ("\n".join([raw[1] for raw in raws]), symbol, overrides)
         cached = self._cache.get(key)
         if cached is None:
             block = _block_lines(raws)

@@ -31,7 +31,9 @@ from .elements import named_reader
 ElementPlan = tuple[str, dict[str, object], tuple[tuple[str, bool, int, int], ...]]
 
 _WORD_CHARS = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_"
-_MASK = str.maketrans(_WORD_CHARS, "w" * len(_WORD_CHARS))
+# the mask of a text's UTF-8 bytes (surrogates passed, so any text encodes, and one way only):
+# twice as quick as a str.translate, and the same mask, as only ASCII characters are masked
+_MASK = bytes.maketrans(_WORD_CHARS.encode(), b"w" * len(_WORD_CHARS))
 _WORDS = re.compile(r"[A-Za-z0-9_]+")
 _MAX_KNOWN = 16384  # bounded as the recipes are, the oldest out first
 
@@ -50,7 +52,7 @@ _KNOWN: dict[tuple, _Known] = {}
 
 
 def _key(glyph: str, top: str, glyph_edges: tuple[str, str], top_edges: tuple[str, str]) -> tuple:
-    return glyph, glyph_edges, top_edges, top.translate(_MASK)
+    return glyph, glyph_edges, top_edges, top.encode("utf-8", "surrogatepass").translate(_MASK)
 
 
 def remember(glyph: str, top: str, glyph_edges: tuple[str, str], top_edges: tuple[str, str],

@@ -199,11 +199,12 @@ class _RungReader:
         read's recipe with this rung's own elements (None: an element this
         rung draws is no instruction: read it in full, for its error)."""
         cells, plan, spans = recipe
+        lines = self.lines
         elements: list[Node] = []
-        for row, kind, start, end, glyph, top_span in cells:
-            top_text = "" if top_span is None else self.lines[row - 1].text[top_span[0]:top_span[1]]
+        for row, kind, start, end, glyph, glyph_edges, top_span in cells:
             try:
-                element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+                element = self._made(lines[row].number, kind, start, end, glyph, glyph_edges,
+                                     None if top_span is None else lines[row - 1], top_span)
             except ValueError:
                 return None
             if element is None:
@@ -306,7 +307,8 @@ class _RungReader:
                 element = self._element(row, kind, start, end, text)
                 if element is None:
                     return
-                self.cells.append((row, kind, start, end, text, self._top_text(row, start, end)[1]))
+                self.cells.append((row, kind, start, end, text, _edges(line.text, start, end),
+                                   self._top_text(row, start, end)[1]))
                 output = self.nodes.new(line.number, end - 1)
                 span = element.span
                 assert span is not None  # _element places what it reads
@@ -368,7 +370,7 @@ class _RungReader:
                          top_span[0], top_span[1])
             return None
         try:
-            element = self._placed(row, kind, start, end, glyph, top_text, top_span)
+            element = self._placed(row, kind, start, end, glyph, top_span)
         except ValueError as bad:  # a value of the right shape but not a valid one
             self.problem(codes.BAD_VALUE, str(bad), row, start, end)
             return None
@@ -376,34 +378,42 @@ class _RungReader:
             self.problem(codes.UNKNOWN_ELEMENT, unknown_message(glyph, top_text), row, start, end)
         return element
 
-    def _placed(self, row: int, kind: str, start: int, end: int, glyph: str, top_text: str,
+    def _placed(self, row: int, kind: str, start: int, end: int, glyph: str,
                 top_span: tuple[int, int] | None) -> Element | None:
         """The element drawn here, at its place; None when no instruction
         draws so, ValueError for a value of the right shape but not a valid one."""
-        line = self.lines[row]
-        text = line.text
-        glyph_edges = (text[start - 1:start] if start else "", text[end:end + 1])
-        top_edges = ("", "")
-        if top_span is not None:
-            name_text = self.lines[row - 1].text
-            first, last = top_span
-            top_edges = (name_text[first - 1:first] if first else "", name_text[last:last + 1])
-        plan = _element_plan(kind, glyph, top_text, glyph_edges, top_edges)
+        text = self.lines[row].text
+        return self._made(self.lines[row].number, kind, start, end, glyph, _edges(text, start, end),
+                          None if top_span is None else self.lines[row - 1], top_span)
+
+    @staticmethod
+    def _made(number: int, kind: str, start: int, end: int, glyph: str, glyph_edges: tuple[str, str],
+              name_line: Line | None, top_span: tuple[int, int] | None) -> Element | None:
+        """`_placed`'s element from its symbol line's number, the characters
+        either side of its glyph and the name line above it (None: no text
+        on top): a rung made from its recipe has the first two there."""
+        new = new_span
+        if name_line is None or top_span is None:
+            plan = _element_plan(kind, glyph, "", glyph_edges, _NO_EDGES)
+            if plan is None:
+                return None
+            key, args, places = plan
+            span = new(Span, (number, start, number, end))
+            spans = {name: new(Span, (number, start + col, number, start + col + width))
+                     for name, _, col, width in places}
+            return Element(key, dict(args), span, spans)
+        first, last = top_span
+        name_text = name_line.text
+        plan = _element_plan(kind, glyph, name_text[first:last], glyph_edges, _edges(name_text, first, last))
         if plan is None:
             return None
         key, args, places = plan
-        number = line.number
-        new = new_span
-        if top_span is None:
-            span = new(Span, (number, start, number, end))
-        else:
-            top_number = self.lines[row - 1].number
-            span = new(Span, (top_number, min(start, top_span[0]), number, end))
+        top_number = name_line.number
+        span = new(Span, (top_number, first if first < start else start, number, end))
         spans = {}
         for name, on_top, col, width in places:
             if on_top:
-                assert top_span is not None  # a place on top only when there is text on top
-                at = top_span[0] + col
+                at = first + col
                 spans[name] = new(Span, (top_number, at, top_number, at + width))
             else:
                 at = start + col
@@ -506,8 +516,12 @@ class _RungReader:
 
 
 Tokens = tuple[tuple[str, int, int, str], ...]
-# an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, text on top
-Cell = tuple[int, str, int, int, str, "tuple[int, int] | None"]
+# an element as drawn: its symbol line's index in the rung, token kind, columns, glyph, the
+# characters either side of it (`_edges`), the columns of its text on top. The characters either
+# side of a glyph are its symbol line's, which the skeleton holds, or, past the right end of the
+# drawing, a rail's `|`, a blank or none: no word character either way, so a rung made from the
+# recipe reads its elements as with its own (an operand's place is that of a whole word).
+Cell = tuple[int, str, int, int, str, tuple[str, str], "tuple[int, int] | None"]
 # each element's cells, the circuit's plan and its blocks' spans (lang/textform/circuit.py)
 Recipe = tuple[tuple[Cell, ...], Plan, "BlockSpans | None"]
 
@@ -599,6 +613,14 @@ def _element_plan(kind: str, glyph: str, top_text: str, glyph_edges: tuple[str, 
         remember(glyph, top_text, glyph_edges, top_edges, plan,
                  tuple((name, value) for name in _placed_fields(key) if isinstance(value := drawn.get(name), str) and value))
     return plan
+
+
+def _edges(text: str, start: int, end: int) -> tuple[str, str]:
+    """The characters either side of text[start:end] (none past either end)."""
+    return text[start - 1:start] if start else "", text[end:end + 1]
+
+
+_NO_EDGES = ("", "")
 
 
 @lru_cache(maxsize=16384)
