@@ -85,6 +85,7 @@ import fnmatch
 import functools
 import json
 import os
+import platform
 import pstats
 import random
 import re
@@ -808,6 +809,18 @@ def cpu_run(text: str, rungs: int, edits: int) -> dict[str, list[float]]:
     return samples
 
 
+def interpreter() -> str:
+    """The Python the servers run on: the figures depend on its build. The
+    README's venv takes Debian's python3, whose interpreter has libpython
+    linked in; one built with a shared libpython (pyenv's
+    `--enable-shared`) read and checked the converted programs a fifth
+    slower here."""
+    maps = Path("/proc/self/maps")
+    shared = maps.exists() and "libpython" in maps.read_text()
+    return (f"Python {platform.python_version()} ({os.path.realpath(sys.executable)}), libpython "
+            + ("a shared library" if shared else "linked in"))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--shape", action="append",
@@ -841,6 +854,7 @@ def main() -> None:
     args = parser.parse_args()
     args.runs = args.runs or (1 if args.profile else 3)
     chosen, notes = selected(args.shape or ["chain-timers-parallels"], args.corpus)
+    print(interpreter())
     if args.cpu:
         print(f"CPU ms in process, median of {args.runs} runs (open) and their edits")
         for shape in chosen:

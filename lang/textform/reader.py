@@ -111,12 +111,13 @@ def number_field(labels: Sequence[str]) -> tuple[int, int] | None:
 
 def rung_blocks(section: Section, problems: list[Diagnostic]) -> list[tuple[list[Line], int]]:
     """The lines of each rung and the index of its first symbol line."""
-    return [([_line(raw) for raw in raws], symbol) for raws, symbol, _ in _raw_blocks(section, problems)]
+    return [([_line(raw) for raw in raws], symbol) for raws, symbol, _ in _raw_blocks(section, problems)[0]]
 
 
 def _raw_blocks(section: Section, problems: list[Diagnostic]):
     """Each rung's lines as (number, text, rail column), the index of its first
-    symbol line, and labels overridden (an empty rung's number).
+    symbol line, and labels overridden (an empty rung's number); and the
+    number of the line that ends the diagram, `[END]` on a rail (None: none).
 
     A rung starts on the name line above a line numbered in the number field,
     or on the first drawn line after a line with no rail; a rung without a
@@ -125,6 +126,7 @@ def _raw_blocks(section: Section, problems: list[Diagnostic]):
     current: list[tuple[int, str, int]] = []
     symbol: int | None = None
     labels: dict[int, str] = {}
+    end: int | None = None
 
     def close() -> None:
         nonlocal current, symbol
@@ -144,6 +146,7 @@ def _raw_blocks(section: Section, problems: list[Diagnostic]):
             continue
         if "[END]" in text:
             close()
+            end = number
             break
         label = text[:left].strip()
         if label.isdigit() and position + 1 < len(raws):
@@ -164,7 +167,7 @@ def _raw_blocks(section: Section, problems: list[Diagnostic]):
                                   Span.at(number, 0, left)))
         current.append(raw)
     close()
-    return [(*_trim(block, symbol), labels) for block, symbol in blocks]
+    return [(*_trim(block, symbol), labels) for block, symbol in blocks], end
 
 
 def _trim(block: list, symbol: int | None) -> tuple[list, int]:
@@ -466,10 +469,10 @@ class TextReader:
 
     def _full(self, lines: list[str], diagram: Section) -> _State:
         raw_problems: list[Diagnostic] = []
-        raw = _raw_blocks(diagram, raw_problems)
+        raw, end_line = _raw_blocks(diagram, raw_problems)
         blocks = self._blocks(raw)
         body_last = diagram.lines[-1][0] if diagram.lines else diagram.title_line
-        return _State(lines, diagram.title_line, body_last, _end_line(diagram.lines), blocks, raw_problems).gather()
+        return _State(lines, diagram.title_line, body_last, end_line, blocks, raw_problems).gather()
 
     # --- rungs ------------------------------------------------------------------------
 
@@ -587,7 +590,7 @@ class TextReader:
             if following.number_at == 0 and window and _rail(window[-1][1]) >= 0:
                 return None  # that line would become its name line
         raw_problems: list[Diagnostic] = []
-        raw = _raw_blocks(Section(DIAGRAM, -1, window), raw_problems)
+        raw, _ = _raw_blocks(Section(DIAGRAM, -1, window), raw_problems)  # no [END] in the window
         if raw and not at_section_start and not _starts_apart(window):
             # its first rung would continue the rung before (a rung's name line added twice, the
             # second one not above its number): that rung is read with it, not the whole diagram
@@ -722,13 +725,6 @@ def _starts_apart(window: list[tuple[int, str]]) -> bool:
             return (position + 2 < len(window) and _numbered(window[position + 1][1])
                     and not _numbered(window[position + 2][1]))
     return True
-
-
-def _end_line(lines: list[tuple[int, str]]) -> int | None:
-    for number, text in lines:
-        if "[END]" in text and _rail(text) >= 0:
-            return number
-    return None
 
 
 # --- moving a rung up or down ---------------------------------------------------------
