@@ -812,9 +812,9 @@ def cpu_run(text: str, rungs: int, edits: int) -> dict[str, list[float]]:
 def interpreter() -> str:
     """The Python the servers run on: the figures depend on its build. The
     README's venv takes Debian's python3, whose interpreter has libpython
-    linked in; one built with a shared libpython (pyenv's
-    `--enable-shared`) read and checked the converted programs a fifth
-    slower here."""
+    linked in; on one built with a shared libpython (pyenv's
+    `--enable-shared`), the read and the check of `ctu_ctd_ctc_ctr`'s open
+    took a fifth longer here (docs/lsp.md, "Speed")."""
     maps = Path("/proc/self/maps")
     shared = maps.exists() and "libpython" in maps.read_text()
     return (f"Python {platform.python_version()} ({os.path.realpath(sys.executable)}), libpython "
