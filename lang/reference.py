@@ -30,12 +30,17 @@ def examples() -> dict[str, Element]:
     for index, element in program.elements():
         found[index].append(element)
     if problems or len(found) != len(keys) or any(len(elements) != 1 for elements in found):
-        for key in keys:
-            line = INSTRUCTIONS[key].example
-            program, problems = _read_example_rungs([line])
-            if problems or len(list(program.elements())) != 1:
-                raise ValueError(f"the example line of {key} does not read: {line!r}")
+        return {key: _example(key) for key in keys}  # read one by one: the one that fails is named
     return {key: elements[0] for key, elements in zip(keys, found)}
+
+
+def _example(key: str) -> Element:
+    line = INSTRUCTIONS[key].example
+    program, problems = _read_example_rungs([line])
+    elements = [element for _, element in program.elements()]
+    if problems or len(elements) != 1:
+        raise ValueError(f"the example line of {key} does not read: {line!r}")
+    return elements[0]
 
 
 def _read_example_rungs(lines: list[str]) -> tuple[Program, list]:

@@ -97,6 +97,18 @@ def test_the_cpu_mode_times_the_open_and_every_edit_of_a_shape():
     assert all(ms >= 0 for taken in samples.values() for ms in taken)
 
 
+def test_the_benchmark_names_the_python_it_runs_on_and_its_libpython():
+    """The figures depend on the interpreter's build: a shared libpython
+    made an open a fifth slower (docs/lsp.md, "Speed")."""
+    import platform
+
+    from lsp_bench import interpreter
+
+    said = interpreter()
+    assert said.startswith(f"Python {platform.python_version()} (")
+    assert said.endswith(("libpython a shared library", "libpython linked in"))
+
+
 @pytest.mark.slow
 def test_the_benchmark_runs_at_the_wire_against_a_baseline_checkout():
     """One small run of the whole benchmark, this checkout's server against

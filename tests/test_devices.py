@@ -220,6 +220,18 @@ def test_find_device(name, part, package):
     assert (device.part, device.package) == (part, package)
 
 
+def test_finding_one_part_builds_that_package_only():
+    """A program names one part: the editor's first check builds its pins,
+    not every package's."""
+    from lang import devices
+
+    devices._device.cache_clear()
+    find_device.cache_clear()
+    found = find_device("Atmel AVR ATmega8 28-PDIP")
+    assert found is not None and (found.part, found.package) == ("atmega8", "28-PDIP")
+    assert devices._device.cache_info().currsize == 1
+
+
 def test_find_device_unknown():
     assert find_device("atmega9999") is None
     assert find_device("atmega328p:99-BGA") is None

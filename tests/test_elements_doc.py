@@ -33,6 +33,24 @@ def test_every_drawn_instruction_is_on_the_page():
     assert set(examples()) == set(INSTRUCTIONS) - {"PLACEHOLDER"}
 
 
+def test_the_examples_read_in_one_parse_are_those_read_one_by_one():
+    from lang.reference import _example
+
+    assert {key: (e.kind, e.args) for key, e in examples().items()} == \
+        {key: (_example(key).kind, _example(key).args) for key in examples()}
+
+
+def test_an_example_line_that_does_not_read_is_named(monkeypatch):
+    from dataclasses import replace
+
+    import lang.reference as reference
+
+    broken = replace(INSTRUCTIONS["MOVE"], example="MOVE onlyone")
+    monkeypatch.setitem(reference.INSTRUCTIONS, "MOVE", broken)
+    with pytest.raises(ValueError, match="the example line of MOVE does not read"):
+        reference.examples.__wrapped__()
+
+
 @pytest.mark.parametrize("typed, expected", [
     ("[CTU >=5]", "did you mean `/[CTU>=10]` (up counter)"),
     ("{CTC 0:7}", "did you mean `/[CTC  0:9]` (circular counter)"),
